@@ -1,0 +1,111 @@
+#pragma once
+// Typed, validated case files (DESIGN §3). load_case() is the only way in: it parses the
+// YAML, validates every key (SI units, ranges, cross-key checks), rejects unknown keys, and
+// returns plain structs. Solvers take these structs and never see YAML.
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "rheosim/core/rheology.hpp"
+
+namespace rheosim::core {
+
+// ------------------------------------------------------------------ shared building blocks
+
+struct FluidProperties {
+  double density = 0;                          // ρ [kg/m³]
+  std::shared_ptr<const Rheology> rheology;    // μ(γ̇), never null
+};
+
+// ------------------------------------------------------------------------ rheometer cases
+
+struct PlateGeometry {  // geometry: {type: parallel_plate, radius, gap}
+  double radius = 0;    // R [m]
+  double gap = 0;       // H [m], < R
+};
+
+struct ParticleProperties {  // particles: (CD §4 defaults)
+  double volume_fraction = 0;     // φ [-], [0, 0.5]; a sweep sets it per point
+  double diameter = 0;            // d [m], < gap
+  double density = 0;             // ρ_p [kg/m³]
+  double youngs_modulus = 3.0e9;  // E [Pa]
+  double poisson_ratio = 0.33;    // ν [-]
+  double restitution = 0.9;       // e [-]
+  double friction = 0.3;          // μ_c [-], Coulomb friction coefficient
+};
+
+struct RheometerCase {  // kind: rheometer
+  PlateGeometry geometry;
+  FluidProperties fluid;
+  std::vector<double> shear_rates;                // γ̇_R = ΩR/H [1/s], increasing
+  std::optional<ParticleProperties> particles;    // absent: single phase
+};
+
+struct SweepCase {  // kind: sweep — every (φ, γ̇_R) of volume_fractions × shear_rates
+  RheometerCase rheometer;                        // particles hold everything but φ
+  std::vector<double> volume_fractions;           // φ [-], increasing; 0 is single phase
+};
+
+// ------------------------------------------------------------------------------ LDD cases
+
+struct CavityScene {                 // cavity | skewed_cavity
+  std::array<double, 2> size{};      // width, height [m] (skewed: side length along the walls)
+  double lid_velocity = 0;           // [m/s]
+  double skew_angle = 0;             // [rad]; YAML gives degrees; 0 for a square cavity
+};
+struct DamBreakScene {
+  std::array<double, 2> reservoir{};  // length, height [m]
+  double channel_length = 0;          // [m], from the reservoir's outer wall
+};
+struct SlumpScene {
+  double cone_height = 0;             // H₀ [m]
+  double cone_bottom_diameter = 0;    // D₀ [m]
+  double cone_top_diameter = 0;       // d₀ [m], < D₀
+  double lift_velocity = 0;           // mould lift speed [m/s]
+};
+struct ColumnScene {                  // a resting column (hydrostatics)
+  std::array<double, 2> size{};       // width, height [m]
+};
+using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScene>;
+
+struct LddCase {  // kind: ldd
+  int dimension = 2;
+  std::string scene_type;             // cavity | skewed_cavity | dam_break | slump | column
+  LddScene scene;
+  FluidProperties fluid;
+  std::vector<double> gravity;        // [m/s²], one entry per dimension
+  double spacing = 0;                 // Δ [m]
+  double smoothing_ratio = 1.6;       // h/Δ [-]
+  double time_step = 0;               // δt [s]
+  double end_time = 0;                // [s]
+};
+
+// ---------------------------------------------------------------------------- the case
+
+struct Case {
+  std::string file;    // path as given
+  std::string text;    // the exact input deck
+  std::string sha256;  // of text, for reports and resume checks
+  std::string name;    // optional `name:`, else the file's stem
+  std::string description;
+  std::variant<RheometerCase, SweepCase, LddCase> spec;
+
+  [[nodiscard]] std::string kind() const;  // "rheometer" | "sweep" | "ldd"
+};
+
+// Parses and validates; throws ConfigError naming file:line:col, key, expectation and fix.
+[[nodiscard]] Case load_case(const std::string& path);
+[[nodiscard]] Case parse_case(std::string_view text, const std::string& name);
+
+// SHA-256 (FIPS 180-4) of a byte string, lower-case hex.
+[[nodiscard]] std::string sha256_hex(std::string_view bytes);
+
+}  // namespace rheosim::core
+
+namespace rheosim::core {
+// A human-readable listing of a validated case: every value with its SI unit.
+[[nodiscard]] std::string describe(const Case& c);
+}  // namespace rheosim::core

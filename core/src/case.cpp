@@ -1,0 +1,186 @@
+#include "rheosim/core/case.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "rheosim/core/units.hpp"
+
+#include "rheosim/core/config.hpp"
+
+namespace rheosim::core {
+
+namespace {
+
+// Values must be strictly increasing: a repeated point is almost always a typo.
+void require_increasing(const Section& s, std::string_view key, const std::vector<double>& values) {
+  for (std::size_t i = 1; i < values.size(); ++i)
+    if (!(values[i] > values[i - 1]))
+      s.fail(key, fmt::format("entry {} ({}) does not exceed entry {} ({})", i, values[i], i - 1, values[i - 1]),
+             "a strictly increasing list", "sort the list and remove repeated values");
+}
+
+FluidProperties read_fluid(const Section& root) {
+  const Section fluid = root.section({"fluid", "the liquid (matrix) phase", "-"});
+  FluidProperties out;
+  out.density = fluid.number({"density", "fluid density", "kg/m³"}, Range::positive());
+  out.rheology = make_rheology(fluid.section({"rheology", "viscosity law {model: name, parameters}", "-"}));
+  return out;
+}
+
+PlateGeometry read_plate_geometry(const Section& root) {
+  const Section g = root.section({"geometry", "rheometer geometry", "-"});
+  (void)g.choice({"type", "geometry type", "-"}, {"parallel_plate"});
+  PlateGeometry out;
+  out.radius = g.number({"radius", "plate radius R", "m"}, Range::positive());
+  out.gap = g.number({"gap", "plate gap H", "m"}, Range::positive());
+  if (out.gap >= out.radius)
+    g.fail("gap", fmt::format("gap {} m is not smaller than the radius {} m", out.gap, out.radius),
+           "a gap H < R (parallel-plate rheometry assumes H << R)");
+  return out;
+}
+
+ParticleProperties read_particles(const Section& p, const PlateGeometry& geometry, bool with_volume_fraction) {
+  ParticleProperties out;
+  if (with_volume_fraction)
+    out.volume_fraction = p.number({"volume_fraction", "particle volume fraction φ", "-"}, Range::closed(0.0, 0.5));
+  out.diameter = p.number({"diameter", "particle diameter d", "m"}, Range::positive());
+  out.density = p.number({"density", "particle density", "kg/m³"}, Range::positive());
+  out.youngs_modulus = p.number_or({"youngs_modulus", "Young's modulus E", "Pa"}, out.youngs_modulus, Range::positive());
+  out.poisson_ratio = p.number_or({"poisson_ratio", "Poisson ratio ν", "-"}, out.poisson_ratio, Range::closed_open(0.0, 0.5));
+  out.restitution = p.number_or({"restitution", "coefficient of restitution e", "-"}, out.restitution, Range::open_closed(0.0, 1.0));
+  out.friction = p.number_or({"friction", "Coulomb friction coefficient", "-"}, out.friction, Range::closed(0.0, 10.0));
+  if (out.diameter >= geometry.gap)
+    p.fail("diameter", fmt::format("particles of {} m do not fit in the gap of {} m", out.diameter, geometry.gap),
+           "a particle diameter smaller than the gap (H/d >= 10 for a continuum stress)");
+  return out;
+}
+
+RheometerCase read_rheometer(const Section& root, bool is_sweep) {
+  RheometerCase out;
+  out.geometry = read_plate_geometry(root);
+  out.fluid = read_fluid(root);
+  out.shear_rates = root.numbers({"shear_rates", "rim shear rates γ̇_R = ΩR/H", "1/s"}, Range::positive());
+  require_increasing(root, "shear_rates", out.shear_rates);
+  const KeyInfo particles_key{"particles", "suspended particles (omit for a single fluid)", "-"};
+  if (auto p = root.optional_section(particles_key)) out.particles = read_particles(*p, out.geometry, !is_sweep);
+  return out;
+}
+
+SweepCase read_sweep(const Section& root) {
+  SweepCase out;
+  out.rheometer = read_rheometer(root, true);
+  out.volume_fractions =
+      root.numbers({"volume_fractions", "particle volume fractions φ", "-"}, Range::closed(0.0, 0.5));
+  require_increasing(root, "volume_fractions", out.volume_fractions);
+  const bool needs_particles = std::any_of(out.volume_fractions.begin(), out.volume_fractions.end(),
+                                           [](double phi) { return phi > 0; });
+  if (needs_particles && !out.rheometer.particles)
+    root.fail("volume_fractions", "volume fractions above 0 need a 'particles:' section",
+              "a 'particles:' section with diameter, density and contact properties",
+              "add 'particles: {diameter: 2.0e-4, density: 1000}'");
+  return out;
+}
+
+std::array<double, 2> read_pair(const Section& s, const KeyInfo& key) {
+  const auto v = s.numbers(key, Range::positive(), 2, 2);
+  return {v[0], v[1]};
+}
+
+LddCase read_ldd(const Section& root) {
+  LddCase out;
+  out.dimension = root.integer({"dimension", "spatial dimension", "-"}, 2, 3);
+  const Section scene = root.section({"scene", "the LDD scene", "-"});
+  out.scene_type = scene.choice({"type", "scene type", "-"}, {"cavity", "skewed_cavity", "dam_break", "slump", "column"});
+  const auto require_dimension = [&](int wanted) {
+    if (out.dimension != wanted)
+      root.fail("dimension", fmt::format("a {} scene is {}D, not {}D", out.scene_type, wanted, out.dimension),
+                fmt::format("dimension: {}", wanted));
+  };
+  if (out.scene_type == "cavity" || out.scene_type == "skewed_cavity") {
+    require_dimension(2);
+    CavityScene c;
+    c.size = read_pair(scene, {"size", "cavity width and height", "m"});
+    c.lid_velocity = scene.number({"lid_velocity", "lid velocity", "m/s"}, Range::any());
+    if (out.scene_type == "skewed_cavity")
+      c.skew_angle = units::radians_from_degrees(
+          scene.number({"skew_angle", "angle between lid and side walls", "degrees"}, Range::open(0.0, 180.0)));
+    out.scene = c;
+  } else if (out.scene_type == "dam_break") {
+    DamBreakScene d;
+    d.reservoir = read_pair(scene, {"reservoir", "reservoir length and height", "m"});
+    d.channel_length = scene.number({"channel_length", "channel length", "m"}, Range::positive());
+    if (d.channel_length <= d.reservoir[0])
+      scene.fail("channel_length", "the channel is not longer than the reservoir",
+                 fmt::format("a channel_length > reservoir length {} m", d.reservoir[0]));
+    out.scene = d;
+  } else if (out.scene_type == "slump") {
+    require_dimension(3);
+    const Section cone = scene.section({"cone", "the Abrams cone", "-"});
+    SlumpScene s;
+    s.cone_height = cone.number({"height", "cone height H₀", "m"}, Range::positive());
+    s.cone_bottom_diameter = cone.number({"bottom_diameter", "cone bottom diameter D₀", "m"}, Range::positive());
+    s.cone_top_diameter = cone.number({"top_diameter", "cone top diameter d₀", "m"}, Range::positive());
+    if (s.cone_top_diameter >= s.cone_bottom_diameter)
+      cone.fail("top_diameter", "the top diameter is not smaller than the bottom diameter",
+                fmt::format("a top diameter < {} m", s.cone_bottom_diameter));
+    s.lift_velocity = scene.number({"lift_velocity", "mould lift speed", "m/s"}, Range::positive());
+    out.scene = s;
+  } else {
+    ColumnScene c;
+    c.size = read_pair(scene, {"size", "column width and height", "m"});
+    out.scene = c;
+  }
+  out.fluid = read_fluid(root);
+  out.gravity = root.numbers({"gravity", "gravitational acceleration, one entry per dimension", "m/s²"}, Range::any(),
+                             static_cast<std::size_t>(out.dimension), static_cast<std::size_t>(out.dimension));
+  const Section resolution = root.section({"resolution", "node spacing", "-"});
+  out.spacing = resolution.number({"spacing", "node spacing Δ", "m"}, Range::positive());
+  out.smoothing_ratio = resolution.number_or({"smoothing_ratio", "support radius over spacing h/Δ", "-"},
+                                             out.smoothing_ratio, Range::closed(1.2, 3.0));
+  const Section time = root.section({"time", "time stepping", "-"});
+  out.time_step = time.number({"step", "time step δt", "s"}, Range::positive());
+  out.end_time = time.number({"end", "end time", "s"}, Range::positive());
+  if (out.end_time < out.time_step)
+    time.fail("end", fmt::format("end time {} s is shorter than one step of {} s", out.end_time, out.time_step),
+              "an end time of at least one time step");
+  return out;
+}
+
+}  // namespace
+
+std::string Case::kind() const {
+  switch (spec.index()) {
+    case 0: return "rheometer";
+    case 1: return "sweep";
+    default: return "ldd";
+  }
+}
+
+Case parse_case(std::string_view text, const std::string& name) {
+  const Document doc = Document::from_string(text, name);
+  const Section root = doc.root();
+  Case out;
+  out.file = name;
+  out.text = doc.text();
+  out.sha256 = sha256_hex(out.text);
+  out.name = root.text_or({"name", "case name", "-"}, std::filesystem::path(name).stem().string());
+  out.description = root.text_or({"description", "free-text description", "-"}, "");
+  const std::string kind = root.choice({"kind", "case kind", "-"}, {"rheometer", "sweep", "ldd"});
+  if (kind == "rheometer")
+    out.spec = read_rheometer(root, false);
+  else if (kind == "sweep")
+    out.spec = read_sweep(root);
+  else
+    out.spec = read_ldd(root);
+  doc.check_all_keys_known();
+  return out;
+}
+
+Case load_case(const std::string& path) {
+  const Document doc = Document::from_file(path);
+  return parse_case(doc.text(), path);
+}
+
+}  // namespace rheosim::core

@@ -1,0 +1,79 @@
+#include <fmt/format.h>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/units.hpp"
+
+namespace rheosim::core {
+
+namespace {
+
+std::string list(const std::vector<double>& values) {
+  std::string out;
+  for (double v : values) out += (out.empty() ? "" : ", ") + fmt::format("{}", v);
+  return "[" + out + "]";
+}
+
+std::string describe_fluid(const FluidProperties& fluid) {
+  std::string out = fmt::format("  fluid: density {} kg/m³, rheology {}", fluid.density, fluid.rheology->name());
+  for (const auto& p : fluid.rheology->parameters()) out += fmt::format(", {} {} {}", p.name, p.value, p.unit);
+  return out + "\n";
+}
+
+std::string describe_rheometer(const RheometerCase& r) {
+  std::string out = fmt::format("  geometry: parallel plates, radius {} m, gap {} m\n", r.geometry.radius, r.geometry.gap);
+  out += describe_fluid(r.fluid);
+  out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
+  if (const auto& p = r.particles) {
+    out += fmt::format(
+        "  particles: diameter {} m, density {} kg/m³, E {} Pa, ν {}, restitution {}, friction {}, H/d {:.3g}\n",
+        p->diameter, p->density, p->youngs_modulus, p->poisson_ratio, p->restitution, p->friction,
+        r.geometry.gap / p->diameter);
+  } else {
+    out += "  particles: none (single phase)\n";
+  }
+  return out;
+}
+
+struct SceneDescriber {
+  std::string operator()(const CavityScene& c) const {
+    std::string out = fmt::format("  cavity {} × {} m, lid velocity {} m/s", c.size[0], c.size[1], c.lid_velocity);
+    if (c.skew_angle != 0) out += fmt::format(", skew angle {}°", units::degrees_from_radians(c.skew_angle));
+    return out + "\n";
+  }
+  std::string operator()(const DamBreakScene& d) const {
+    return fmt::format("  dam break: reservoir {} × {} m, channel {} m\n", d.reservoir[0], d.reservoir[1],
+                       d.channel_length);
+  }
+  std::string operator()(const SlumpScene& s) const {
+    return fmt::format("  slump cone: height {} m, bottom diameter {} m, top diameter {} m, lift {} m/s\n",
+                       s.cone_height, s.cone_bottom_diameter, s.cone_top_diameter, s.lift_velocity);
+  }
+  std::string operator()(const ColumnScene& c) const {
+    return fmt::format("  resting column {} × {} m\n", c.size[0], c.size[1]);
+  }
+};
+
+}  // namespace
+
+std::string describe(const Case& c) {
+  std::string out = fmt::format("  name: {}\n  input sha256: {}\n", c.name, c.sha256);
+  if (const auto* r = std::get_if<RheometerCase>(&c.spec)) {
+    out += describe_rheometer(*r);
+    if (r->particles) out += fmt::format("  volume fraction: {}\n", r->particles->volume_fraction);
+  } else if (const auto* s = std::get_if<SweepCase>(&c.spec)) {
+    out += describe_rheometer(s->rheometer);
+    out += fmt::format("  volume fractions: {} ({} points)\n", list(s->volume_fractions),
+                       s->volume_fractions.size() * s->rheometer.shear_rates.size());
+  } else {
+    const auto& l = std::get<LddCase>(c.spec);
+    out += fmt::format("  LDD {}D {} scene\n", l.dimension, l.scene_type);
+    out += std::visit(SceneDescriber{}, l.scene);
+    out += describe_fluid(l.fluid);
+    out += fmt::format("  gravity: {} m/s²\n  spacing Δ {} m, h/Δ {}\n  time step {} s, end {} s ({} steps)\n",
+                       list(l.gravity), l.spacing, l.smoothing_ratio, l.time_step, l.end_time,
+                       static_cast<long long>(l.end_time / l.time_step + 0.5));
+  }
+  return out;
+}
+
+}  // namespace rheosim::core

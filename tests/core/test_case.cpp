@@ -1,0 +1,232 @@
+// Case files: valid cases parse into the right typed values; every kind of bad input is a
+// ConfigError that names file:line:column, the key path, the valid range and a fix.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <numbers>
+#include <set>
+#include <string>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/config.hpp"
+#include "rheosim/core/error.hpp"
+
+namespace rheosim::core {
+namespace {
+
+using ::testing::HasSubstr;
+
+const std::string plate_case = R"(kind: rheometer
+geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}
+fluid:
+  density: 1000
+  rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}
+shear_rates: [1, 10, 100]
+)";
+
+ConfigError parse_error(const std::string& text) {
+  try {
+    (void)parse_case(text, "case.yaml");
+  } catch (const ConfigError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected a ConfigError for:\n" << text;
+  return ConfigError({});
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(Case, RheometerCaseParsesIntoTypedValues) {
+  const Case c = parse_case(plate_case, "cases/plate.yaml");
+  EXPECT_EQ(c.kind(), "rheometer");
+  EXPECT_EQ(c.name, "plate");
+  const auto& r = std::get<RheometerCase>(c.spec);
+  EXPECT_DOUBLE_EQ(r.geometry.radius, 0.015);
+  EXPECT_DOUBLE_EQ(r.geometry.gap, 0.0005);
+  EXPECT_DOUBLE_EQ(r.fluid.density, 1000);
+  EXPECT_EQ(r.fluid.rheology->name(), "power_law");
+  EXPECT_EQ(r.shear_rates, (std::vector<double>{1, 10, 100}));
+  EXPECT_FALSE(r.particles.has_value());
+  EXPECT_EQ(c.sha256, sha256_hex(plate_case));
+}
+
+TEST(Case, ParticleDefaultsAreTheSeedValues) {
+  const Case c = parse_case(plate_case + "particles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000}\n", "p.yaml");
+  const auto& p = *std::get<RheometerCase>(c.spec).particles;
+  EXPECT_DOUBLE_EQ(p.volume_fraction, 0.1);
+  EXPECT_DOUBLE_EQ(p.youngs_modulus, 3.0e9);  // CD §4
+  EXPECT_DOUBLE_EQ(p.poisson_ratio, 0.33);
+  EXPECT_DOUBLE_EQ(p.restitution, 0.9);
+  EXPECT_DOUBLE_EQ(p.friction, 0.3);
+}
+
+TEST(Case, MisspeltKeyNamesLineColumnAndSuggestion) {
+  const auto e = parse_error(replace(plate_case, "consistency: 1.0e-3", "consistancy: 1.0e-3"));
+  EXPECT_EQ(e.details().where.line, 5);
+  EXPECT_EQ(e.details().where.column, 32);
+  EXPECT_EQ(e.details().key_path, "fluid.rheology.consistancy");
+  EXPECT_THAT(e.details().hint, HasSubstr("did you mean 'consistency'?"));
+  EXPECT_THAT(std::string(e.what()), HasSubstr("case.yaml:5:32"));
+}
+
+TEST(Case, UnknownOptionalKeyIsAnErrorWithTheValidKeys) {
+  const auto e = parse_error(plate_case + "shear_rate_unit: rpm\n");
+  EXPECT_EQ(e.details().key_path, "shear_rate_unit");
+  EXPECT_EQ(e.details().where.line, 7);
+  EXPECT_THAT(e.details().expected, HasSubstr("shear_rates"));
+}
+
+TEST(Case, NegativeValueNamesTheRange) {
+  const auto e = parse_error(replace(plate_case, "density: 1000", "density: -1000"));
+  EXPECT_EQ(e.details().key_path, "fluid.density");
+  EXPECT_EQ(e.details().where.line, 4);
+  EXPECT_THAT(e.details().problem, HasSubstr("-1000 is not > 0"));
+  EXPECT_THAT(e.details().expected, HasSubstr("kg/m³"));
+}
+
+TEST(Case, TextWhereANumberBelongs) {
+  const auto e = parse_error(replace(plate_case, "radius: 0.015", "radius: 15mm"));
+  EXPECT_EQ(e.details().key_path, "geometry.radius");
+  EXPECT_EQ(e.details().where.line, 2);
+  EXPECT_THAT(e.details().problem, HasSubstr("expected a number, got '15mm'"));
+  EXPECT_THAT(e.details().hint, HasSubstr("SI"));
+}
+
+TEST(Case, MalformedYamlNamesTheLine) {
+  const auto e = parse_error("kind: rheometer\ngeometry: {type: parallel_plate, radius: 0.015\nfluid:\n  density: 1\n");
+  EXPECT_GE(e.details().where.line, 2);
+  EXPECT_THAT(e.details().problem, HasSubstr("malformed YAML"));
+}
+
+TEST(Case, UnknownKindSuggestsTheNearest) {
+  const auto e = parse_error(replace(plate_case, "kind: rheometer", "kind: rheomter"));
+  EXPECT_EQ(e.details().key_path, "kind");
+  EXPECT_THAT(e.details().hint, HasSubstr("'rheometer'"));
+  EXPECT_THAT(e.details().expected, HasSubstr("rheometer, sweep, ldd"));
+}
+
+TEST(Case, MissingRequiredKey) {
+  const auto e = parse_error(replace(plate_case, "shear_rates: [1, 10, 100]\n", ""));
+  EXPECT_THAT(e.details().problem, HasSubstr("missing required key 'shear_rates'"));
+}
+
+TEST(Case, ListEntriesAreCheckedOneByOne) {
+  const auto e = parse_error(replace(plate_case, "[1, 10, 100]", "[1, -10, 100]"));
+  EXPECT_EQ(e.details().key_path, "shear_rates[1]");
+  EXPECT_EQ(e.details().where.line, 6);
+  EXPECT_EQ(e.details().where.column, 18);
+}
+
+TEST(Case, ShearRatesMustIncrease) {
+  const auto e = parse_error(replace(plate_case, "[1, 10, 100]", "[1, 100, 10]"));
+  EXPECT_EQ(e.details().key_path, "shear_rates");
+  EXPECT_THAT(e.details().problem, HasSubstr("does not exceed"));
+}
+
+TEST(Case, GapMustBeSmallerThanRadius) {
+  const auto e = parse_error(replace(plate_case, "gap: 0.0005", "gap: 0.02"));
+  EXPECT_EQ(e.details().key_path, "geometry.gap");
+}
+
+TEST(Case, ParticlesMustFitInTheGap) {
+  const auto e = parse_error(plate_case + "particles: {volume_fraction: 0.1, diameter: 1.0e-3, density: 1000}\n");
+  EXPECT_EQ(e.details().key_path, "particles.diameter");
+}
+
+TEST(Case, VolumeFractionRange) {
+  const auto e = parse_error(plate_case + "particles: {volume_fraction: 0.7, diameter: 2.0e-4, density: 1000}\n");
+  EXPECT_EQ(e.details().key_path, "particles.volume_fraction");
+  EXPECT_THAT(e.details().problem, HasSubstr("[0, 0.5]"));
+}
+
+TEST(Case, DuplicateKeyIsAnError) {
+  const auto e = parse_error(plate_case + "shear_rates: [2]\n");
+  EXPECT_THAT(e.details().problem, HasSubstr("appears twice"));
+}
+
+TEST(Case, SweepNeedsParticlesForNonZeroFractions) {
+  const auto e = parse_error(replace(plate_case, "kind: rheometer", "kind: sweep") + "volume_fractions: [0, 0.1]\n");
+  EXPECT_EQ(e.details().key_path, "volume_fractions");
+  const Case ok = parse_case(replace(plate_case, "kind: rheometer", "kind: sweep") +
+                                 "volume_fractions: [0, 0.1]\nparticles: {diameter: 2.0e-4, density: 1000}\n",
+                             "sweep.yaml");
+  EXPECT_EQ(std::get<SweepCase>(ok.spec).volume_fractions.size(), 2u);
+}
+
+TEST(Case, SweepParticlesRejectAVolumeFraction) {
+  const auto e = parse_error(replace(plate_case, "kind: rheometer", "kind: sweep") +
+                             "volume_fractions: [0, 0.1]\nparticles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000}\n");
+  EXPECT_EQ(e.details().key_path, "particles.volume_fraction");
+}
+
+const std::string cavity_case = R"(kind: ldd
+dimension: 2
+scene: {type: skewed_cavity, size: [1.0, 1.0], lid_velocity: 1.0, skew_angle: 60}
+fluid:
+  density: 1.0
+  rheology: {model: power_law, consistency: 0.002, index: 1.5}
+gravity: [0, 0]
+resolution: {spacing: 0.02}
+time: {step: 1.0e-3, end: 20.0}
+)";
+
+TEST(Case, LddSkewAngleIsConvertedToRadians) {
+  const Case c = parse_case(cavity_case, "skew.yaml");
+  const auto& l = std::get<LddCase>(c.spec);
+  EXPECT_EQ(l.scene_type, "skewed_cavity");
+  EXPECT_NEAR(std::get<CavityScene>(l.scene).skew_angle, std::numbers::pi / 3, 1e-15);
+  EXPECT_DOUBLE_EQ(l.smoothing_ratio, 1.6);
+}
+
+TEST(Case, LddGravityNeedsOneEntryPerDimension) {
+  const auto e = parse_error(replace(cavity_case, "gravity: [0, 0]", "gravity: [0, 0, -9.81]"));
+  EXPECT_EQ(e.details().key_path, "gravity");
+  EXPECT_THAT(e.details().expected, HasSubstr("exactly 2"));
+}
+
+TEST(Case, LddSceneKeysDependOnTheType) {
+  // skew_angle belongs to skewed cavities only.
+  const auto e = parse_error(replace(cavity_case, "type: skewed_cavity", "type: cavity"));
+  EXPECT_EQ(e.details().key_path, "scene.skew_angle");
+  EXPECT_THAT(e.details().problem, HasSubstr("unknown key"));
+}
+
+TEST(Case, EveryShippedCaseValidates) {
+  const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
+  std::set<std::string> kinds;
+  for (const auto& entry : std::filesystem::directory_iterator(cases)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    kinds.insert(load_case(entry.path().string()).kind());
+  }
+  EXPECT_EQ(kinds, (std::set<std::string>{"rheometer", "sweep", "ldd"}));
+}
+
+TEST(Sha256, KnownVectors) {
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+}
+
+TEST(Suggestions, NearestFindsPlausibleMisspellings) {
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  EXPECT_EQ(nearest("viscosty", {"viscosity", "density"}), std::optional<std::string>("viscosity"));
+  EXPECT_EQ(nearest("zzz", {"viscosity", "density"}), std::nullopt);
+}
+
+TEST(Range, Rendering) {
+  EXPECT_EQ(Range::open_closed(0, 2).str(), "(0, 2]");
+  EXPECT_EQ(Range::positive().str(), "> 0");
+  EXPECT_EQ(Range::non_negative().str(), ">= 0");
+  EXPECT_FALSE(Range::open_closed(0, 2).contains(0));
+  EXPECT_TRUE(Range::open_closed(0, 2).contains(2));
+}
+
+}  // namespace
+}  // namespace rheosim::core
