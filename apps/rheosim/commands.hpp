@@ -1,0 +1,20 @@
+#pragma once
+// One function per subcommand; main.cpp only parses the command line.
+// Each returns the process exit code: 0 success, 2 bad input, 1 run failure.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "rheosim/core/log.hpp"
+
+namespace rheosim::app {
+
+inline constexpr int exit_success = 0;
+inline constexpr int exit_run_failure = 1;
+inline constexpr int exit_bad_input = 2;
+
+int validate(const std::vector<std::string>& case_files, const core::Log& log);
+int run(const std::string& case_file, const std::filesystem::path& out_dir, const core::Log& log);
+int report(const std::filesystem::path& run_dir, const core::Log& log);
+
+}  // namespace rheosim::app

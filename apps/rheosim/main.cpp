@@ -1,0 +1,68 @@
+// rheosim: the command line. Parses arguments and calls one function per subcommand.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "rheosim/core/version.hpp"
+
+int main(int argc, char** argv) {
+  using namespace rheosim;
+  CLI::App cli{"rheosim: a virtual rheometer for particle suspensions and non-Newtonian materials.\n"
+               "Parallel-plate rheometry (fluid solver + LIGGGHTS DEM) and LDD free-surface flows,\n"
+               "driven by YAML case files in SI units.",
+               "rheosim"};
+  cli.set_version_flag("--version", fmt::format("rheosim {} (git {})", core::version, core::git_revision));
+  cli.require_subcommand(1);
+  cli.footer(
+      "Examples:\n"
+      "  rheosim validate cases/quickstart.yaml\n"
+      "  rheosim run cases/quickstart.yaml --out results/quickstart\n"
+      "  rheosim report results/quickstart\n"
+      "Exit codes: 0 success, 2 bad input (case file or arguments), 1 run failure.\n"
+      "Run 'rheosim <command> --help' for the options of a command.");
+  bool verbose = false;
+  bool quiet = false;
+  cli.add_flag("-v,--verbose", verbose, "Also print debug messages");
+  cli.add_flag("-q,--quiet", quiet, "Print only warnings and errors")->excludes("--verbose");
+
+  std::vector<std::string> validate_files;
+  auto* validate = cli.add_subcommand("validate", "Check case files without running them");
+  validate->add_option("cases", validate_files, "Case files (YAML)")->required()->check(CLI::ExistingFile);
+  validate->footer(
+      "Every key is checked: its type, its SI value range, cross-key rules, and unknown keys\n"
+      "(with the nearest valid name). Errors name file:line:column, the key and the fix.\n"
+      "Example:\n"
+      "  rheosim validate cases/quickstart.yaml cases/ldd_cavity_casson.yaml");
+
+  std::string run_case;
+  std::string run_out;
+  auto* run = cli.add_subcommand("run", "Validate a case, run it and write its results");
+  run->add_option("case", run_case, "Case file (YAML)")->required()->check(CLI::ExistingFile);
+  run->add_option("-o,--out", run_out, "Output folder (default: results/<case name>)");
+  run->footer(
+      "Writes summary.json, CSV tables, HDF5 data, plots and report.html into the output folder.\n"
+      "Example:\n"
+      "  rheosim run cases/quickstart.yaml --out results/quickstart");
+
+  std::string report_dir;
+  auto* report = cli.add_subcommand("report", "Write report.html for a finished run folder");
+  report->add_option("dir", report_dir, "Run folder holding summary.json")->required()->check(CLI::ExistingDirectory);
+  report->footer(
+      "Reads summary.json and the input deck from the folder and (re)writes report.html.\n"
+      "Example:\n"
+      "  rheosim report results/quickstart");
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = cli.exit(e);  // prints help, version or the parse error
+    return code == 0 ? app::exit_success : app::exit_bad_input;
+  }
+
+  const auto verbosity = quiet ? core::Verbosity::quiet : (verbose ? core::Verbosity::verbose : core::Verbosity::normal);
+  const core::Log log = core::Log::console(verbosity);
+  if (*validate) return app::validate(validate_files, log);
+  if (*run) return app::run(run_case, run_out, log);
+  return app::report(report_dir, log);
+}
