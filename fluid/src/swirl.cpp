@@ -1,0 +1,653 @@
+#include "rheosim/fluid/swirl.hpp"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace rheosim::fluid {
+
+namespace {
+
+// 3-point Gauss–Legendre on [-1, 1]: exact for polynomials of degree 5, so ∫ μ r³ dr over a
+// face is exact for Newtonian fluids and very accurate for smooth μ(r).
+constexpr std::array<double, 3> gauss_nodes = {-0.7745966692414834, 0.0, 0.7745966692414834};
+constexpr std::array<double, 3> gauss_weights = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+
+// Geometry and unknown numbering of the (r, z) grid.
+struct Layout {
+  std::size_t nr, nz, nc;
+  std::vector<double> rf, rc, zf, zc;
+  bool inertia;
+
+  Layout(const CylindricalGrid& g, bool with_inertia)
+      : nr(g.radial_cells()), nz(g.axial_cells()), nc(nr * nz),
+        rf(g.radial_faces().begin(), g.radial_faces().end()),
+        rc(g.radial_centres().begin(), g.radial_centres().end()),
+        zf(g.axial_faces().begin(), g.axial_faces().end()),
+        zc(g.axial_centres().begin(), g.axial_centres().end()),
+        inertia(with_inertia) {}
+
+  std::size_t cell(std::size_t i, std::size_t k) const { return i * nz + k; }
+  // Unknowns: ω, then (with inertia) p, interior u_r faces, interior u_z faces.
+  std::size_t omega(std::size_t i, std::size_t k) const { return cell(i, k); }
+  std::size_t pressure(std::size_t i, std::size_t k) const { return nc + cell(i, k); }
+  std::size_t radial(std::size_t i, std::size_t k) const { return 2 * nc + (i - 1) * nz + k; }  // i in [1, nr-1]
+  std::size_t axial(std::size_t i, std::size_t k) const {                                       // k in [1, nz-1]
+    return 2 * nc + (nr - 1) * nz + i * (nz - 1) + (k - 1);
+  }
+  std::size_t unknowns() const { return inertia ? 2 * nc + (nr - 1) * nz + nr * (nz - 1) : nc; }
+
+  double dr(std::size_t i) const { return rf[i + 1] - rf[i]; }
+  double dz(std::size_t k) const { return zf[k + 1] - zf[k]; }
+  // Distance between the centres either side of radial face i / axial face k (walls: half cell).
+  double dr_centres(std::size_t i) const { return rc[i] - rc[i - 1]; }
+  double dz_centres(std::size_t k) const {
+    if (k == 0) return zc[0] - zf[0];
+    if (k == nz) return zf[nz] - zc[nz - 1];
+    return zc[k] - zc[k - 1];
+  }
+  double axial_area(std::size_t i) const { return 0.5 * (rf[i + 1] * rf[i + 1] - rf[i] * rf[i]); }  // per radian
+  double r4_moment(std::size_t i) const { return 0.25 * (std::pow(rf[i + 1], 4) - std::pow(rf[i], 4)); }
+  std::size_t ur_index(std::size_t i, std::size_t k) const { return i * nz + k; }        // faces i = 0..nr
+  std::size_t uz_index(std::size_t i, std::size_t k) const { return i * (nz + 1) + k; }  // faces k = 0..nz
+};
+
+// Velocity gradients and the viscosity they imply, for one iterate.
+struct ViscosityField {
+  std::vector<double> centre;      // μ at cell centres
+  std::vector<double> axial_flux;  // W = ∫ μ r³ dr over each axial face (i * (nz+1) + k)
+  std::vector<double> radial;      // μ at radial faces (i * nz + k), i = 0..nr
+  std::vector<double> shear_rate;  // γ̇ at cell centres
+};
+
+class Discretisation {
+ public:
+  Discretisation(const Layout& layout, const SwirlParams& params, double top_angular_velocity,
+                 std::span<const double> void_fraction_field)
+      : L(layout), p(params), omega_top(top_angular_velocity), eps(void_fraction_field) {}
+
+  double void_fraction(std::size_t c) const { return eps.empty() ? 1.0 : eps[c]; }
+
+  // ∂ω/∂z on axial face (i, k) and ∂ω/∂r on radial face (i, k) from cell values.
+  double domega_dz(const SwirlState& s, std::size_t i, std::size_t k) const {
+    const double below = k == 0 ? 0.0 : s.angular_velocity[L.cell(i, k - 1)];
+    const double above = k == L.nz ? omega_top : s.angular_velocity[L.cell(i, k)];
+    return (above - below) / L.dz_centres(k);
+  }
+  double domega_dr(const SwirlState& s, std::size_t i, std::size_t k) const {
+    if (i == 0 || i == L.nr) return 0.0;  // axis symmetry; shear-free rim
+    return (s.angular_velocity[L.cell(i, k)] - s.angular_velocity[L.cell(i - 1, k)]) / L.dr_centres(i);
+  }
+  // Engineering shear strain rate ∂u_r/∂z + ∂u_z/∂r at corner (radial face i, axial face k).
+  double corner_shear(const SwirlState& s, std::size_t i, std::size_t k) const {
+    if (i == 0 || i == L.nr) return 0.0;  // u_r = 0 on axis and rim; shear-free rim
+    double dur_dz = 0;
+    if (k == 0) dur_dz = s.radial_velocity[L.ur_index(i, 0)] / L.dz_centres(0);
+    else if (k == L.nz) dur_dz = -s.radial_velocity[L.ur_index(i, L.nz - 1)] / L.dz_centres(L.nz);
+    else dur_dz = (s.radial_velocity[L.ur_index(i, k)] - s.radial_velocity[L.ur_index(i, k - 1)]) / L.dz_centres(k);
+    double duz_dr = 0;
+    if (k != 0 && k != L.nz)
+      duz_dr = (s.axial_velocity[L.uz_index(i, k)] - s.axial_velocity[L.uz_index(i - 1, k)]) / L.dr_centres(i);
+    return dur_dz + duz_dr;
+  }
+
+  // γ̇² = r²|∇ω|² + S, S from the secondary flow (u_r, u_z); LDD eq. 5 in cylindrical form.
+  ViscosityField viscosity(const SwirlState& s) const {
+    const std::size_t nr = L.nr, nz = L.nz;
+    std::vector<double> omega_grad2(L.nc), secondary(L.nc);
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t k = 0; k < nz; ++k) {
+        const double gz_lo = domega_dz(s, i, k), gz_hi = domega_dz(s, i, k + 1);
+        const double gr_lo = domega_dr(s, i, k), gr_hi = domega_dr(s, i + 1, k);
+        omega_grad2[L.cell(i, k)] = 0.5 * (gz_lo * gz_lo + gz_hi * gz_hi + gr_lo * gr_lo + gr_hi * gr_hi);
+        double sec = 0;
+        if (L.inertia) {
+          const double ur_w = s.radial_velocity[L.ur_index(i, k)], ur_e = s.radial_velocity[L.ur_index(i + 1, k)];
+          const double uz_b = s.axial_velocity[L.uz_index(i, k)], uz_t = s.axial_velocity[L.uz_index(i, k + 1)];
+          const double drr = (ur_e - ur_w) / L.dr(i), hoop = 0.5 * (ur_e + ur_w) / L.rc[i], dzz = (uz_t - uz_b) / L.dz(k);
+          double shear2 = 0;
+          for (std::size_t a : {i, i + 1})
+            for (std::size_t b : {k, k + 1}) {
+              const double g = corner_shear(s, a, b);
+              shear2 += 0.25 * g * g;
+            }
+          sec = 2.0 * (drr * drr + hoop * hoop + dzz * dzz) + shear2;
+        }
+        secondary[L.cell(i, k)] = sec;
+      }
+
+    // All shear rates into one array: one virtual viscosity call for the whole field.
+    const std::size_t n_axial = nr * (nz + 1);
+    const std::size_t n_radial = (nr + 1) * nz;
+    std::vector<double> rates(L.nc + 3 * n_axial + n_radial);
+    for (std::size_t c = 0; c < L.nc; ++c) {
+      const std::size_t i = c / nz;
+      rates[c] = std::sqrt(L.rc[i] * L.rc[i] * omega_grad2[c] + secondary[c]);
+    }
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t k = 0; k <= nz; ++k) {
+        const double gz = domega_dz(s, i, k);
+        // Radial gradient and secondary part: mean of the adjacent cells (one at a wall).
+        double gr2 = 0, sec = 0, n = 0;
+        for (std::size_t kk : {k - 1, k}) {
+          if (kk >= nz) continue;  // k - 1 wraps at k = 0
+          const double a = domega_dr(s, i, kk), b = domega_dr(s, i + 1, kk);
+          gr2 += 0.5 * (a * a + b * b);
+          sec += secondary[L.cell(i, kk)];
+          n += 1;
+        }
+        gr2 /= n;
+        sec /= n;
+        const double mid = 0.5 * (L.rf[i] + L.rf[i + 1]), half = 0.5 * L.dr(i);
+        for (std::size_t q = 0; q < 3; ++q) {
+          const double r = mid + half * gauss_nodes[q];
+          rates[L.nc + 3 * (i * (nz + 1) + k) + q] = std::sqrt(r * r * (gz * gz + gr2) + sec);
+        }
+      }
+    const std::size_t radial_offset = L.nc + 3 * n_axial;
+    for (std::size_t i = 0; i <= nr; ++i)
+      for (std::size_t k = 0; k < nz; ++k) {
+        const double gr = domega_dr(s, i, k);
+        double gz2 = 0, sec = 0, n = 0;
+        for (std::size_t ii : {i - 1, i}) {
+          if (ii >= nr) continue;
+          const double a = domega_dz(s, ii, k), b = domega_dz(s, ii, k + 1);
+          gz2 += 0.5 * (a * a + b * b);
+          sec += secondary[L.cell(ii, k)];
+          n += 1;
+        }
+        const double r = L.rf[i];
+        rates[radial_offset + i * nz + k] = std::sqrt(r * r * (gr * gr + gz2 / n) + sec / n);
+      }
+
+    std::vector<double> mu(rates.size());
+    p.rheology->viscosity(rates, mu);
+
+    ViscosityField out;
+    out.centre.assign(mu.begin(), mu.begin() + static_cast<std::ptrdiff_t>(L.nc));
+    out.shear_rate.assign(rates.begin(), rates.begin() + static_cast<std::ptrdiff_t>(L.nc));
+    out.axial_flux.resize(n_axial);
+    for (std::size_t i = 0; i < nr; ++i) {
+      const double mid = 0.5 * (L.rf[i] + L.rf[i + 1]), half = 0.5 * L.dr(i);
+      for (std::size_t k = 0; k <= nz; ++k) {
+        double w = 0;
+        for (std::size_t q = 0; q < 3; ++q) {
+          const double r = mid + half * gauss_nodes[q];
+          w += gauss_weights[q] * mu[L.nc + 3 * (i * (nz + 1) + k) + q] * r * r * r;
+        }
+        out.axial_flux[i * (nz + 1) + k] = w * half;
+      }
+    }
+    out.radial.assign(mu.begin() + static_cast<std::ptrdiff_t>(radial_offset), mu.end());
+    return out;
+  }
+
+  // Assembles the Picard-linearised system around iterate `s` with viscosity `mu`.
+  void assemble(const SwirlState& s, const ViscosityField& mu, std::span<const double> torque_density,
+                Triplets& t, Eigen::VectorXd& rhs) const {
+    t.clear();
+    rhs.setZero(static_cast<Eigen::Index>(L.unknowns()));
+    assemble_angular(s, mu, torque_density, t, rhs);
+    if (L.inertia) {
+      assemble_radial(s, mu, t, rhs);
+      assemble_axial(s, mu, t, rhs);
+      assemble_continuity(t);
+    }
+  }
+
+  // Torque transmitted through the top (or bottom) plate, 2π Σ ∫ r² τ_θz dr [N·m].
+  double wall_torque(const SwirlState& s, const ViscosityField& mu, bool top) const {
+    const std::size_t k = top ? L.nz : 0;
+    double per_radian = 0;
+    for (std::size_t i = 0; i < L.nr; ++i) per_radian += mu.axial_flux[i * (L.nz + 1) + k] * domega_dz(s, i, k);
+    return 2.0 * std::acos(-1.0) * per_radian;
+  }
+
+ private:
+  const Layout& L;
+  const SwirlParams& p;
+  double omega_top;
+  std::span<const double> eps;
+
+  double face_eps_r(std::size_t i, std::size_t k) const {
+    return 0.5 * (void_fraction(L.cell(i - 1, k)) + void_fraction(L.cell(i, k)));
+  }
+  double face_eps_z(std::size_t i, std::size_t k) const {
+    return 0.5 * (void_fraction(L.cell(i, k - 1)) + void_fraction(L.cell(i, k)));
+  }
+  double ur(const SwirlState& s, std::size_t i, std::size_t k) const { return s.radial_velocity[L.ur_index(i, k)]; }
+  double uz(const SwirlState& s, std::size_t i, std::size_t k) const { return s.axial_velocity[L.uz_index(i, k)]; }
+
+  // Angular momentum: ε r[∇·τ]_θ − ρ∇·(ε u L) + r f_θ = 0, L = r²ω (CD eq. 27, θ part).
+  void assemble_angular(const SwirlState& s, const ViscosityField& mu, std::span<const double> torque_density,
+                        Triplets& t, Eigen::VectorXd& rhs) const {
+    const std::size_t nr = L.nr, nz = L.nz;
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t k = 0; k < nz; ++k) {
+        const std::size_t row = L.omega(i, k);
+        const double e = void_fraction(L.cell(i, k));
+        double diag = 0;
+        // Radial faces: angular-momentum flux r³ μ ∂_rω Δz (none through axis and rim).
+        for (std::size_t f : {i, i + 1}) {
+          if (f == 0 || f == nr) continue;
+          const double coef = e * std::pow(L.rf[f], 3) * mu.radial[f * nz + k] * L.dz(k) / L.dr_centres(f);
+          const std::size_t other = f == i ? i - 1 : i + 1;
+          t.emplace_back(row, L.omega(other, k), coef);
+          diag -= coef;
+        }
+        // Axial faces: ∫ μ r³ dr ∂_zω; plates give Dirichlet values 0 (bottom) and Ω (top).
+        for (std::size_t f : {k, k + 1}) {
+          const double coef = e * mu.axial_flux[i * (nz + 1) + f] / L.dz_centres(f);
+          diag -= coef;
+          if (f == 0) continue;                                   // ω = 0 on the bottom plate
+          if (f == nz) { rhs[static_cast<Eigen::Index>(row)] -= coef * omega_top; continue; }
+          t.emplace_back(row, L.omega(i, f == k ? k - 1 : k + 1), coef);
+        }
+        if (L.inertia) {
+          // −ρ Σ_out ṁ L_face, central interpolation of ω, lagged mass fluxes.
+          const double rho = p.density;
+          for (std::size_t f : {i, i + 1}) {
+            if (f == 0 || f == nr) continue;
+            const double sign = f == i + 1 ? 1.0 : -1.0;  // outward
+            const double mdot = sign * face_eps_r(f, k) * L.rf[f] * ur(s, f, k) * L.dz(k);
+            const double l = L.rf[f] * L.rf[f];
+            const double w_other = (L.rc[i] - L.rf[f]) / (L.rc[i] - L.rc[f == i ? i - 1 : i + 1]);
+            t.emplace_back(row, L.omega(i, k), -rho * mdot * l * (1 - w_other));
+            t.emplace_back(row, L.omega(f == i ? i - 1 : i + 1, k), -rho * mdot * l * w_other);
+          }
+          for (std::size_t f : {k, k + 1}) {
+            if (f == 0 || f == nz) continue;  // no flow through the plates
+            const double sign = f == k + 1 ? 1.0 : -1.0;
+            const double mdot = sign * face_eps_z(i, f) * uz(s, i, f) * L.axial_area(i);
+            const double l = 0.5 * (L.rf[i] * L.rf[i] + L.rf[i + 1] * L.rf[i + 1]);
+            const double w_other = (L.zc[k] - L.zf[f]) / (L.zc[k] - L.zc[f == k ? k - 1 : k + 1]);
+            t.emplace_back(row, L.omega(i, k), -rho * mdot * l * (1 - w_other));
+            t.emplace_back(row, L.omega(i, f == k ? k - 1 : k + 1), -rho * mdot * l * w_other);
+          }
+        }
+        t.emplace_back(row, row, diag);
+        if (!torque_density.empty())
+          rhs[static_cast<Eigen::Index>(row)] -= torque_density[L.cell(i, k)] * L.axial_area(i) * L.dz(k);
+      }
+  }
+
+  // r-momentum on the u_r control volume of interior radial face (i, k), weighted by r.
+  void assemble_radial(const SwirlState& s, const ViscosityField& mu, Triplets& t, Eigen::VectorXd& rhs) const {
+    const std::size_t nr = L.nr, nz = L.nz;
+    const double rho = p.density;
+    for (std::size_t i = 1; i < nr; ++i)
+      for (std::size_t k = 0; k < nz; ++k) {
+        const std::size_t row = L.radial(i, k);
+        const double e = face_eps_r(i, k);
+        const double drc = L.dr_centres(i), dzk = L.dz(k), r = L.rf[i];
+        const auto add_ur = [&](std::size_t fi, std::size_t fk, double coef) {
+          if (fi == 0 || fi == nr) return;  // u_r = 0 on axis and rim
+          t.emplace_back(row, L.radial(fi, fk), coef);
+        };
+        const auto add_uz = [&](std::size_t fi, std::size_t fk, double coef) {
+          if (fk == 0 || fk == nz) return;  // u_z = 0 on the plates
+          t.emplace_back(row, L.axial(fi, fk), coef);
+        };
+        // Pressure: −ε r Δz (p_i − p_{i−1}).
+        t.emplace_back(row, L.pressure(i, k), -e * r * dzk);
+        t.emplace_back(row, L.pressure(i - 1, k), e * r * dzk);
+        // Normal stress: Δz [r τ_rr] between the two cell centres, τ_rr = 2μ ∂_r u_r.
+        for (std::size_t c : {i - 1, i}) {
+          const double sign = c == i ? 1.0 : -1.0;
+          const double coef = e * sign * dzk * L.rc[c] * 2.0 * mu.centre[L.cell(c, k)] / L.dr(c);
+          add_ur(c + 1, k, coef);
+          add_ur(c, k, -coef);
+        }
+        // Shear stress: r Δr_c [τ_rz] between the corners below and above.
+        for (std::size_t f : {k, k + 1}) {
+          const double sign = f == k + 1 ? 1.0 : -1.0;
+          const double mu_corner = corner_viscosity(mu, i, f);
+          const double coef = e * sign * r * drc * mu_corner;
+          // ∂u_r/∂z at the corner
+          if (f == 0) add_ur(i, 0, coef / L.dz_centres(0));
+          else if (f == nz) add_ur(i, nz - 1, -coef / L.dz_centres(nz));
+          else {
+            add_ur(i, f, coef / L.dz_centres(f));
+            add_ur(i, f - 1, -coef / L.dz_centres(f));
+          }
+          // ∂u_z/∂r at the corner
+          add_uz(i, f, coef / drc);
+          add_uz(i - 1, f, -coef / drc);
+        }
+        // Hoop stress: −τ_θθ Δr_c Δz, τ_θθ = 2μ u_r / r.
+        const double mu_face = 0.5 * (mu.centre[L.cell(i - 1, k)] + mu.centre[L.cell(i, k)]);
+        add_ur(i, k, -e * 2.0 * mu_face / r * drc * dzk);
+        // Centrifugal force ρ ε ω² r · r Δr_c Δz, Newton-linearised: ω² ≈ 2ω*ω − ω*².
+        const double w_star =
+            0.5 * (s.angular_velocity[L.cell(i - 1, k)] + s.angular_velocity[L.cell(i, k)]);
+        const double cf = rho * e * r * r * drc * dzk;
+        t.emplace_back(row, L.omega(i - 1, k), cf * w_star);
+        t.emplace_back(row, L.omega(i, k), cf * w_star);
+        rhs[static_cast<Eigen::Index>(row)] += cf * w_star * w_star;
+        // Convection −ρ[Δz (r ε u_r u_r) + r Δr_c (ε u_z u_r)], central, lagged mass fluxes.
+        for (std::size_t c : {i - 1, i}) {
+          const double sign = c == i ? 1.0 : -1.0;
+          const double mdot = sign * void_fraction(L.cell(c, k)) * L.rc[c] * dzk * 0.5 * (ur(s, c, k) + ur(s, c + 1, k));
+          add_ur(c, k, -rho * mdot * 0.5);
+          add_ur(c + 1, k, -rho * mdot * 0.5);
+        }
+        for (std::size_t f : {k, k + 1}) {
+          if (f == 0 || f == nz) continue;
+          const double sign = f == k + 1 ? 1.0 : -1.0;
+          const double wr = (r - L.rc[i - 1]) / drc;
+          const double uz_corner = (1 - wr) * uz(s, i - 1, f) + wr * uz(s, i, f);
+          const double mdot = sign * face_eps_z_corner(i, f) * uz_corner * r * drc;
+          add_ur(i, f - 1, -rho * mdot * 0.5);
+          add_ur(i, f, -rho * mdot * 0.5);
+        }
+      }
+  }
+
+  // z-momentum on the u_z control volume of interior axial face (i, k), weighted by r.
+  void assemble_axial(const SwirlState& s, const ViscosityField& mu, Triplets& t, Eigen::VectorXd& /*rhs*/) const {
+    const std::size_t nr = L.nr, nz = L.nz;
+    const double rho = p.density;
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t k = 1; k < nz; ++k) {
+        const std::size_t row = L.axial(i, k);
+        const double e = face_eps_z(i, k);
+        const double dzc = L.dz_centres(k), dri = L.dr(i), r = L.rc[i];
+        const auto add_ur = [&](std::size_t fi, std::size_t fk, double coef) {
+          if (fi == 0 || fi == nr) return;
+          t.emplace_back(row, L.radial(fi, fk), coef);
+        };
+        const auto add_uz = [&](std::size_t fi, std::size_t fk, double coef) {
+          if (fk == 0 || fk == nz) return;
+          t.emplace_back(row, L.axial(fi, fk), coef);
+        };
+        t.emplace_back(row, L.pressure(i, k), -e * r * dri);
+        t.emplace_back(row, L.pressure(i, k - 1), e * r * dri);
+        // Normal stress: r Δr [τ_zz], τ_zz = 2μ ∂_z u_z at cell centres.
+        for (std::size_t c : {k - 1, k}) {
+          const double sign = c == k ? 1.0 : -1.0;
+          const double coef = e * sign * r * dri * 2.0 * mu.centre[L.cell(i, c)] / L.dz(c);
+          add_uz(i, c + 1, coef);
+          add_uz(i, c, -coef);
+        }
+        // Shear stress: Δz_c [r τ_rz] between radial faces i and i+1 (zero on axis and rim).
+        for (std::size_t f : {i, i + 1}) {
+          if (f == 0 || f == nr) continue;
+          const double sign = f == i + 1 ? 1.0 : -1.0;
+          const double coef = e * sign * dzc * L.rf[f] * corner_viscosity(mu, f, k);
+          add_ur(f, k, coef / L.dz_centres(k));
+          add_ur(f, k - 1, -coef / L.dz_centres(k));
+          add_uz(f, k, coef / L.dr_centres(f));
+          add_uz(f - 1, k, -coef / L.dr_centres(f));
+        }
+        // Convection −ρ[Δz_c (r ε u_r u_z) + r Δr (ε u_z u_z)].
+        for (std::size_t f : {i, i + 1}) {
+          if (f == 0 || f == nr) continue;
+          const double sign = f == i + 1 ? 1.0 : -1.0;
+          const double wz = (L.zf[k] - L.zc[k - 1]) / dzc;
+          const double ur_corner = (1 - wz) * ur(s, f, k - 1) + wz * ur(s, f, k);
+          const double mdot = sign * face_eps_r_corner(f, k) * L.rf[f] * ur_corner * dzc;
+          add_uz(f - 1, k, -rho * mdot * 0.5);
+          add_uz(f, k, -rho * mdot * 0.5);
+        }
+        for (std::size_t c : {k - 1, k}) {
+          const double sign = c == k ? 1.0 : -1.0;
+          const double mdot = sign * void_fraction(L.cell(i, c)) * r * dri * 0.5 * (uz(s, i, c) + uz(s, i, c + 1));
+          add_uz(i, c, -rho * mdot * 0.5);
+          add_uz(i, c + 1, -rho * mdot * 0.5);
+        }
+      }
+  }
+
+  // ∇·(εu) = 0 per cell (CD eq. 26, steady); one equation is replaced by p = 0 at cell (0, 0),
+  // since the closed gap makes the continuity equations sum to zero.
+  void assemble_continuity(Triplets& t) const {
+    const std::size_t nr = L.nr, nz = L.nz;
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t k = 0; k < nz; ++k) {
+        const std::size_t row = L.pressure(i, k);
+        if (i == 0 && k == 0) {
+          t.emplace_back(row, row, 1.0);
+          continue;
+        }
+        if (i + 1 < nr) t.emplace_back(row, L.radial(i + 1, k), face_eps_r(i + 1, k) * L.rf[i + 1] * L.dz(k));
+        if (i > 0) t.emplace_back(row, L.radial(i, k), -face_eps_r(i, k) * L.rf[i] * L.dz(k));
+        if (k + 1 < nz) t.emplace_back(row, L.axial(i, k + 1), face_eps_z(i, k + 1) * L.axial_area(i));
+        if (k > 0) t.emplace_back(row, L.axial(i, k), -face_eps_z(i, k) * L.axial_area(i));
+      }
+  }
+
+  // μ at corner (radial face i, axial face k): mean of the adjacent cells.
+  double corner_viscosity(const ViscosityField& mu, std::size_t i, std::size_t k) const {
+    double sum = 0, n = 0;
+    for (std::size_t ii : {i - 1, i})
+      for (std::size_t kk : {k - 1, k})
+        if (ii < L.nr && kk < L.nz) {
+          sum += mu.centre[L.cell(ii, kk)];
+          n += 1;
+        }
+    return sum / n;
+  }
+  double face_eps_z_corner(std::size_t i, std::size_t k) const {
+    return 0.25 * (void_fraction(L.cell(i - 1, k - 1)) + void_fraction(L.cell(i, k - 1)) +
+                   void_fraction(L.cell(i - 1, k)) + void_fraction(L.cell(i, k)));
+  }
+  double face_eps_r_corner(std::size_t i, std::size_t k) const { return face_eps_z_corner(i, k); }
+};
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double m = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
+
+bool all_finite(const Eigen::VectorXd& x) { return x.allFinite(); }
+
+}  // namespace
+
+SwirlSolver::SwirlSolver(SwirlParams params) : params_(std::move(params)), grid_(params_.grid) {
+  if (grid_.azimuthal_cells() != 1)
+    throw std::invalid_argument("SwirlSolver: grid.azimuthal_cells must be 1 (axisymmetric)");
+  if (!(params_.density > 0)) throw std::invalid_argument("SwirlSolver: density must be > 0 kg/m³");
+  if (!params_.rheology) throw std::invalid_argument("SwirlSolver: rheology must be set");
+  if (!(params_.tolerance > 0)) throw std::invalid_argument("SwirlSolver: tolerance must be > 0");
+  if (params_.max_iterations < 1) throw std::invalid_argument("SwirlSolver: max_iterations must be >= 1");
+  if (!(params_.viscosity_relaxation > 0 && params_.viscosity_relaxation <= 1))
+    throw std::invalid_argument("SwirlSolver: viscosity_relaxation must be in (0, 1]");
+  if (!(params_.velocity_relaxation > 0 && params_.velocity_relaxation <= 1))
+    throw std::invalid_argument("SwirlSolver: velocity_relaxation must be in (0, 1]");
+  if (params_.inertia && (grid_.radial_cells() < 2 || grid_.axial_cells() < 2))
+    throw std::invalid_argument("SwirlSolver: with inertia the grid needs >= 2 cells in r and in z");
+}
+
+SwirlState SwirlSolver::rest_state() const {
+  const Layout layout(grid_, params_.inertia);
+  SwirlState s;
+  s.angular_velocity.assign(layout.nc, 0.0);
+  s.pressure.assign(layout.nc, 0.0);
+  s.radial_velocity.assign((layout.nr + 1) * layout.nz, 0.0);
+  s.axial_velocity.assign(layout.nr * (layout.nz + 1), 0.0);
+  return s;
+}
+
+SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling,
+                                 double beta_start, int max_iterations) const {
+  const auto start = std::chrono::steady_clock::now();
+  const Layout L(grid_, params_.inertia);
+  if (!coupling.void_fraction.empty() && coupling.void_fraction.size() != L.nc)
+    throw std::invalid_argument("SwirlSolver: void_fraction needs one value per cell");
+  if (!coupling.torque_density.empty() && coupling.torque_density.size() != L.nc)
+    throw std::invalid_argument("SwirlSolver: torque_density needs one value per cell");
+  const Discretisation disc(L, params_, angular_velocity, coupling.void_fraction);
+
+  SwirlState state = rest_state();
+  if (initial) {
+    if (initial->angular_velocity.size() != L.nc) throw std::invalid_argument("SwirlSolver: initial state of another grid");
+    state = *initial;
+  } else {
+    for (std::size_t i = 0; i < L.nr; ++i)
+      for (std::size_t k = 0; k < L.nz; ++k)
+        state.angular_velocity[L.cell(i, k)] = angular_velocity * L.zc[k] / L.zf[L.nz];
+  }
+  if (!L.inertia) {
+    std::fill(state.radial_velocity.begin(), state.radial_velocity.end(), 0.0);
+    std::fill(state.axial_velocity.begin(), state.axial_velocity.end(), 0.0);
+  }
+
+  SwirlResult result;
+  ViscosityField mu = disc.viscosity(state);
+  Triplets triplets;
+  Eigen::VectorXd rhs;
+  Eigen::SparseMatrix<double> matrix(static_cast<Eigen::Index>(L.unknowns()), static_cast<Eigen::Index>(L.unknowns()));
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  bool pattern_known = false;
+  double torque = disc.wall_torque(state, mu, true);
+  const double velocity_scale = std::abs(angular_velocity) * L.rf[L.nr] + 1e-300;
+  const double omega_scale = std::abs(angular_velocity) + 1e-300;
+
+  double beta = beta_start;
+  int rising = 0;  // consecutive iterations whose change grew
+  for (int iteration = 1; iteration <= max_iterations; ++iteration) {
+    disc.assemble(state, mu, coupling.torque_density, triplets, rhs);
+    matrix.setFromTriplets(triplets.begin(), triplets.end());
+    if (!pattern_known) {
+      lu.analyzePattern(matrix);
+      pattern_known = true;
+    }
+    lu.factorize(matrix);
+    if (lu.info() != Eigen::Success) {
+      result.failure = "sparse LU factorisation failed at iteration " + std::to_string(iteration);
+      break;
+    }
+    const Eigen::VectorXd x = lu.solve(rhs);
+    if (!all_finite(x)) {
+      result.failure = "non-finite values (NaN/inf) at iteration " + std::to_string(iteration);
+      break;
+    }
+
+    // Relaxed Picard update: next = state + β (solution − state).
+    const auto relaxed = [&beta](double old_value, double new_value) { return old_value + beta * (new_value - old_value); };
+    SwirlState next = state;
+    for (std::size_t c = 0; c < L.nc; ++c)
+      next.angular_velocity[c] = relaxed(state.angular_velocity[c], x[static_cast<Eigen::Index>(c)]);
+    if (L.inertia) {
+      double mean_p = 0;
+      for (std::size_t c = 0; c < L.nc; ++c) mean_p += x[static_cast<Eigen::Index>(L.nc + c)];
+      mean_p /= static_cast<double>(L.nc);
+      for (std::size_t c = 0; c < L.nc; ++c) next.pressure[c] = x[static_cast<Eigen::Index>(L.nc + c)] - mean_p;
+      for (std::size_t i = 1; i < L.nr; ++i)
+        for (std::size_t k = 0; k < L.nz; ++k)
+          next.radial_velocity[L.ur_index(i, k)] =
+              relaxed(state.radial_velocity[L.ur_index(i, k)], x[static_cast<Eigen::Index>(L.radial(i, k))]);
+      for (std::size_t i = 0; i < L.nr; ++i)
+        for (std::size_t k = 1; k < L.nz; ++k)
+          next.axial_velocity[L.uz_index(i, k)] =
+              relaxed(state.axial_velocity[L.uz_index(i, k)], x[static_cast<Eigen::Index>(L.axial(i, k))]);
+    }
+
+    ViscosityField next_mu = disc.viscosity(next);
+    const double alpha = params_.viscosity_relaxation;
+    if (alpha < 1) {
+      const auto relax = [alpha](std::vector<double>& now, const std::vector<double>& old) {
+        for (std::size_t j = 0; j < now.size(); ++j) now[j] = old[j] + alpha * (now[j] - old[j]);
+      };
+      relax(next_mu.centre, mu.centre);
+      relax(next_mu.axial_flux, mu.axial_flux);
+      relax(next_mu.radial, mu.radial);
+    }
+    const double next_torque = disc.wall_torque(next, next_mu, true);
+    const double change = std::max({max_abs_difference(next.angular_velocity, state.angular_velocity) / omega_scale,
+                                    max_abs_difference(next.radial_velocity, state.radial_velocity) / velocity_scale,
+                                    max_abs_difference(next.axial_velocity, state.axial_velocity) / velocity_scale,
+                                    std::abs(next_torque - torque) / (std::abs(next_torque) + 1e-300)});
+    // A change that keeps growing means the Picard map overshoots: damp it (down to β = 0.05).
+    if (!result.residual_history.empty() && change > result.residual_history.back()) {
+      if (++rising >= 3 && beta > 0.05) {
+        beta = std::max(0.05, 0.5 * beta);
+        rising = 0;
+      }
+    } else {
+      rising = 0;
+    }
+    result.residual_history.push_back(change);
+    result.iterations = iteration;
+    if (change > 1e6) {
+      result.failure = "diverged at iteration " + std::to_string(iteration) + " (relative change " +
+                       std::to_string(change) + ")";
+      break;
+    }
+    if (!std::isfinite(next_torque)) {
+      result.failure = "non-finite torque at iteration " + std::to_string(iteration);
+      break;
+    }
+    state = std::move(next);
+    mu = std::move(next_mu);
+    torque = next_torque;
+    if (change < params_.tolerance) {
+      result.converged = true;
+      break;
+    }
+  }
+  if (!result.converged && result.failure.empty())
+    result.failure = "no convergence to " + fmt::format("{:g}", params_.tolerance) + " in " +
+                     std::to_string(max_iterations) + " iterations (last change " +
+                     std::to_string(result.residual_history.empty() ? 0.0 : result.residual_history.back()) + ")";
+
+  state.viscosity = mu.centre;
+  state.shear_rate = mu.shear_rate;
+  result.torque = torque;
+  result.bottom_torque = disc.wall_torque(state, mu, false);
+  result.state = std::move(state);
+  result.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+SwirlResult SwirlSolver::solve(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling) const {
+  SwirlResult direct =
+      attempt(angular_velocity, initial, coupling, params_.velocity_relaxation, params_.max_iterations);
+  if (direct.converged || !params_.inertia) return direct;
+
+  // Continuation in Ω: climb from a converged lower speed, growing the step after successes
+  // and halving it after failures. Each stage starts from the previous converged state.
+  const auto start = std::chrono::steady_clock::now();
+  SwirlResult last;
+  bool have_last = false;
+  double reached = 0, step = angular_velocity / 4;
+  int total_iterations = direct.iterations;
+  std::vector<double> history = direct.residual_history;
+  while (reached < angular_velocity) {
+    const double target = std::min(angular_velocity, reached + step);
+    SwirlResult stage = attempt(target, have_last ? &last.state : nullptr, coupling,
+                                std::min(params_.velocity_relaxation, 0.5), params_.max_iterations);
+    total_iterations += stage.iterations;
+    history.insert(history.end(), stage.residual_history.begin(), stage.residual_history.end());
+    if (stage.converged) {
+      reached = target;
+      last = std::move(stage);
+      have_last = true;
+      step *= 1.5;
+    } else {
+      step *= 0.5;
+      if (step < angular_velocity / 256) {
+        direct.failure += fmt::format("; continuation in Ω also failed at {:.4g} rad/s ({:.3g} % of the target)",
+                                      target, 100 * target / angular_velocity);
+        return direct;
+      }
+    }
+  }
+  last.iterations = total_iterations;
+  last.residual_history = std::move(history);
+  last.wall_time = direct.wall_time + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return last;
+}
+
+}  // namespace rheosim::fluid
