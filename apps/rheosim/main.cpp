@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
       "  rheosim validate cases/quickstart.yaml\n"
       "  rheosim run cases/quickstart.yaml --out results/quickstart\n"
       "  rheosim report results/quickstart\n"
+      "  rheosim export-openfoam cases/quickstart.yaml foam/quickstart --shear-rate 100\n"
       "Exit codes: 0 success, 2 bad input (case file or arguments), 1 run failure.\n"
       "Run 'rheosim <command> --help' for the options of a command.");
   bool verbose = false;
@@ -53,6 +54,22 @@ int main(int argc, char** argv) {
       "Example:\n"
       "  rheosim report results/quickstart");
 
+  std::string export_case;
+  std::string export_dir;
+  double export_rate = 0;
+  std::string export_mesh = "M2";
+  auto* foam = cli.add_subcommand("export-openfoam", "Write a rheometer case as an OpenFOAM v1912 case directory");
+  foam->add_option("case", export_case, "Case file (kind: rheometer, single phase)")->required()->check(CLI::ExistingFile);
+  foam->add_option("dir", export_dir, "Output case directory")->required();
+  foam->add_option("--shear-rate", export_rate, "Rim shear rate [1/s] (default: the case's last)");
+  foam->add_option("--mesh", export_mesh, "Mesh preset M1 | M2 | M3 (CD §2.3)");
+  foam->footer(
+      "Writes blockMeshDict (O-grid), controlDict with a forces function object, fvSchemes,\n"
+      "fvSolution, transportProperties (kinematic units), 0/U and 0/p; run blockMesh then simpleFoam\n"
+      "with WM_PROJECT_DIR=/usr/share/openfoam.\n"
+      "Example:\n"
+      "  rheosim export-openfoam cases/quickstart.yaml foam/quickstart --shear-rate 100 --mesh M2");
+
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -64,5 +81,6 @@ int main(int argc, char** argv) {
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
   if (*run) return app::run(run_case, run_out, log);
+  if (*foam) return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, log);
   return app::report(report_dir, log);
 }

@@ -21,11 +21,45 @@ void require_increasing(const Section& s, std::string_view key, const std::vecto
              "a strictly increasing list", "sort the list and remove repeated values");
 }
 
-FluidProperties read_fluid(const Section& root) {
-  const Section fluid = root.section({"fluid", "the liquid (matrix) phase", "-"});
+FluidProperties read_fluid_properties(const Section& fluid) {
   FluidProperties out;
   out.density = fluid.number({"density", "fluid density", "kg/m³"}, Range::positive());
   out.rheology = make_rheology(fluid.section({"rheology", "viscosity law {model: name, parameters}", "-"}));
+  return out;
+}
+
+FluidProperties read_fluid(const Section& root) {
+  return read_fluid_properties(root.section({"fluid", "the liquid (matrix) phase", "-"}));
+}
+
+// `fluid: {...}` or, for single-phase comparisons, `fluids: [{name: ..., density, rheology}, ...]`.
+std::vector<NamedFluid> read_fluids(const Section& root) {
+  const KeyInfo list_key{"fluids", "a list of named liquids, each {name, density, rheology}", "-"};
+  if (!root.has("fluids")) return {{"fluid", read_fluid(root)}};
+  if (root.has("fluid"))
+    root.fail("fluids", "both 'fluid' and 'fluids' are given", "one of them", "keep 'fluid' for one liquid");
+  std::vector<NamedFluid> out;
+  for (const Section& item : root.sections(list_key)) {
+    NamedFluid f{item.text({"name", "fluid name (used in tables and plots)", "-"}), read_fluid_properties(item)};
+    for (const auto& other : out)
+      if (other.name == f.name) item.fail("name", "the name '" + f.name + "' is used twice", "unique fluid names");
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+FluidSolverSettings read_solver(const Section& root) {
+  FluidSolverSettings out;
+  const auto s = root.optional_section({"solver", "fluid solver settings", "-"});
+  if (!s) return out;
+  out.radial_cells = s->integer_or({"radial_cells", "radial cells N_r", "-"}, out.radial_cells, 2, 4000);
+  out.axial_cells = s->integer_or({"axial_cells", "axial cells N_z", "-"}, out.axial_cells, 2, 2000);
+  out.radial_grading = s->number_or({"radial_grading", "last/first radial cell width", "-"}, out.radial_grading,
+                                    Range::closed(0.01, 100.0));
+  out.inertia = s->boolean_or({"inertia", "solve with fluid inertia (false: creeping limit)", "-"}, out.inertia);
+  out.tolerance = s->number_or({"tolerance", "relative change per iteration", "-"}, out.tolerance,
+                               Range::open(0.0, 1e-2));
+  out.max_iterations = s->integer_or({"max_iterations", "nonlinear iterations", "-"}, out.max_iterations, 1, 100000);
   return out;
 }
 
@@ -60,7 +94,12 @@ ParticleProperties read_particles(const Section& p, const PlateGeometry& geometr
 RheometerCase read_rheometer(const Section& root, bool is_sweep) {
   RheometerCase out;
   out.geometry = read_plate_geometry(root);
-  out.fluid = read_fluid(root);
+  out.fluids = read_fluids(root);
+  out.fluid = out.fluids.front().properties;
+  if (out.fluids.size() > 1 && (is_sweep || root.has("particles")))
+    root.fail("fluids", "several fluids are only for single-phase rheometry", "one 'fluid:' with particles",
+              "run one case per fluid");
+  out.solver = read_solver(root);
   out.shear_rates = root.numbers({"shear_rates", "rim shear rates γ̇_R = ΩR/H", "1/s"}, Range::positive());
   require_increasing(root, "shear_rates", out.shear_rates);
   const KeyInfo particles_key{"particles", "suspended particles (omit for a single fluid)", "-"};

@@ -21,7 +21,12 @@ std::string describe_fluid(const FluidProperties& fluid) {
 
 std::string describe_rheometer(const RheometerCase& r) {
   std::string out = fmt::format("  geometry: parallel plates, radius {} m, gap {} m\n", r.geometry.radius, r.geometry.gap);
-  out += describe_fluid(r.fluid);
+  for (const auto& f : r.fluids) {
+    if (r.fluids.size() > 1) out += fmt::format("  [{}]\n", f.name);
+    out += describe_fluid(f.properties);
+  }
+  out += fmt::format("  solver: {} × {} cells (r × z), radial grading {}, inertia {}\n", r.solver.radial_cells,
+                     r.solver.axial_cells, r.solver.radial_grading, r.solver.inertia ? "on" : "off");
   out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
   if (const auto& p = r.particles) {
     out += fmt::format(

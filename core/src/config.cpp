@@ -373,6 +373,29 @@ std::optional<Section> Section::optional_section(const KeyInfo& key) const {
   return section(key);
 }
 
+std::vector<Section> Section::sections(const KeyInfo& key, std::size_t min_size) const {
+  Lookup lookup{*this, node_->node, *doc_};
+  const YAML::Node node = lookup.required(key);
+  const auto where_node = location_of(*doc_, node);
+  if (!node.IsSequence() || node.size() < min_size)
+    throw ConfigError({where_node, key_path(key.name),
+                       node.IsSequence() ? fmt::format("the list has {} entries", node.size())
+                                         : fmt::format("expected a list of mappings, got {}", scalar_text(node)),
+                       fmt::format("{}: a list of at least {} mappings", describe(key), min_size),
+                       fmt::format("write '{}:' followed by '- key: value' items", key.name)});
+  std::vector<Section> out;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const YAML::Node item = node[i];
+    const std::string path = fmt::format("{}[{}]", key_path(key.name), i);
+    if (!item.IsMap())
+      throw ConfigError({location_of(*doc_, item), path, fmt::format("expected a mapping, got {}", scalar_text(item)),
+                         describe(key), ""});
+    doc_->known_paths.insert(path);
+    out.push_back(Section(doc_, std::make_shared<const NodeHandle>(NodeHandle{item}), path));
+  }
+  return out;
+}
+
 // ------------------------------------------------------------------------------- Document
 
 Document::Document(std::shared_ptr<DocumentState> state) : state_(std::move(state)) {}
@@ -437,6 +460,11 @@ void check_map(const DocumentState& doc, const YAML::Node& map, const std::strin
                          listed.empty() ? std::string("no keys here") : fmt::format("one of: {}", listed), hint});
     }
     if (it->second.IsMap()) check_map(doc, it->second, key_path);
+    if (it->second.IsSequence())
+      for (std::size_t i = 0; i < it->second.size(); ++i) {
+        const std::string item_path = fmt::format("{}[{}]", key_path, i);
+        if (it->second[i].IsMap() && doc.known_paths.contains(item_path)) check_map(doc, it->second[i], item_path);
+      }
   }
 }
 }  // namespace

@@ -87,3 +87,40 @@ TEST(SwirlInertia, WaterAtHighReynoldsRaisesTheTorque) {
 
 }  // namespace
 }  // namespace rheosim::fluid
+
+namespace rheosim::fluid {
+namespace {
+
+// Hard cases from rest: strongly shear-thinning and -thickening power laws, and yield-stress
+// fluids at Bingham numbers Bn = τ₀/(μ γ̇_R) up to 1000 with sharp regularisation. The
+// creeping solution ω = Ωz/H holds for every law, so each must end there.
+TEST(SwirlHardCases, ConvergeFromRestWithoutNaN) {
+  struct Case { std::string name, yaml; };
+  const double rate = 10;
+  const std::vector<Case> cases = {
+      {"power law n=0.2", "model: power_law\nconsistency: 1.0e-3\nindex: 0.2\n"},
+      {"power law n=1.5", "model: power_law\nconsistency: 1.0e-3\nindex: 1.5\n"},
+      {"bingham Bn=10 m=1e3", "model: bingham\nplastic_viscosity: 0.1\nyield_stress: 10\nregularization: 1000\n"},
+      {"bingham Bn=1000 m=1e5", "model: bingham\nplastic_viscosity: 0.1\nyield_stress: 1000\nregularization: 1.0e5\n"},
+      {"casson Bn=1000 m=1e5", "model: casson\nplastic_viscosity: 0.1\nyield_stress: 1000\nregularization: 1.0e5\n"},
+      {"herschel_bulkley Bn=100", "model: herschel_bulkley\nconsistency: 0.1\nindex: 0.4\nyield_stress: 100\n"
+                                  "regularization: 1.0e4\n"}};
+  for (const auto& c : cases) {
+    SwirlParams p = params(law(c.yaml), false);
+    p.max_iterations = 2000;
+    const SwirlSolver solver(p);
+    const double omega = plate.angular_velocity(rate);
+    const SwirlState rest = solver.rest_state();
+    const auto result = solver.solve(omega, &rest);
+    ASSERT_TRUE(result.converged) << c.name << ": " << result.failure;
+    const double reference = rheometer::creeping_torque(plate, *p.rheology, rate);
+    const double error = std::abs(result.torque - reference) / reference;
+    std::printf("%-24s from rest: %4d iterations, torque %.6e, quadrature %.6e, rel. difference %.1e\n",
+                c.name.c_str(), result.iterations, result.torque, reference, error);
+    EXPECT_LT(error, 5e-4) << c.name;
+    for (double w : result.state.angular_velocity) ASSERT_TRUE(std::isfinite(w)) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace rheosim::fluid

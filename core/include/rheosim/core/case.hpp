@@ -37,11 +37,28 @@ struct ParticleProperties {  // particles: (CD §4 defaults)
   double friction = 0.3;          // μ_c [-], Coulomb friction coefficient
 };
 
+struct NamedFluid {
+  std::string name;  // from `fluids: [{name: ...}]`; "fluid" for a single `fluid:`
+  FluidProperties properties;
+};
+
+// solver: — numerical settings of the fluid solver (all optional).
+struct FluidSolverSettings {
+  int radial_cells = 40;         // N_r
+  int axial_cells = 8;           // N_z
+  double radial_grading = 1.0;   // last/first radial cell width (< 1 refines at the rim)
+  bool inertia = true;           // false: creeping (Stokes) limit, where the closed forms hold
+  double tolerance = 1e-10;      // relative change per Picard iteration
+  int max_iterations = 500;
+};
+
 struct RheometerCase {  // kind: rheometer
   PlateGeometry geometry;
-  FluidProperties fluid;
+  FluidProperties fluid;                          // the first (or only) fluid
+  std::vector<NamedFluid> fluids;                 // every fluid; single phase may list several
   std::vector<double> shear_rates;                // γ̇_R = ΩR/H [1/s], increasing
   std::optional<ParticleProperties> particles;    // absent: single phase
+  FluidSolverSettings solver;
 };
 
 struct SweepCase {  // kind: sweep — every (φ, γ̇_R) of volume_fractions × shear_rates

@@ -85,6 +85,8 @@ class Section {
   // Nested mappings.
   [[nodiscard]] Section section(const KeyInfo& key) const;
   [[nodiscard]] std::optional<Section> optional_section(const KeyInfo& key) const;
+  // A list of mappings (e.g. `fluids: [{name: a, ...}, {name: b, ...}]`), paths "key[i]".
+  [[nodiscard]] std::vector<Section> sections(const KeyInfo& key, std::size_t min_size = 1) const;
 
   // Raises a ConfigError located at `key` (or at this section when key is empty).
   [[noreturn]] void fail(std::string_view key, std::string problem, std::string expected,

@@ -40,6 +40,7 @@ struct SwirlParams {
   int max_iterations = 500;                       // Picard iterations
   double viscosity_relaxation = 1.0;              // (0, 1]: μ ← μ_old + α(μ_new − μ_old)
   double velocity_relaxation = 1.0;               // (0, 1]: the iterate moves by β of each Picard step
+  int anderson_depth = 5;                         // Anderson acceleration history; 0 = plain Picard
 };
 
 // Fields of one converged (or last) iterate. Index cell (i, k) as i * N_z + k.

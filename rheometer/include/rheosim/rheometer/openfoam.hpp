@@ -1,0 +1,120 @@
+#pragma once
+// OpenFOAM as the independent peer (DESIGN §4, issue 3 item 4): a single-phase `kind: rheometer`
+// case at one rim shear rate, written as a complete OpenFOAM v1912 case directory for simpleFoam.
+// OpenFOAM is used as a program, not a library (Debian packages no headers): these functions only
+// write text files; running blockMesh/simpleFoam is left to the caller (see docs/openfoam.md and
+// bench/openfoam_compare.sh).
+//
+// The case (all lengths in metres, CD §2.3 geometry):
+//   mesh   system/blockMeshDict: a 5-block O-grid of the gap 0 <= z <= H, r <= R — a square
+//          core of half-width s = core_fraction·R and four outer blocks from the square's sides
+//          to arcs of radius R. Counts per OpenFoamMesh below (CD's M1–M3 presets).
+//   flow   simpleFoam (steady, laminar, inertia included), SIMPLEC with residual control.
+//   walls  top (z = H): rotatingWallVelocity about +z through the origin, Ω = γ̇_R H / R.
+//          bottom (z = 0): noSlip. rim (r = R): the flat shear-free meniscus that rheosim's own
+//          solver uses, u_r = 0 and zero shear stress — `slip` for U, zeroGradient for p.
+//   torque system/controlDict: a `forces` function object on patch top, CofR (0 0 0),
+//          rho rhoInf with the real density, so postProcessing/forces/0/moment.dat holds the
+//          moment of the fluid on the top plate in N·m. The plate rotates in +z, so the fluid's
+//          moment on it is negative: torque = −(total moment)_z.
+//   fluid  constant/transportProperties with the rheology in OpenFOAM's kinematic units:
+//          ν = μ/ρ, k/ρ, τ₀/ρ (see openfoam_transport for each law and where it differs).
+//
+// OpenFOAM's shear rate is strainRate() = √2 |symm(∇U)| = √(2E:E), the same γ̇ as rheosim's.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "rheosim/core/case.hpp"
+
+namespace rheosim::rheometer {
+
+// Cell counts of the O-grid, named after CD §2.3 (M#: R × θ × H).
+// CD's azimuthal counts (30, 60, 120) are not multiples of 4, so they cannot be the number of
+// cells around a 5-block O-grid's circumference. We read them as block counts: each of the four
+// outer blocks has `radial_cells` × `azimuthal_cells` × `axial_cells` cells (core edge → rim ×
+// along its quarter arc × across the gap), and the square core has `azimuthal_cells`² ×
+// `axial_cells`. Around the rim there are 4·azimuthal_cells cells. With the default core
+// half-width s = R/2 and azimuthal = 2·radial (all three presets) the cells along the x and y
+// axes have the same radial size R/(2·radial_cells) in the core and in the outer blocks.
+//   M1 15×30×4: 10 800 cells   M2 30×60×8: 86 400 cells   M3 60×120×16: 691 200 cells
+struct OpenFoamMesh {
+  int radial_cells = 30;     // per outer block, from the core square to the rim
+  int azimuthal_cells = 60;  // per quarter (each outer block's arc, each side of the core)
+  int axial_cells = 8;       // across the gap H
+
+  [[nodiscard]] static OpenFoamMesh m1() { return {15, 30, 4}; }
+  [[nodiscard]] static OpenFoamMesh m2() { return {30, 60, 8}; }
+  [[nodiscard]] static OpenFoamMesh m3() { return {60, 120, 16}; }
+  // "M1" | "M2" | "M3" (case-insensitive); anything else is a ConfigError.
+  [[nodiscard]] static OpenFoamMesh preset(std::string_view name);
+
+  [[nodiscard]] long long cell_count() const;
+  bool operator==(const OpenFoamMesh&) const = default;
+};
+
+struct OpenFoamExportOptions {
+  OpenFoamMesh mesh = OpenFoamMesh::m2();
+  double core_fraction = 0.5;   // half-width of the core square / R, in (0.2, 0.65)
+  int max_iterations = 10000;   // SIMPLE iterations at most (controlDict endTime, deltaT 1)
+  // residualControl for p and U: simpleFoam stops when both initial residuals fall below it.
+  double residual_tolerance = 1e-7;
+};
+
+// The transport model OpenFOAM gets for a rheology law, in kinematic units.
+struct OpenFoamTransport {
+  std::string model;                                  // transportModel, e.g. "powerLaw"
+  std::vector<std::pair<std::string, double>> coeffs; // <model>Coeffs entries, SI kinematic
+  std::string note;                                   // how it differs from rheosim's law ("" if exact)
+};
+
+// Maps the fluid to OpenFOAM v1912's incompressible viscosity models (ρ = fluid.density):
+//   newtonian         Newtonian      nu = μ/ρ                                         exact
+//   power_law         powerLaw       k/ρ, n; nuMax/nuMin from rheosim's plateau        exact
+//   carreau_yasuda    BirdCarreau    nu0, nuInf = μ0/ρ, μ∞/ρ; k = λ; n; a              exact
+//   cross             CrossPowerLaw  nu0, nuInf = μ0/ρ, μ∞/ρ; m = λ; n = exponent      exact
+//   herschel_bulkley  HerschelBulkley k/ρ, n, tau0 = τ₀/ρ, nu0 = μ(0)/ρ               approximate
+//   bingham           HerschelBulkley with n = 1, k = μ∞/ρ, tau0 = τ₀/ρ, nu0 = μ(0)/ρ    approximate
+//   casson            Casson         m = μ∞/ρ, tau0 = τ₀/ρ, nuMin = μ∞/ρ, nuMax = μ(0)/ρ approximate
+// OpenFOAM's HerschelBulkley is ν = min(ν₀, (τ₀ + kγ̇ⁿ)/γ̇) — the ideal law with a viscosity cap —
+// and its Casson is the ideal Casson law clipped to [nuMin, nuMax]; rheosim regularises both
+// with Papanastasiou's exponential. With the cap set to rheosim's μ(0) both agree with the ideal
+// law far above γ̇ = 1/m and differ only below it (for Bingham the cap's stress exceeds
+// Papanastasiou's by at most τ₀/e, at γ̇ = 1/m); the note says so. Any other law has no
+// OpenFOAM counterpart and is a ConfigError naming it.
+[[nodiscard]] OpenFoamTransport openfoam_transport(const core::FluidProperties& fluid);
+
+// system/blockMeshDict for the plate gap (16 vertices, 5 hex blocks, 8 arc edges; patches top,
+// bottom, rim). Throws ConfigError for cell counts < 1 or a core_fraction out of range.
+[[nodiscard]] std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry,
+                                                   const OpenFoamMesh& mesh, double core_fraction = 0.5);
+
+// What export_openfoam wrote and the numbers a comparison needs.
+struct OpenFoamExport {
+  std::filesystem::path directory;
+  std::vector<std::filesystem::path> files;  // relative to directory, in writing order
+  OpenFoamTransport transport;
+  OpenFoamMesh mesh;
+  long long cells = 0;
+  double rim_shear_rate = 0;                 // γ̇_R [1/s]
+  double angular_velocity = 0;               // Ω = γ̇_R H/R [rad/s]
+  double gap_reynolds_number = 0;            // ρΩH²/μ(γ̇_R)
+  std::optional<double> closed_form_torque;  // [N·m], creeping flow, unregularised law
+  double creeping_torque = 0;                // [N·m], creeping flow, the law as implemented
+  std::string commands;                      // the shell commands that run the case
+};
+
+// Writes the OpenFOAM v1912 case for `c` (kind: rheometer, no particles) at rim shear rate
+// `rim_shear_rate` [1/s] into `dir` (created; existing files of the same names are replaced):
+//   system/{blockMeshDict,controlDict,fvSchemes,fvSolution}, constant/{transportProperties,
+//   turbulenceProperties}, 0/{U,p}, README (the command sequence) and rheosim.json (geometry,
+//   Ω, transport mapping, closed-form and creeping torques, gap Reynolds number).
+// Every file is written atomically. Throws ConfigError for a case that cannot be exported
+// (another kind, particles, a law without OpenFOAM model, γ̇_R <= 0) and RunError on I/O failure.
+OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const std::filesystem::path& dir,
+                               const OpenFoamExportOptions& options = {});
+
+}  // namespace rheosim::rheometer

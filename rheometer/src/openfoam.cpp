@@ -1,0 +1,486 @@
+#include "rheosim/rheometer/openfoam.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <ostream>
+#include <string>
+#include <utility>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/version.hpp"
+#include "rheosim/rheometer/plate.hpp"
+
+namespace rheosim::rheometer {
+
+namespace {
+
+// A parameter of a law by its YAML name (Rheology::parameters()).
+double parameter(const core::Rheology& law, std::string_view name) {
+  for (const auto& p : law.parameters())
+    if (p.name == name) return p.value;
+  throw std::logic_error(fmt::format("rheology '{}' has no parameter '{}'", law.name(), name));
+}
+
+[[noreturn]] void input_error(const std::string& file, std::string key, std::string problem,
+                              std::string expected, std::string hint = {}) {
+  throw core::ConfigError({core::FileLocation{file, 0, 0}, std::move(key), std::move(problem),
+                           std::move(expected), std::move(hint)});
+}
+
+// Shortest text that reads back to the same double (fmt's default for doubles).
+std::string num(double v) { return fmt::format("{}", v); }
+
+std::string foam_header(std::string_view cls, std::string_view location, std::string_view object) {
+  return fmt::format(
+      "/*--------------------------------*- C++ -*----------------------------------*\\\n"
+      "  Written by rheosim {} ({}) for OpenFOAM v1912. SI units.\n"
+      "\\*---------------------------------------------------------------------------*/\n"
+      "FoamFile\n"
+      "{{\n"
+      "    version     2.0;\n"
+      "    format      ascii;\n"
+      "    class       {};\n"
+      "    location    \"{}\";\n"
+      "    object      {};\n"
+      "}}\n"
+      "// * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * //\n\n",
+      core::version, core::git_revision, cls, location, object);
+}
+
+constexpr std::string_view foam_footer =
+    "\n// ************************************************************************* //\n";
+
+constexpr int max_cells = 100000;  // per direction; far beyond anything a 2-core machine runs
+
+void check_mesh(const OpenFoamMesh& mesh, double core_fraction) {
+  const auto check = [](int n, const char* what) {
+    if (n < 1 || n > max_cells)
+      input_error("", std::string("--mesh ") + what, fmt::format("{} cells is not in [1, {}]", n, max_cells),
+                  "a positive number of cells");
+  };
+  check(mesh.radial_cells, "radial_cells");
+  check(mesh.azimuthal_cells, "azimuthal_cells");
+  check(mesh.axial_cells, "axial_cells");
+  if (!(core_fraction >= 0.2 && core_fraction <= 0.65))
+    input_error("", "core_fraction", fmt::format("{} is not in [0.2, 0.65]", core_fraction),
+                "half-width of the O-grid's core square as a fraction of R");
+}
+
+}  // namespace
+
+// ----------------------------------------------------------------------------------------- mesh
+
+OpenFoamMesh OpenFoamMesh::preset(std::string_view name) {
+  std::string upper(name);
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char ch) { return std::toupper(ch); });
+  if (upper == "M1") return m1();
+  if (upper == "M2") return m2();
+  if (upper == "M3") return m3();
+  input_error("", "--mesh", fmt::format("'{}' is not a mesh preset", name),
+              "M1 (15×30×4), M2 (30×60×8) or M3 (60×120×16), CD §2.3");
+}
+
+long long OpenFoamMesh::cell_count() const {
+  const long long nr = radial_cells, nq = azimuthal_cells, nz = axial_cells;
+  return (nq * nq + 4 * nr * nq) * nz;
+}
+
+std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const OpenFoamMesh& mesh,
+                                     double core_fraction) {
+  check_mesh(mesh, core_fraction);
+  const double R = geometry.radius;
+  const double H = geometry.gap;
+  const double s = core_fraction * R;  // half-width of the core square
+  const double d = R * std::sqrt(0.5);  // rim points at 45° + k·90°
+  // Vertex k (0..3): core corner at 45° + k·90°; 4 + k: rim point at the same angle; +8: z = H.
+  const std::array<std::array<double, 2>, 4> core_xy{{{s, s}, {-s, s}, {-s, -s}, {s, -s}}};
+  const std::array<std::array<double, 2>, 4> rim_xy{{{d, d}, {-d, d}, {-d, -d}, {d, -d}}};
+  const std::array<std::array<double, 2>, 4> arc_mid{{{0, R}, {-R, 0}, {0, -R}, {R, 0}}};  // between k and k+1
+
+  std::string out = foam_header("dictionary", "system", "blockMeshDict");
+  out += fmt::format(
+      "// Parallel-plate gap: radius R = {} m, gap H = {} m. 5-block O-grid: a square core of\n"
+      "// half-width {} m and four outer blocks to arcs of radius R. Cells: {} radial (outer\n"
+      "// blocks) x {} per quarter of the circumference x {} across the gap = {} cells.\n\n",
+      num(R), num(H), num(s), mesh.radial_cells, mesh.azimuthal_cells, mesh.axial_cells, mesh.cell_count());
+  out += "scale   1;\n\nvertices\n(\n";
+  for (int layer = 0; layer < 2; ++layer) {
+    const double z = layer == 0 ? 0.0 : H;
+    for (int k = 0; k < 4; ++k)
+      out += fmt::format("    ({} {} {})  // {}: core corner, z = {}\n", num(core_xy[k][0]), num(core_xy[k][1]),
+                         num(z), 8 * layer + k, layer == 0 ? "0" : "H");
+    for (int k = 0; k < 4; ++k)
+      out += fmt::format("    ({} {} {})  // {}: rim, z = {}\n", num(rim_xy[k][0]), num(rim_xy[k][1]), num(z),
+                         8 * layer + 4 + k, layer == 0 ? "0" : "H");
+  }
+  out += ");\n\n";
+
+  // Hex vertex order: bottom face counter-clockwise seen from +z, then the top face above it.
+  const int nr = mesh.radial_cells, nq = mesh.azimuthal_cells, nz = mesh.axial_cells;
+  std::array<std::array<int, 8>, 5> blocks{};
+  blocks[0] = {2, 3, 0, 1, 10, 11, 8, 9};  // core: x1 along +x, x2 along +y
+  for (int k = 0; k < 4; ++k) {            // outer block k: x1 radial, x2 counter-clockwise
+    const int k1 = (k + 1) % 4;
+    blocks[k + 1] = {k, 4 + k, 4 + k1, k1, 8 + k, 12 + k, 12 + k1, 8 + k1};
+  }
+  out += "blocks\n(\n";
+  for (int b = 0; b < 5; ++b) {
+    const auto& v = blocks[b];
+    out += fmt::format("    hex ({} {} {} {} {} {} {} {}) ({} {} {}) simpleGrading (1 1 1)  // {}\n", v[0], v[1],
+                       v[2], v[3], v[4], v[5], v[6], v[7], b == 0 ? nq : nr, nq, nz,
+                       b == 0 ? std::string("core") : fmt::format("outer {}", b - 1));
+  }
+  out += ");\n\nedges\n(\n";
+  for (int layer = 0; layer < 2; ++layer) {
+    const double z = layer == 0 ? 0.0 : H;
+    for (int k = 0; k < 4; ++k)
+      out += fmt::format("    arc {} {} ({} {} {})\n", 8 * layer + 4 + k, 8 * layer + 4 + (k + 1) % 4,
+                         num(arc_mid[k][0]), num(arc_mid[k][1]), num(z));
+  }
+  out += ");\n\nboundary\n(\n";
+  const auto face = [](int a, int b, int c, int e) { return fmt::format("            ({} {} {} {})\n", a, b, c, e); };
+  // Faces are listed with outward normals (right-hand rule).
+  std::string top, bottom, rim;
+  for (const auto& v : blocks) {
+    top += face(v[4], v[5], v[6], v[7]);
+    bottom += face(v[0], v[3], v[2], v[1]);
+  }
+  for (int b = 1; b < 5; ++b) rim += face(blocks[b][1], blocks[b][2], blocks[b][6], blocks[b][5]);
+  out += "    top     // z = H, rotating plate\n    {\n        type wall;\n        faces\n        (\n" + top +
+         "        );\n    }\n";
+  out += "    bottom  // z = 0, fixed plate\n    {\n        type wall;\n        faces\n        (\n" + bottom +
+         "        );\n    }\n";
+  out += "    rim     // r = R, flat shear-free meniscus\n    {\n        type patch;\n        faces\n        (\n" +
+         rim + "        );\n    }\n";
+  out += ");\n\nmergePatchPairs\n(\n);\n";
+  out += foam_footer;
+  return out;
+}
+
+// ------------------------------------------------------------------------------------ transport
+
+OpenFoamTransport openfoam_transport(const core::FluidProperties& fluid) {
+  if (!fluid.rheology) throw std::invalid_argument("openfoam_transport: fluid without rheology");
+  const core::Rheology& law = *fluid.rheology;
+  const double rho = fluid.density;
+  if (!(rho > 0)) input_error("", "fluid.density", fmt::format("{} is not positive", rho), "density in kg/m³");
+  const std::string name(law.name());
+  const auto p = [&](std::string_view key) { return parameter(law, key); };
+  const double nu_rest = law.viscosity(0.0) / rho;  // rheosim's μ(0)/ρ: finite for every law
+
+  OpenFoamTransport t;
+  if (name == "newtonian") {
+    t.model = "Newtonian";
+    t.coeffs = {{"nu", p("viscosity") / rho}};
+  } else if (name == "power_law") {
+    // rheosim holds μ = k γ̇_min^(n−1) below γ̇_min; OpenFOAM clips ν to [nuMin, nuMax], which
+    // is the same law when the plateau value is the cap on the side the law runs away to.
+    const double n = p("index");
+    constexpr double no_cap = 1e300;
+    t.model = "powerLaw";
+    t.coeffs = {{"k", p("consistency") / rho},
+                {"n", n},
+                {"nuMin", n < 1 ? 0.0 : nu_rest},
+                {"nuMax", n > 1 ? no_cap : nu_rest}};
+  } else if (name == "carreau_yasuda") {
+    t.model = "BirdCarreau";
+    t.coeffs = {{"nu0", p("zero_shear_viscosity") / rho},
+                {"nuInf", p("infinite_shear_viscosity") / rho},
+                {"k", p("time_constant")},
+                {"n", p("n")},
+                {"a", p("a")}};
+  } else if (name == "cross") {
+    t.model = "CrossPowerLaw";
+    t.coeffs = {{"nu0", p("zero_shear_viscosity") / rho},
+                {"nuInf", p("infinite_shear_viscosity") / rho},
+                {"m", p("time_constant")},
+                {"n", p("exponent")}};
+  } else if (name == "herschel_bulkley" || name == "bingham") {
+    const bool bingham = name == "bingham";
+    t.model = "HerschelBulkley";
+    t.coeffs = {{"k", (bingham ? p("plastic_viscosity") : p("consistency")) / rho},
+                {"n", bingham ? 1.0 : p("index")},
+                {"tau0", p("yield_stress") / rho},
+                {"nu0", nu_rest}};
+    t.note = fmt::format(
+        "OpenFOAM's HerschelBulkley is nu = min(nu0, (tau0 + k*gammaDot^n)/gammaDot): the ideal {} law "
+        "with a viscosity cap nu0 = mu(0)/rho = {} m^2/s (rheosim's regularised viscosity at rest), not "
+        "Papanastasiou's smooth 1 - exp(-m*gammaDot) (m = {} s). Both tend to the ideal law for "
+        "gammaDot >> 1/m and differ below it (by up to tau0/e in stress for Bingham, at gammaDot = 1/m).",
+        bingham ? "Bingham" : "Herschel-Bulkley", num(nu_rest), num(p("regularization")));
+  } else if (name == "casson") {
+    t.model = "Casson";
+    t.coeffs = {{"m", p("plastic_viscosity") / rho},
+                {"tau0", p("yield_stress") / rho},
+                {"nuMin", p("plastic_viscosity") / rho},
+                {"nuMax", nu_rest}};
+    t.note = fmt::format(
+        "OpenFOAM's Casson is the ideal law nu = (sqrt(tau0/gammaDot) + sqrt(m))^2 clipped to [nuMin, nuMax] "
+        "with nuMax = mu(0)/rho = {} m^2/s (rheosim's regularised viscosity at rest), not rheosim's "
+        "Papanastasiou-Casson law with exp(-sqrt(m*gammaDot)) (m = {} s). Both tend to the ideal law for "
+        "gammaDot >> 1/m and differ below it.",
+        num(nu_rest), num(p("regularization")));
+  } else {
+    input_error("", "fluid.rheology.model", fmt::format("'{}' has no OpenFOAM v1912 viscosity model", name),
+                "newtonian, power_law, bingham, casson, herschel_bulkley, carreau_yasuda or cross",
+                "OpenFOAM v1912's incompressible transport models are Newtonian, powerLaw, CrossPowerLaw, "
+                "BirdCarreau, HerschelBulkley, Casson (and strainRateFunction, Arrhenius)");
+  }
+  return t;
+}
+
+// --------------------------------------------------------------------------------------- export
+
+namespace {
+
+std::string transport_properties(const OpenFoamTransport& t, const core::FluidProperties& fluid) {
+  std::string out = foam_header("dictionary", "constant", "transportProperties");
+  out += fmt::format("// rheosim law: {} with", fluid.rheology->name());
+  for (const auto& prm : fluid.rheology->parameters()) out += fmt::format(" {} = {} {};", prm.name, num(prm.value), prm.unit);
+  out += fmt::format("\n// density {} kg/m^3. OpenFOAM's models are kinematic: nu = mu/rho, k/rho, tau0/rho.\n",
+                     num(fluid.density));
+  if (!t.note.empty()) out += "// Note: " + t.note + "\n";
+  out += fmt::format("\ntransportModel  {};\n\n", t.model);
+  if (t.model == "Newtonian") {
+    out += fmt::format("nu              {};\n", num(t.coeffs.at(0).second));
+  } else {
+    out += t.model + "Coeffs\n{\n";
+    for (const auto& [key, value] : t.coeffs) out += fmt::format("    {:<8}{};\n", key, num(value));
+    out += "}\n";
+  }
+  out += foam_footer;
+  return out;
+}
+
+std::string control_dict(const OpenFoamExportOptions& o, double density) {
+  std::string out = foam_header("dictionary", "system", "controlDict");
+  out += fmt::format(
+      "application     simpleFoam;\n\n"
+      "startFrom       startTime;\n"
+      "startTime       0;\n"
+      "stopAt          endTime;\n"
+      "endTime         {0};       // SIMPLE iterations at most; residualControl stops earlier\n"
+      "deltaT          1;\n\n"
+      "writeControl    timeStep;\n"
+      "writeInterval   {0};\n"
+      "purgeWrite      0;\n"
+      "writeFormat     ascii;\n"
+      "writePrecision  12;\n"
+      "writeCompression off;\n"
+      "timeFormat      general;\n"
+      "timePrecision   8;\n"
+      "runTimeModifiable false;\n\n"
+      "functions\n"
+      "{{\n"
+      "    // Force and moment of the fluid on the rotating plate, about the origin, in N and N m\n"
+      "    // (kinematic pressure and stress times rhoInf). postProcessing/forces/0/moment.dat:\n"
+      "    // the plate's torque is minus the total moment's z component.\n"
+      "    forces\n"
+      "    {{\n"
+      "        type            forces;\n"
+      "        libs            (\"libforces.so\");\n"
+      "        writeControl    timeStep;\n"
+      "        writeInterval   1;\n"
+      "        log             false;\n"
+      "        patches         (top);\n"
+      "        rho             rhoInf;\n"
+      "        rhoInf          {1};\n"
+      "        CofR            (0 0 0);\n"
+      "    }}\n"
+      "}}\n",
+      o.max_iterations, num(density));
+  out += foam_footer;
+  return out;
+}
+
+std::string fv_schemes() {
+  std::string out = foam_header("dictionary", "system", "fvSchemes");
+  out +=
+      "// Second order in space (CD §2.3: least-squares velocity gradient, linear diffusion,\n"
+      "// linear-upwind convection); steady.\n"
+      "ddtSchemes\n{\n    default         steadyState;\n}\n\n"
+      "gradSchemes\n{\n    default         Gauss linear;\n    grad(U)         leastSquares;\n}\n\n"
+      "divSchemes\n{\n    default         none;\n"
+      "    div(phi,U)      bounded Gauss linearUpwind grad(U);\n"
+      "    div((nuEff*dev2(T(grad(U))))) Gauss linear;\n}\n\n"
+      "laplacianSchemes\n{\n    default         Gauss linear corrected;\n}\n\n"
+      "interpolationSchemes\n{\n    default         linear;\n}\n\n"
+      "snGradSchemes\n{\n    default         corrected;\n}\n";
+  out += foam_footer;
+  return out;
+}
+
+std::string fv_solution(const OpenFoamExportOptions& o) {
+  std::string out = foam_header("dictionary", "system", "fvSolution");
+  out += fmt::format(
+      "solvers\n{{\n"
+      "    p\n    {{\n        solver          GAMG;\n        smoother        GaussSeidel;\n"
+      "        tolerance       1e-12;\n        relTol          0.01;\n    }}\n\n"
+      "    U\n    {{\n        solver          smoothSolver;\n        smoother        symGaussSeidel;\n"
+      "        tolerance       1e-14;\n        relTol          0.01;\n    }}\n}}\n\n"
+      "// SIMPLEC; the domain is closed (walls and a slip rim), so the pressure level is pinned.\n"
+      "SIMPLE\n{{\n"
+      "    nNonOrthogonalCorrectors 1;\n"
+      "    consistent      yes;\n"
+      "    pRefCell        0;\n"
+      "    pRefValue       0;\n\n"
+      "    residualControl\n    {{\n        p               {0};\n        U               {0};\n    }}\n}}\n\n"
+      "relaxationFactors\n{{\n    equations\n    {{\n        U               0.9;\n    }}\n}}\n",
+      num(o.residual_tolerance));
+  out += foam_footer;
+  return out;
+}
+
+std::string turbulence_properties() {
+  std::string out = foam_header("dictionary", "constant", "turbulenceProperties");
+  out += "// Laminar: the viscous stress comes from transportProperties (generalised Newtonian).\n"
+         "simulationType  laminar;\n";
+  out += foam_footer;
+  return out;
+}
+
+std::string velocity_field(double omega) {
+  std::string out = foam_header("volVectorField", "0", "U");
+  out += fmt::format(
+      "dimensions      [0 1 -1 0 0 0 0];\n\n"
+      "internalField   uniform (0 0 0);\n\n"
+      "boundaryField\n{{\n"
+      "    top         // rotates at Omega = gammaDot_R H / R about +z: u = Omega (e_z x r)\n"
+      "    {{\n        type            rotatingWallVelocity;\n        origin          (0 0 0);\n"
+      "        axis            (0 0 1);\n        omega           {};\n        value           uniform (0 0 0);\n"
+      "    }}\n"
+      "    bottom\n    {{\n        type            noSlip;\n    }}\n"
+      "    rim         // flat shear-free meniscus: u_r = 0, zero shear stress (as rheosim's solver)\n"
+      "    {{\n        type            slip;\n    }}\n"
+      "}}\n",
+      num(omega));
+  out += foam_footer;
+  return out;
+}
+
+std::string pressure_field() {
+  std::string out = foam_header("volScalarField", "0", "p");
+  out +=
+      "dimensions      [0 2 -2 0 0 0 0];   // kinematic pressure p/rho\n\n"
+      "internalField   uniform 0;\n\n"
+      "boundaryField\n{\n"
+      "    top\n    {\n        type            zeroGradient;\n    }\n"
+      "    bottom\n    {\n        type            zeroGradient;\n    }\n"
+      "    rim\n    {\n        type            zeroGradient;\n    }\n"
+      "}\n";
+  out += foam_footer;
+  return out;
+}
+
+}  // namespace
+
+OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const std::filesystem::path& dir,
+                               const OpenFoamExportOptions& options) {
+  const auto* rc = std::get_if<core::RheometerCase>(&c.spec);
+  if (rc == nullptr)
+    input_error(c.file, "kind", fmt::format("'{}' cannot be exported to OpenFOAM", c.kind()),
+                "kind: rheometer (single phase)",
+                "OpenFOAM is rheosim's single-phase peer; sweeps and LDD scenes have no OpenFOAM export");
+  if (rc->particles)
+    input_error(c.file, "particles", "a particle-laden case cannot be exported to OpenFOAM",
+                "a single-phase rheometer case (no particles: section)",
+                "remove particles: to export the suspending fluid alone");
+  if (!(rim_shear_rate > 0) || !std::isfinite(rim_shear_rate))
+    input_error(c.file, "--shear-rate", fmt::format("{} is not a positive rim shear rate", rim_shear_rate),
+                "rim shear rate gammaDot_R = Omega R / H in 1/s, > 0");
+  if (options.max_iterations < 1)
+    input_error(c.file, "max_iterations", fmt::format("{} is not >= 1", options.max_iterations),
+                "number of SIMPLE iterations");
+  if (!(options.residual_tolerance > 0))
+    input_error(c.file, "residual_tolerance", fmt::format("{} is not > 0", options.residual_tolerance),
+                "simpleFoam residualControl tolerance");
+
+  const ParallelPlate plate = ParallelPlate::from(rc->geometry);
+  const core::FluidProperties& fluid = rc->fluid;
+  const double omega = plate.angular_velocity(rim_shear_rate);
+
+  OpenFoamExport result;
+  result.directory = dir;
+  result.transport = openfoam_transport(fluid);
+  result.mesh = options.mesh;
+  result.cells = options.mesh.cell_count();
+  result.rim_shear_rate = rim_shear_rate;
+  result.angular_velocity = omega;
+  result.gap_reynolds_number =
+      plate.gap_reynolds_number(fluid.density, rim_shear_rate, fluid.rheology->viscosity(rim_shear_rate));
+  result.closed_form_torque = closed_form_torque(plate, *fluid.rheology, rim_shear_rate);
+  result.creeping_torque = creeping_torque(plate, *fluid.rheology, rim_shear_rate);
+  result.commands =
+      "export WM_PROJECT_DIR=/usr/share/openfoam   # Debian's OpenFOAM v1912: no bashrc needed\n"
+      "blockMesh > log.blockMesh && checkMesh > log.checkMesh && simpleFoam > log.simpleFoam\n"
+      "tail -n 1 postProcessing/forces/0/moment.dat  # torque on the plate = -(total z), N m\n";
+
+  const std::string block_mesh = openfoam_block_mesh_dict(rc->geometry, options.mesh, options.core_fraction);
+
+  const auto write = [&](const std::filesystem::path& rel, const std::string& text) {
+    core::write_atomically(dir / rel, [&](std::ostream& os) { os << text; });
+    result.files.push_back(rel);
+  };
+  write("system/blockMeshDict", block_mesh);
+  write("system/controlDict", control_dict(options, fluid.density));
+  write("system/fvSchemes", fv_schemes());
+  write("system/fvSolution", fv_solution(options));
+  write("constant/transportProperties", transport_properties(result.transport, fluid));
+  write("constant/turbulenceProperties", turbulence_properties());
+  write("0/U", velocity_field(omega));
+  write("0/p", pressure_field());
+
+  const std::string closed =
+      result.closed_form_torque ? fmt::format("{:.9g} N m", *result.closed_form_torque) : std::string("none");
+  write("README", fmt::format(
+                      "OpenFOAM v1912 case written by rheosim {} from {} (sha256 {}).\n"
+                      "Parallel plates R = {} m, H = {} m; rim shear rate {} 1/s, Omega = {} rad/s; "
+                      "{} cells ({}x{}x{}); transportModel {}.\n"
+                      "Creeping-flow torque: closed form {}, quadrature {:.9g} N m; gap Reynolds number "
+                      "rho Omega H^2/mu(gammaDot_R) = {:.4g} (simpleFoam includes inertia).\n"
+                      "Run, from this directory:\n{}",
+                      core::version, c.file.empty() ? c.name : c.file, c.sha256, num(plate.radius), num(plate.gap),
+                      num(rim_shear_rate), num(omega), result.cells, options.mesh.radial_cells,
+                      options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model, closed,
+                      result.creeping_torque, result.gap_reynolds_number, result.commands));
+
+  nlohmann::ordered_json info;
+  info["rheosim_version"] = core::version;
+  info["case"] = {{"file", c.file}, {"name", c.name}, {"sha256", c.sha256}};
+  info["radius"] = plate.radius;
+  info["gap"] = plate.gap;
+  info["density"] = fluid.density;
+  nlohmann::ordered_json law;
+  law["model"] = std::string(fluid.rheology->name());
+  for (const auto& prm : fluid.rheology->parameters()) law[prm.name] = prm.value;
+  info["rheology"] = law;
+  nlohmann::ordered_json coeffs;
+  for (const auto& [key, value] : result.transport.coeffs) coeffs[key] = value;
+  info["openfoam_transport"] = {{"model", result.transport.model}, {"coeffs", coeffs}, {"note", result.transport.note}};
+  info["mesh"] = {{"radial_cells", options.mesh.radial_cells},
+                  {"azimuthal_cells", options.mesh.azimuthal_cells},
+                  {"axial_cells", options.mesh.axial_cells},
+                  {"core_fraction", options.core_fraction},
+                  {"cells", result.cells}};
+  info["shear_rate"] = rim_shear_rate;
+  info["angular_velocity"] = omega;
+  info["gap_reynolds_number"] = result.gap_reynolds_number;
+  info["torque_analytic"] =
+      result.closed_form_torque ? nlohmann::ordered_json(*result.closed_form_torque) : nlohmann::ordered_json();
+  info["torque_creeping"] = result.creeping_torque;
+  info["torque_file"] = "postProcessing/forces/0/moment.dat";
+  info["torque_sign"] = -1;
+  core::write_json(dir / "rheosim.json", info);
+  result.files.emplace_back("rheosim.json");
+  return result;
+}
+
+}  // namespace rheosim::rheometer

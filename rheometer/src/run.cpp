@@ -1,0 +1,207 @@
+#include "rheosim/rheometer/run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/progress.hpp"
+#include "rheosim/core/version.hpp"
+#include "rheosim/fluid/swirl.hpp"
+#include "rheosim/rheometer/plate.hpp"
+#include "rheosim/rheometer/report.hpp"
+
+namespace rheosim::rheometer {
+
+namespace {
+
+fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
+  fluid::SwirlParams p;
+  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading};
+  p.density = fluid.density;
+  p.rheology = fluid.rheology;
+  p.inertia = inertia;
+  p.tolerance = r.solver.tolerance;
+  p.max_iterations = r.solver.max_iterations;
+  return p;
+}
+
+core::Hdf5Dataset dataset(const std::string& path, std::vector<std::size_t> shape, const std::vector<double>& data,
+                          const std::string& unit) {
+  core::Hdf5Dataset d;
+  d.path = path;
+  d.shape = std::move(shape);
+  d.data = data;
+  d.unit = unit;
+  return d;
+}
+
+// One gnuplot script per run, kept beside the plot so users can restyle it.
+std::string torque_script(const std::vector<core::NamedFluid>& fluids) {
+  std::string s =
+      "# Torque vs rim shear rate; points: rheosim, lines: creeping-flow closed form.\n"
+      "# Regenerate: gnuplot torque.gp\n"
+      "set datafile separator ','\n"
+      "set key top left\n"
+      "set xlabel 'rim shear rate [1/s]'\nset ylabel 'torque [N m]'\nset grid\n"
+      "set format y '%.1e'\n"
+      "set title 'points: rheosim; dashed lines: creeping-flow closed form' font ',10'\n";
+  std::string plot;
+  for (std::size_t f = 0; f < fluids.size(); ++f) {
+    const std::string filter = fmt::format("(strcol(1) eq '{}' ? ", fluids[f].name);
+    plot += fmt::format("{}'torque.csv' using 2:{}$3 : NaN) with points pt 7 lc {} title '{}'", plot.empty() ? "" : ", ",
+                        filter, f + 1, fluids[f].name);
+    plot += fmt::format(", 'torque.csv' using 2:{}$6 : NaN) with lines lc {} dt 2 notitle", filter, f + 1);
+  }
+  for (const char* term : {"pngcairo size 900,600", "svg size 900,600"}) {
+    const std::string ext = std::string(term).starts_with("png") ? "png" : "svg";
+    s += fmt::format("set terminal {}\nset output 'torque.{}'\nplot {}\n", term, ext, plot);
+  }
+  return s;
+}
+
+}  // namespace
+
+RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
+  const auto& r = std::get<core::RheometerCase>(c.spec);
+  const auto start = std::chrono::steady_clock::now();
+  std::filesystem::create_directories(out_dir);
+  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+  const ParallelPlate plate = ParallelPlate::from(r.geometry);
+
+  nlohmann::ordered_json points = nlohmann::ordered_json::array();
+  core::CsvTable table({{"shear_rate", "1/s"},
+                        {"torque", "N m"},
+                        {"torque_creeping", "N m"},
+                        {"torque_quadrature", "N m"},
+                        {"torque_analytic", "N m"},
+                        {"rel_error", ""},
+                        {"gap_reynolds_number", ""},
+                        {"iterations", ""},
+                        {"wall_time", "s"}},
+                       core::CsvTable::Column{"fluid", ""});
+  core::Hdf5Content fields;
+  RunOutcome outcome;
+  core::Progress progress = core::Progress::for_stderr("rheometer", r.fluids.size() * r.shear_rates.size());
+  int done = 0;
+
+  for (const auto& named : r.fluids) {
+    const auto& fluid = named.properties;
+    const fluid::SwirlSolver creeping(swirl_params(r, fluid, false));
+    const fluid::SwirlSolver inertial(swirl_params(r, fluid, true));
+    const auto& grid = creeping.grid();
+    fluid::SwirlState warm;
+    bool have_warm = false;
+    for (double rate : r.shear_rates) {
+      const double omega = plate.angular_velocity(rate);
+      const fluid::SwirlResult stokes = creeping.solve(omega);
+      fluid::SwirlResult full = stokes;
+      if (r.solver.inertia) {
+        full = inertial.solve(omega, have_warm ? &warm : nullptr);
+        if (full.converged) {
+          warm = full.state;
+          have_warm = true;
+        }
+      }
+      const auto analytic = closed_form_torque(plate, *fluid.rheology, rate);
+      const double quadrature = creeping_torque(plate, *fluid.rheology, rate);
+      const double reynolds = plate.gap_reynolds_number(fluid.density, rate, fluid.rheology->viscosity(rate));
+      const bool converged = stokes.converged && full.converged;
+      const std::string failure = !stokes.converged ? stokes.failure : full.failure;
+
+      nlohmann::ordered_json p;
+      p["fluid"] = named.name;
+      p["shear_rate"] = rate;
+      p["angular_velocity"] = omega;
+      p["torque"] = full.torque;
+      p["torque_fluid"] = full.torque;
+      p["torque_contact"] = 0.0;
+      p["torque_creeping"] = stokes.torque;
+      p["torque_quadrature"] = quadrature;
+      if (analytic) {
+        p["torque_analytic"] = *analytic;
+        p["rel_error"] = (full.torque - *analytic) / *analytic;
+        p["creeping_rel_error"] = (stokes.torque - *analytic) / *analytic;
+      }
+      p["inertia_effect"] = full.torque / stokes.torque - 1.0;
+      p["gap_reynolds_number"] = reynolds;
+      p["iterations"] = full.iterations + (r.solver.inertia ? stokes.iterations : 0);
+      p["converged"] = converged;
+      if (!converged) p["failure"] = failure;
+      p["wall_time"] = full.wall_time + (r.solver.inertia ? stokes.wall_time : 0.0);
+      points.push_back(p);
+
+      table.add_row({rate, full.torque, stokes.torque, quadrature, analytic.value_or(std::nan("")),
+                     analytic ? (full.torque - *analytic) / *analytic : std::nan(""), reynolds,
+                     static_cast<double>(p["iterations"].get<int>()), p["wall_time"].get<double>()},
+                    named.name);
+
+      // Fields of this point (the last iterate if it failed, so nothing computed is lost).
+      const std::string group = fmt::format("/{}/shear_rate_{:g}", named.name, rate);
+      const auto& s = full.state;
+      const std::size_t nr = grid.radial_cells(), nz = grid.axial_cells();
+      fields.groups.push_back({group, {{"shear_rate", rate}, {"torque", full.torque}, {"converged", converged ? 1.0 : 0.0}}});
+      fields.datasets.push_back(dataset(group + "/angular_velocity", {nr, nz}, s.angular_velocity, "rad/s"));
+      fields.datasets.push_back(dataset(group + "/viscosity", {nr, nz}, s.viscosity, "Pa s"));
+      fields.datasets.push_back(dataset(group + "/shear_rate_field", {nr, nz}, s.shear_rate, "1/s"));
+      fields.datasets.push_back(dataset(group + "/pressure", {nr, nz}, s.pressure, "Pa"));
+      fields.datasets.push_back(dataset(group + "/radial_velocity", {nr + 1, nz}, s.radial_velocity, "m/s"));
+      fields.datasets.push_back(dataset(group + "/axial_velocity", {nr, nz + 1}, s.axial_velocity, "m/s"));
+
+      ++outcome.points;
+      if (!converged) {
+        ++outcome.failed_points;
+        log.error("{} at {} 1/s did not converge: {}; its last iterate is saved in fields.h5", named.name, rate, failure);
+      } else {
+        log.debug("{} at {} 1/s: torque {:.6e} N m, {} iterations", named.name, rate, full.torque, full.iterations);
+      }
+      progress.update(++done, fmt::format("{} at {} 1/s", named.name, rate));
+    }
+  }
+  progress.finish();
+
+  const auto& g = r.geometry;
+  std::vector<double> radial_centres, axial_centres;
+  {
+    const fluid::CylindricalGrid grid({g.radius, g.gap, r.solver.radial_cells, 1, r.solver.axial_cells,
+                                       r.solver.radial_grading});
+    radial_centres.assign(grid.radial_centres().begin(), grid.radial_centres().end());
+    axial_centres.assign(grid.axial_centres().begin(), grid.axial_centres().end());
+  }
+  fields.datasets.push_back(dataset("/grid/radial_centres", {radial_centres.size()}, radial_centres, "m"));
+  fields.datasets.push_back(dataset("/grid/axial_centres", {axial_centres.size()}, axial_centres, "m"));
+  fields.attributes = {{"case", c.name}, {"input_sha256", c.sha256}};
+  core::write_hdf5(out_dir / "fields.h5", fields);
+  core::write_csv(out_dir / "torque.csv", table);
+
+  nlohmann::ordered_json summary;
+  summary["case"] = c.name;
+  summary["kind"] = c.kind();
+  summary["rheosim_version"] = core::version;
+  summary["git_revision"] = core::git_revision;
+  summary["input_sha256"] = c.sha256;
+  summary["radius"] = g.radius;
+  summary["gap"] = g.gap;
+  summary["grid"] = {{"radial_cells", r.solver.radial_cells},
+                     {"axial_cells", r.solver.axial_cells},
+                     {"radial_grading", r.solver.radial_grading}};
+  summary["inertia"] = r.solver.inertia;
+  summary["points_failed"] = outcome.failed_points;
+  summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary["points"] = points;
+  core::write_json(out_dir / "summary.json", summary);
+
+  core::write_atomically(out_dir / "torque.gp", [&](std::ostream& os) { os << torque_script(r.fluids); });
+  const std::string command = fmt::format("cd '{}' && gnuplot torque.gp > gnuplot.log 2>&1", out_dir.string());
+  if (std::system(command.c_str()) != 0)
+    log.warn("gnuplot failed or is missing (see {}); torque.gp is kept to plot by hand",
+             (out_dir / "gnuplot.log").string());
+  write_report(out_dir);
+  outcome.summary = out_dir / "summary.json";
+  return outcome;
+}
+
+}  // namespace rheosim::rheometer
