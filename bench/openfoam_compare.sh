@@ -69,6 +69,12 @@ csv="$work/results.csv"
 
 now() { date +%s.%N; }
 elapsed() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.3f", b - a }'; }
+# 100 (t − a)/a in percent, or nan when either is missing.
+percent() { awk -v t="$1" -v a="$2" 'BEGIN { if (t == "nan" || a == "nan" || a == "null") print "nan"; else printf "%.4f", 100 * (t - a) / a }'; }
+# a/b rounded, or nan.
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "nan" || b == "nan" || b + 0 <= 0) print "nan"; else printf "%.0f", a / b }'; }
+# percent → fraction, keeping nan.
+fraction() { awk -v e="$1" 'BEGIN { if (e == "nan") print "nan"; else printf "%.6g", e / 100 }'; }
 
 # A one-point case file for fluid $1 at rim shear rate $2.
 write_case() {
@@ -145,17 +151,17 @@ for fluid in $fluids; do
       analytic=$(jq -r '.torque_analytic // "nan"' "$dir/rheosim.json")
       reynolds=$(jq -r '.gap_reynolds_number' "$dir/rheosim.json")
       cells=$(jq -r '.mesh.cells' "$dir/rheosim.json")
-      err=$(awk -v t="$torque" -v a="$analytic" 'BEGIN { printf "%.4f", a == "nan" ? "nan" : 100 * (t - a) / a }')
+      err=$(percent "$torque" "$analytic")
       t_mesh=$(elapsed "$t0" "$t1"); t_of=$(elapsed "$t1" "$t2")
-      line="$fluid,$rate,$mesh,$cells,$iterations,$converged,$torque,$analytic,$(awk -v e="$err" 'BEGIN { print e / 100 }'),$reynolds,$t_mesh,$t_of"
-      printf '%-10s %6s %-4s %7s %6s %13.6e %13.6e %9.4f %7.3f %8.2f' "$fluid" "$rate" "$mesh" "$cells" \
+      line="$fluid,$rate,$mesh,$cells,$iterations,$converged,$torque,$analytic,$(fraction "$err"),$reynolds,$t_mesh,$t_of"
+      printf '%-10s %6s %-4s %7s %6s %13.6e %13.6e %9s %7.3f %8.2f' "$fluid" "$rate" "$mesh" "$cells" \
         "$iterations$([[ $converged == yes ]] || echo '!')" "$torque" "$analytic" "$err" "$reynolds" "$t_of"
       if ((with_rheosim)); then
         rt=${rs_torque[$name]}; rp=${rs_point_time[$name]}; rq=${rs_process_time[$name]}
-        rerr=$(awk -v t="$rt" -v a="$analytic" 'BEGIN { printf "%.4f", (a == "nan" || t == "nan") ? "nan" : 100 * (t - a) / a }')
-        ratio=$(awk -v o="$t_of" -v r="$rp" 'BEGIN { printf "%.0f", (r == "nan" || r <= 0) ? "nan" : o / r }')
-        printf ' %13.6e %9.4f %9.4f %9s' "$rt" "$rerr" "$rp" "$ratio"
-        line+=",$rt,$(awk -v e="$rerr" 'BEGIN { print e / 100 }'),$rp,$rq,$ratio"
+        rerr=$(percent "$rt" "$analytic")
+        speed=$(ratio "$t_of" "$rp")
+        printf ' %13.6e %9s %9s %9s' "$rt" "$rerr" "$rp" "$speed"
+        line+=",$rt,$(fraction "$rerr"),$rp,$rq,$speed"
       fi
       printf '\n'
       echo "$line" >> "$csv"
