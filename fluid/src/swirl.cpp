@@ -74,6 +74,9 @@ struct ViscosityField {
   // gradient of ω (the dependence on the other gradients is left to the outer iteration).
   std::vector<double> axial_flux_slope;
   std::vector<double> radial_slope;
+  // μ at the plate corners (radial face i, bottom: [i], top: [nr + 1 + i]) from the wall shear
+  // rate, for τ_rz at the plates.
+  std::vector<double> wall_corner;
 };
 
 class Discretisation {
@@ -94,6 +97,28 @@ class Discretisation {
     if (i == 0 || i == L.nr) return 0.0;  // axis symmetry; shear-free rim
     return (s.angular_velocity[L.cell(i, k)] - s.angular_velocity[L.cell(i - 1, k)]) / L.dr_centres(i);
   }
+  // The same, second-order at the plates (quadratic through the wall value and two cells),
+  // for evaluating μ: the half-cell difference is first-order there, which is harmless in
+  // the conservative flux but would make μ at the wall, and so the torque, first-order.
+  // Creeping runs keep the half-cell form: it is exact for their linear profile and keeps the
+  // Newton linearisation consistent, which the hardest yield-stress cases need.
+  double domega_dz_for_viscosity(const SwirlState& s, std::size_t i, std::size_t k) const {
+    if ((k != 0 && k != L.nz) || L.nz < 2 || !L.inertia) return domega_dz(s, i, k);
+    const double h = L.dz(k == 0 ? 0 : L.nz - 1);
+    if (k == 0) {
+      const double a = s.angular_velocity[L.cell(i, 0)], b = s.angular_velocity[L.cell(i, 1)];
+      return (9 * a - b) / (3 * h);
+    }
+    const double a = s.angular_velocity[L.cell(i, L.nz - 1)], b = s.angular_velocity[L.cell(i, L.nz - 2)];
+    return (8 * omega_top - 9 * a + b) / (3 * h);
+  }
+  double corner_shear_for_viscosity(const SwirlState& s, std::size_t i, std::size_t k) const {
+    if ((k != 0 && k != L.nz) || L.nz < 2 || i == 0 || i == L.nr) return corner_shear(s, i, k);
+    const double h = L.dz(k == 0 ? 0 : L.nz - 1);
+    if (k == 0) return (9 * s.radial_velocity[L.ur_index(i, 0)] - s.radial_velocity[L.ur_index(i, 1)]) / (3 * h);
+    return -(9 * s.radial_velocity[L.ur_index(i, L.nz - 1)] - s.radial_velocity[L.ur_index(i, L.nz - 2)]) / (3 * h);
+  }
+
   // Engineering shear strain rate ∂u_r/∂z + ∂u_z/∂r at corner (radial face i, axial face k).
   double corner_shear(const SwirlState& s, std::size_t i, std::size_t k) const {
     if (i == 0 || i == L.nr) return 0.0;  // u_r = 0 on axis and rim; shear-free rim
@@ -113,7 +138,7 @@ class Discretisation {
     std::vector<double> omega_grad2(L.nc), secondary(L.nc);
     for (std::size_t i = 0; i < nr; ++i)
       for (std::size_t k = 0; k < nz; ++k) {
-        const double gz_lo = domega_dz(s, i, k), gz_hi = domega_dz(s, i, k + 1);
+        const double gz_lo = domega_dz_for_viscosity(s, i, k), gz_hi = domega_dz_for_viscosity(s, i, k + 1);
         const double gr_lo = domega_dr(s, i, k), gr_hi = domega_dr(s, i + 1, k);
         omega_grad2[L.cell(i, k)] = 0.5 * (gz_lo * gz_lo + gz_hi * gz_hi + gr_lo * gr_lo + gr_hi * gr_hi);
         double sec = 0;
@@ -124,7 +149,7 @@ class Discretisation {
           double shear2 = 0;
           for (std::size_t a : {i, i + 1})
             for (std::size_t b : {k, k + 1}) {
-              const double g = corner_shear(s, a, b);
+              const double g = corner_shear_for_viscosity(s, a, b);
               shear2 += 0.25 * g * g;
             }
           sec = 2.0 * (drr * drr + hoop * hoop + dzz * dzz) + shear2;
@@ -142,8 +167,9 @@ class Discretisation {
     }
     for (std::size_t i = 0; i < nr; ++i)
       for (std::size_t k = 0; k <= nz; ++k) {
-        const double gz = domega_dz(s, i, k);
-        // Radial gradient and secondary part: mean of the adjacent cells (one at a wall).
+        const double gz = domega_dz_for_viscosity(s, i, k);
+        // Radial gradient and secondary part: mean of the adjacent cells; at a plate the
+        // secondary part is the wall shear alone (u = 0 and, by continuity, ∂_z u_z = 0 there).
         double gr2 = 0, sec = 0, n = 0;
         for (std::size_t kk : {k - 1, k}) {
           if (kk >= nz) continue;  // k - 1 wraps at k = 0
@@ -154,6 +180,10 @@ class Discretisation {
         }
         gr2 /= n;
         sec /= n;
+        if (L.inertia && (k == 0 || k == nz)) {
+          const double a = corner_shear_for_viscosity(s, i, k), b = corner_shear_for_viscosity(s, i + 1, k);
+          sec = 0.5 * (a * a + b * b);
+        }
         const double mid = 0.5 * (L.rf[i] + L.rf[i + 1]), half = 0.5 * L.dr(i);
         for (std::size_t q = 0; q < 3; ++q) {
           const double r = mid + half * gauss_nodes[q];
@@ -167,7 +197,7 @@ class Discretisation {
         double gz2 = 0, sec = 0, n = 0;
         for (std::size_t ii : {i - 1, i}) {
           if (ii >= nr) continue;
-          const double a = domega_dz(s, ii, k), b = domega_dz(s, ii, k + 1);
+          const double a = domega_dz_for_viscosity(s, ii, k), b = domega_dz_for_viscosity(s, ii, k + 1);
           gz2 += 0.5 * (a * a + b * b);
           sec += secondary[L.cell(ii, k)];
           n += 1;
@@ -188,7 +218,7 @@ class Discretisation {
     for (std::size_t i = 0; i < nr; ++i) {
       const double mid = 0.5 * (L.rf[i] + L.rf[i + 1]), half = 0.5 * L.dr(i);
       for (std::size_t k = 0; k <= nz; ++k) {
-        const double g = domega_dz(s, i, k);
+        const double g = domega_dz_for_viscosity(s, i, k);
         double w = 0, slope = 0;
         for (std::size_t q = 0; q < 3; ++q) {
           const double r = mid + half * gauss_nodes[q];
@@ -200,6 +230,25 @@ class Discretisation {
         out.axial_flux[i * (nz + 1) + k] = w * half;
         out.axial_flux_slope[i * (nz + 1) + k] = slope * half;
       }
+    }
+    out.wall_corner.assign(2 * (nr + 1), 0.0);
+    if (L.inertia) {
+      std::vector<double> wall_rates(2 * (nr + 1));
+      for (std::size_t side = 0; side < 2; ++side) {
+        const std::size_t k = side == 0 ? 0 : nz;
+        for (std::size_t i = 0; i <= nr; ++i) {
+          double g = 0, n = 0;
+          for (std::size_t ii : {i - 1, i})
+            if (ii < nr) {
+              g += domega_dz_for_viscosity(s, ii, k);
+              n += 1;
+            }
+          g /= n;
+          const double shear = corner_shear_for_viscosity(s, i, k);
+          wall_rates[side * (nr + 1) + i] = std::sqrt(L.rf[i] * L.rf[i] * g * g + shear * shear);
+        }
+      }
+      p.rheology->viscosity(wall_rates, out.wall_corner);
     }
     out.radial.assign(mu.begin() + static_cast<std::ptrdiff_t>(radial_offset), mu.end());
     out.radial_slope.assign(out.radial.size(), 0.0);
@@ -458,8 +507,11 @@ class Discretisation {
       }
   }
 
-  // μ at corner (radial face i, axial face k): mean of the adjacent cells.
+  // μ at corner (radial face i, axial face k): from the wall shear rate on the plates, else
+  // the mean of the adjacent cells.
   double corner_viscosity(const ViscosityField& mu, std::size_t i, std::size_t k) const {
+    if (k == 0) return mu.wall_corner[i];
+    if (k == L.nz) return mu.wall_corner[L.nr + 1 + i];
     double sum = 0, n = 0;
     for (std::size_t ii : {i - 1, i})
       for (std::size_t kk : {k - 1, k})
