@@ -114,7 +114,8 @@ run_rheosim() {
   fi
   t1=$(now)
   rs_torque[$name]=$(jq -r '.points[0].torque' "$out/summary.json")
-  rs_point_time[$name]=$(jq -r '.points[0].wall_time // "nan"' "$out/summary.json")
+  rs_point_time[$name]=$(jq -r '.points[0].wall_time // "nan"' "$out/summary.json" |
+                         awk '{ if ($1 == "nan") print "nan"; else printf "%.4f", $1 }')
   rs_process_time[$name]=$(elapsed "$t0" "$t1")
 }
 
