@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
                "rheosim"};
   cli.set_version_flag("--version", fmt::format("rheosim {} (git {})", core::version, core::git_revision));
   cli.require_subcommand(1);
+  cli.fallthrough();  // --verbose/--quiet also after the subcommand
   cli.footer(
       "Examples:\n"
       "  rheosim validate cases/quickstart.yaml\n"

@@ -202,7 +202,8 @@ double to_number(const Section& s, const KeyInfo& key, const YAML::Node& node, c
   if (!std::isfinite(value))
     throw ConfigError({where, path, fmt::format("{} is not a finite number", node.Scalar()), expected, {}});
   if (!range.contains(value))
-    throw ConfigError({where, path, fmt::format("{} is not {}", value, range.phrase()), expected, {}});
+    throw ConfigError({where, path, fmt::format("{} is not {}", value, range.phrase()), expected,
+                       fmt::format("change it to a value {} (SI units)", range.phrase())});
   (void)s;
   return value;
 }

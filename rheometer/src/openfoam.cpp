@@ -294,6 +294,13 @@ std::string control_dict(const OpenFoamExportOptions& o, double density) {
       "        rho             rhoInf;\n"
       "        rhoInf          {1};\n"
       "        CofR            (0 0 0);\n"
+      "    }}\n\n"
+      "    // The same on the fixed plate: in a converged steady state its moment balances the top's\n"
+      "    // (the slip rim carries no torque), a check of convergence and of the rim condition.\n"
+      "    forcesBottom\n"
+      "    {{\n"
+      "        $forces;\n"
+      "        patches         (bottom);\n"
       "    }}\n"
       "}}\n",
       o.max_iterations, num(density));
@@ -421,7 +428,8 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   result.commands =
       "export WM_PROJECT_DIR=/usr/share/openfoam   # Debian's OpenFOAM v1912: no bashrc needed\n"
       "blockMesh > log.blockMesh && checkMesh > log.checkMesh && simpleFoam > log.simpleFoam\n"
-      "tail -n 1 postProcessing/forces/0/moment.dat  # torque on the plate = -(total z), N m\n";
+      "tail -n 1 postProcessing/forces/0/moment.dat  # torque on the plate = -(total z), N m\n"
+      "tail -n 1 postProcessing/forcesBottom/0/moment.dat  # fixed plate: +(total z) balances it\n";
 
   const std::string block_mesh = openfoam_block_mesh_dict(rc->geometry, options.mesh, options.core_fraction);
 
@@ -478,6 +486,7 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   info["torque_creeping"] = result.creeping_torque;
   info["torque_file"] = "postProcessing/forces/0/moment.dat";
   info["torque_sign"] = -1;
+  info["torque_file_bottom"] = "postProcessing/forcesBottom/0/moment.dat";  // +z on the fixed plate
   core::write_json(dir / "rheosim.json", info);
   result.files.emplace_back("rheosim.json");
   return result;

@@ -16,7 +16,9 @@
 //   torque system/controlDict: a `forces` function object on patch top, CofR (0 0 0),
 //          rho rhoInf with the real density, so postProcessing/forces/0/moment.dat holds the
 //          moment of the fluid on the top plate in N·m. The plate rotates in +z, so the fluid's
-//          moment on it is negative: torque = −(total moment)_z.
+//          moment on it is negative: torque = −(total moment)_z. A second function object,
+//          forcesBottom, does the same on the fixed plate (postProcessing/forcesBottom/0/
+//          moment.dat, +z): at convergence the two balance, since the slip rim carries no torque.
 //   fluid  constant/transportProperties with the rheology in OpenFOAM's kinematic units:
 //          ν = μ/ρ, k/ρ, τ₀/ρ (see openfoam_transport for each law and where it differs).
 //
