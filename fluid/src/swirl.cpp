@@ -263,7 +263,7 @@ class Discretisation {
 
   // Assembles the Picard-linearised system around iterate `s` with viscosity `mu`.
   void assemble(const SwirlState& s, const ViscosityField& mu, std::span<const double> torque_density,
-                Triplets& t, Eigen::VectorXd& rhs) const {
+                double pseudo_time_step, Triplets& t, Eigen::VectorXd& rhs) const {
     t.clear();
     rhs.setZero(static_cast<Eigen::Index>(L.unknowns()));
     assemble_angular(s, mu, torque_density, t, rhs);
@@ -271,7 +271,30 @@ class Discretisation {
       assemble_radial(s, mu, t, rhs);
       assemble_axial(s, mu, t, rhs);
       assemble_continuity(t);
+      if (std::isfinite(pseudo_time_step)) add_pseudo_time(s, pseudo_time_step, t, rhs);
     }
+  }
+
+  // Pseudo-transient continuation: ρ V (x − x*)/Δτ in every momentum row makes each Picard
+  // step an implicit Euler step in pseudo-time, which damps the large-Re iterations; Δτ grows
+  // as the residual falls and the term is dropped near convergence, so the steady solution
+  // is unchanged.
+  void add_pseudo_time(const SwirlState& s, double dtau, Triplets& t, Eigen::VectorXd& rhs) const {
+    const double rho = p.density;
+    const auto add = [&](std::size_t row, double mass, double old_value) {
+      const double c = rho * mass / dtau;
+      t.emplace_back(row, row, -c);
+      rhs[static_cast<Eigen::Index>(row)] -= c * old_value;
+    };
+    for (std::size_t i = 0; i < L.nr; ++i)
+      for (std::size_t k = 0; k < L.nz; ++k)
+        add(L.omega(i, k), L.r4_moment(i) * L.dz(k), s.angular_velocity[L.cell(i, k)]);
+    for (std::size_t i = 1; i < L.nr; ++i)
+      for (std::size_t k = 0; k < L.nz; ++k)
+        add(L.radial(i, k), L.rf[i] * L.dr_centres(i) * L.dz(k), s.radial_velocity[L.ur_index(i, k)]);
+    for (std::size_t i = 0; i < L.nr; ++i)
+      for (std::size_t k = 1; k < L.nz; ++k)
+        add(L.axial(i, k), L.rc[i] * L.dr(i) * L.dz_centres(k), s.axial_velocity[L.uz_index(i, k)]);
   }
 
   // Torque transmitted through the top (or bottom) plate, 2π Σ ∫ r² τ_θz dr [N·m].
@@ -642,7 +665,12 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
   double beta = beta_start;
   int rising = 0;  // consecutive iterations whose change grew
   AndersonMixer mixer(params_.anderson_depth);
+  // Pseudo-time step: starts at a fraction of a revolution, only used with inertia.
+  const double pseudo_start = params_.pseudo_time_step > 0 ? params_.pseudo_time_step / (std::abs(angular_velocity) + 1e-300)
+                                                            : std::numeric_limits<double>::infinity();
+  double pseudo_dt = params_.inertia ? pseudo_start : std::numeric_limits<double>::infinity();
   double best_residual = std::numeric_limits<double>::infinity();
+  double previous_residual = std::numeric_limits<double>::infinity();
   // The fixed-point variable: ω/Ω and (with inertia) interior u_r, u_z over ΩR, so that one
   // tolerance fits all components. Pressure follows from each linear solve.
   const auto pack = [&](const SwirlState& st) {
@@ -668,7 +696,7 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     }
   };
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
-    disc.assemble(state, mu, coupling.torque_density, triplets, rhs);
+    disc.assemble(state, mu, coupling.torque_density, pseudo_dt, triplets, rhs);
     matrix.setFromTriplets(triplets.begin(), triplets.end());
     if (!pattern_known) {
       lu.analyzePattern(matrix);
@@ -703,6 +731,14 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     const Eigen::VectorXd y = pack(state), g = pack(picard);
     const double residual = (g - y).lpNorm<Eigen::Infinity>();
     if (residual > 10 * best_residual) mixer.reset();  // a bad extrapolation: restart the history
+    if (std::isfinite(pseudo_dt)) {
+      // Switched evolution relaxation: Δτ follows the residual's fall, and is dropped (steady
+      // Picard/Newton) once it exceeds 10⁴ revolutions.
+      if (residual < previous_residual) pseudo_dt *= std::min(4.0, 1.5 * previous_residual / residual);
+      else pseudo_dt *= 0.5;
+      if (pseudo_dt * std::abs(angular_velocity) > 1e4) pseudo_dt = std::numeric_limits<double>::infinity();
+    }
+    previous_residual = residual;
     best_residual = std::min(best_residual, residual);
     const Eigen::VectorXd y_next = mixer.next(y, g, beta);
     if (!y_next.allFinite() || y_next.lpNorm<Eigen::Infinity>() > 1e3) {

@@ -41,6 +41,7 @@ struct SwirlParams {
   double viscosity_relaxation = 1.0;              // (0, 1]: μ ← μ_old + α(μ_new − μ_old)
   double velocity_relaxation = 1.0;               // (0, 1]: the iterate moves by β of each Picard step
   int anderson_depth = 5;                         // Anderson acceleration history; 0 = plain Picard
+  double pseudo_time_step = 0;                    // first pseudo-time step [rad of plate rotation]; 0 = off
 };
 
 // Fields of one converged (or last) iterate. Index cell (i, k) as i * N_z + k.
