@@ -673,19 +673,6 @@ void write_vtk_structured_grid(const fs::path& path, std::array<std::size_t, 3> 
 
 namespace {
 
-std::string xml_escape(std::string_view s) {
-  std::string out;
-  for (const char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 void check_times(std::span<const TimeSeriesEntry> entries, const char* who) {
   for (const TimeSeriesEntry& e : entries)
@@ -703,7 +690,7 @@ void write_pvd(const fs::path& path, std::span<const TimeSeriesEntry> entries) {
            "  <Collection>\n";
     for (const TimeSeriesEntry& e : entries)
       out << fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", e.time,
-                         xml_escape(e.file.generic_string()));
+                         escape_markup(e.file.generic_string()));
     out << "  </Collection>\n</VTKFile>\n";
   });
 }
@@ -713,6 +700,20 @@ void write_vtk_series(const fs::path& path, std::span<const TimeSeriesEntry> ent
   nlohmann::ordered_json files = nlohmann::ordered_json::array();
   for (const TimeSeriesEntry& e : entries) files.push_back({{"name", e.file.generic_string()}, {"time", e.time}});
   write_json(path, nlohmann::ordered_json{{"file-series-version", "1.0"}, {"files", std::move(files)}});
+}
+
+std::string escape_markup(std::string_view s) {
+  std::string out;
+  for (const char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace rheosim::core

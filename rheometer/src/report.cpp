@@ -15,25 +15,11 @@ namespace rheosim::rheometer {
 
 namespace {
 
-std::string escape_html(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string cell(const nlohmann::json& value) {
   if (value.is_number_float()) return fmt::format("{:.6g}", value.get<double>());
-  if (value.is_string()) return escape_html(value.get<std::string>());
-  return escape_html(value.dump());
+  if (value.is_string()) return core::escape_markup(value.get<std::string>());
+  return core::escape_markup(value.dump());
 }
 
 // A table of an array of flat objects (e.g. summary.json's points), columns in first-seen order.
@@ -44,7 +30,7 @@ std::string table(const nlohmann::json& rows) {
       for (const auto& [key, value] : row.items())
         if (std::find(columns.begin(), columns.end(), key) == columns.end()) columns.push_back(key);
   std::string out = "<table>\n<tr>";
-  for (const auto& c : columns) out += "<th>" + escape_html(c) + "</th>";
+  for (const auto& c : columns) out += "<th>" + core::escape_markup(c) + "</th>";
   out += "</tr>\n";
   for (const auto& row : rows) {
     out += "<tr>";
@@ -78,15 +64,15 @@ table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:
 th{background:#eee}pre{background:#f6f6f6;padding:1em;overflow-x:auto}img{max-width:100%}
 </style></head><body>
 )";
-  html += fmt::format("<h1>rheosim report: {}</h1>\n", escape_html(summary.value("case", std::string("run"))));
+  html += fmt::format("<h1>rheosim report: {}</h1>\n", core::escape_markup(summary.value("case", std::string("run"))));
   html += "<h2>Run</h2>\n<table>\n";
   for (const auto& [key, value] : summary.items())
     if (!value.is_array() && !value.is_object())
-      html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", escape_html(key), cell(value));
+      html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", core::escape_markup(key), cell(value));
   html += "</table>\n";
   for (const auto& [key, value] : summary.items())
     if (value.is_array() && !value.empty() && value.front().is_object())
-      html += fmt::format("<h2>{}</h2>\n{}", escape_html(key), table(value));
+      html += fmt::format("<h2>{}</h2>\n{}", core::escape_markup(key), table(value));
 
   // Plots written by the run, in name order.
   std::set<std::filesystem::path> plots;
@@ -101,7 +87,7 @@ th{background:#eee}pre{background:#f6f6f6;padding:1em;overflow-x:auto}img{max-wi
   if (std::filesystem::exists(deck)) {
     const std::string text = read_text(deck);
     html += fmt::format("<h2>Input deck</h2>\n<p>sha256 {}</p>\n<pre>{}</pre>\n", core::sha256_hex(text),
-                        escape_html(text));
+                        core::escape_markup(text));
   }
   html += "</body></html>\n";
 

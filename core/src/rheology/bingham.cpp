@@ -1,4 +1,5 @@
 #include "bingham.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -14,9 +15,7 @@ const Range yield_stress_range = Range::non_negative();
 const Range regularization_range = Range::positive();
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", Bingham::name, key, value, range.str()));
+  detail::check_parameter(Bingham::name, key, value, range);
 }
 
 }  // namespace

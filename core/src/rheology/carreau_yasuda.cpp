@@ -1,4 +1,5 @@
 #include "carreau_yasuda.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -17,9 +18,7 @@ const Range a_range = Range::open_closed(0.0, 10.0);
 const Range n_range = Range::open_closed(0.0, 2.0);
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", CarreauYasuda::name, key, value, range.str()));
+  detail::check_parameter(CarreauYasuda::name, key, value, range);
 }
 
 // Validates before the derived constants are computed from the parameters.

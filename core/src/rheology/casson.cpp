@@ -1,4 +1,5 @@
 #include "casson.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -14,9 +15,7 @@ const Range yield_stress_range = Range::non_negative();
 const Range regularization_range = Range::positive();
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", Casson::name, key, value, range.str()));
+  detail::check_parameter(Casson::name, key, value, range);
 }
 
 // Validates before the derived constants are computed from the parameters.

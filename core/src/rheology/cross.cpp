@@ -1,4 +1,5 @@
 #include "cross.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -16,9 +17,7 @@ const Range time_constant_range = Range::positive();
 const Range exponent_range = Range::open_closed(0.0, 1.0);
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", Cross::name, key, value, range.str()));
+  detail::check_parameter(Cross::name, key, value, range);
 }
 
 // Validates before the derived constants are computed from the parameters.

@@ -1,4 +1,5 @@
 #include "herschel_bulkley.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -16,9 +17,7 @@ const Range regularization_range = Range::positive();
 const Range min_shear_rate_range = Range::positive();
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", HerschelBulkley::name, key, value, range.str()));
+  detail::check_parameter(HerschelBulkley::name, key, value, range);
 }
 
 }  // namespace

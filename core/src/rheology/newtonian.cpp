@@ -1,4 +1,5 @@
 #include "newtonian.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -12,9 +13,7 @@ namespace {
 const Range viscosity_range = Range::positive();
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", Newtonian::name, key, value, range.str()));
+  detail::check_parameter(Newtonian::name, key, value, range);
 }
 
 }  // namespace

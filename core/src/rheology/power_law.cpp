@@ -1,4 +1,5 @@
 #include "power_law.hpp"
+#include "parameter_check.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -14,9 +15,7 @@ const Range index_range = Range::open_closed(0.0, 2.0);
 const Range min_shear_rate_range = Range::positive();
 
 void check(std::string_view key, double value, const Range& range) {
-  if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(
-        fmt::format("{}: {} = {} is out of range, expected {}", PowerLaw::name, key, value, range.str()));
+  detail::check_parameter(PowerLaw::name, key, value, range);
 }
 
 }  // namespace

@@ -38,6 +38,9 @@ void write_atomically(const std::filesystem::path& path,
 void replace_atomically(const std::filesystem::path& path,
                         const std::function<void(const std::filesystem::path& tmp)>& write);
 
+// Escapes &, <, > and " for XML and HTML text and attribute values.
+[[nodiscard]] std::string escape_markup(std::string_view text);
+
 // ---------------------------------------------------------------------------------------------
 // JSON
 
