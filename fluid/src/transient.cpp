@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
@@ -9,8 +10,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -23,6 +24,7 @@ namespace rheosim::fluid {
 namespace {
 
 constexpr double pi = std::numbers::pi;
+constexpr double max_step_ratio = 2.0;  // Δt/Δt_prev above which a step falls back to BDF1
 
 // 3-point Gauss–Legendre on [-1, 1], as in SwirlSolver: ∫ μ r³ dr over an axial face is exact
 // for a Newtonian fluid and the torque matches the steady solver's on the same (r, z) grid.
@@ -34,10 +36,10 @@ using Triplets = std::vector<Eigen::Triplet<double>>;
 using Factor = Eigen::SimplicialLDLT<SparseMatrix>;
 
 // Geometry of the staggered grid and the index maps of every staggered array.
-//   cells, u_θ (faces θ_j at r_c,i), rθ-edges of u_r's θ faces: (i·N_θ + j)·N_z + k
-//   u_r (i = 0..N_r) and rθ-edges (r_i, θ_j, z_c,k):            (i·N_θ + j)·N_z + k
-//   u_z (k = 0..N_z) and θz-edges (r_c,i, θ_j, z_k):             (i·N_θ + j)·(N_z + 1) + k
-//   rz-edges (r_i, θ_c,j, z_k), i = 0..N_r, k = 0..N_z:          (i·N_θ + j)·(N_z + 1) + k
+//   cells and u_θ (faces θ_j at r_c,i):                  (i·N_θ + j)·N_z + k
+//   u_r (i = 0..N_r) and rθ-edges (r_i, θ_j, z_c,k):     (i·N_θ + j)·N_z + k
+//   u_z (k = 0..N_z) and θz-edges (r_c,i, θ_j, z_k):      (i·N_θ + j)·(N_z + 1) + k
+//   rz-edges (r_i, θ_c,j, z_k), i = 0..N_r, k = 0..N_z:   (i·N_θ + j)·(N_z + 1) + k
 struct Geometry {
   std::size_t nr, nt, nz, nc;
   double dth;
@@ -109,6 +111,7 @@ struct ViscosityField {
   std::vector<double> rt;                  // rθ-edges, ur(i, j, k) index
   std::vector<double> tz_moment;           // W = ∫ μ r³ dr on θz-edges, uz index
   std::vector<double> tz;                  // W / ∫ r³ dr, a representative μ on θz-edges
+  std::vector<double> wall_rz;             // μ on the rz-edges of the plates: (side·(N_r+1) + i)·N_θ + j
 };
 
 struct CellFields {  // per-cell ε-like scalar helpers
@@ -164,34 +167,78 @@ bool all_finite(const std::vector<double>& v) {
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
 }
 
-// One SPD predictor system: pattern analysed once, refactorised only when its values change.
+// One SPD predictor system. Up to `direct_limit` unknowns: SimplicialLDLT, pattern analysed
+// once, refactorised only when the values change. Above: conjugate gradients preconditioned by
+// IC(0) in the natural ordering (k fastest, so the stiff axial coupling Δz ≪ Δr, rΔθ sits in
+// the factor), warm-started from the current field; 3D Cholesky fill grows too fast for
+// refactorising every step (a non-Newtonian μ changes the values every step).
 class PredictorSystem {
  public:
-  bool factorize(std::size_t n, const Triplets& triplets) {
-    matrix_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-    matrix_.setFromTriplets(triplets.begin(), triplets.end());
-    matrix_.makeCompressed();
-    const auto nnz = static_cast<std::size_t>(matrix_.nonZeros());
-    const bool same = factorized_ && values_.size() == nnz &&
-                      std::equal(values_.begin(), values_.end(), matrix_.valuePtr());
-    if (same) return true;
-    if (!analysed_ || values_.size() != nnz) {
-      factor_.analyzePattern(matrix_);
-      analysed_ = true;
+  struct Outcome {
+    bool ok = false;
+    int iterations = 0;  // 0 for the direct solve
+    std::string failure;
+  };
+
+  Outcome solve(std::size_t n, const Triplets& triplets, const Eigen::VectorXd& rhs, const Eigen::VectorXd& guess,
+                std::size_t direct_limit, double tolerance, int max_iterations, Eigen::VectorXd& x) {
+    SparseMatrix assembled(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    assembled.setFromTriplets(triplets.begin(), triplets.end());
+    assembled.makeCompressed();
+    const auto nnz = static_cast<std::size_t>(assembled.nonZeros());
+    const bool direct = n <= direct_limit;
+    const bool same = factorized_ && direct == direct_ && values_.size() == nnz &&
+                      std::equal(values_.begin(), values_.end(), assembled.valuePtr());
+    Outcome out;
+    if (!same) {
+      // The CG solver keeps a reference to matrix_: replace it only together with compute().
+      matrix_ = std::move(assembled);
+      factorized_ = false;
+      direct_ = direct;
+      if (direct) {
+        if (!analysed_ || values_.size() != nnz) {
+          factor_.analyzePattern(matrix_);
+          analysed_ = true;
+        }
+        factor_.factorize(matrix_);
+        if (factor_.info() != Eigen::Success) {
+          out.failure = "sparse LDLT factorisation failed";
+          return out;
+        }
+      } else {
+        iterative_.compute(matrix_);
+        if (iterative_.info() != Eigen::Success) {
+          out.failure = "incomplete Cholesky factorisation failed";
+          return out;
+        }
+      }
+      values_.assign(matrix_.valuePtr(), matrix_.valuePtr() + nnz);
+      factorized_ = true;
     }
-    factor_.factorize(matrix_);
-    values_.assign(matrix_.valuePtr(), matrix_.valuePtr() + nnz);
-    factorized_ = factor_.info() == Eigen::Success;
-    return factorized_;
+    if (direct) {
+      x = factor_.solve(rhs);
+      out.ok = true;
+      return out;
+    }
+    iterative_.setTolerance(tolerance);
+    iterative_.setMaxIterations(max_iterations);
+    x = iterative_.solveWithGuess(rhs, guess);
+    out.iterations = static_cast<int>(iterative_.iterations());
+    out.ok = iterative_.info() == Eigen::Success;
+    if (!out.ok)
+      out.failure = fmt::format("conjugate gradients did not reach {:.3g} in {} iterations (last {:.3g})", tolerance,
+                                out.iterations, iterative_.error());
+    return out;
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const { return factor_.solve(rhs); }
-  void invalidate() { factorized_ = false; }
 
  private:
   SparseMatrix matrix_;
   Factor factor_;
+  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,
+                           Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>>>
+      iterative_;
   std::vector<double> values_;
-  bool analysed_ = false, factorized_ = false;
+  bool analysed_ = false, factorized_ = false, direct_ = true;
 };
 
 // The pressure Poisson operator A φ = Σ_faces c_f (φ_c − φ_nb), c_f = ε_f A_f / h_f, and its PCG
@@ -221,6 +268,7 @@ class PressureSolver {
   // Face coefficients and factorisations for the void fraction `eps`; a no-op if unchanged.
   void set_void_fraction(const std::vector<double>& eps) {
     if (ready_ && eps == eps_) return;
+    ready_ = false;
     eps_ = eps;
     const Geometry& g = g_;
     cr_.assign(g.n_ur(), 0.0);
@@ -311,13 +359,16 @@ class PressureSolver {
     bool converged = false;
   };
 
-  // Solves A φ = b for a right-hand side made compatible (zero sum); φ has zero mean.
-  Result solve(Eigen::VectorXd b, Eigen::VectorXd& phi, double tolerance, int max_iterations) const {
+  // Solves A φ = b for a right-hand side made compatible (zero sum); φ has zero mean. Converged
+  // when ‖r‖ <= tolerance · reference, `reference` >= ‖b‖ being the norm of the same right-hand
+  // side built from the magnitudes of its terms (face fluxes, ∂ε/∂t), so that a b that is
+  // itself round-off (fluxes cancelling) does not demand an impossible relative reduction.
+  Result solve(Eigen::VectorXd b, Eigen::VectorXd& phi, double tolerance, int max_iterations, double reference) const {
     b.array() -= b.mean();
     Result result;
     phi.setZero(b.size());
-    const double b_norm = b.norm();
-    if (b_norm == 0.0) {
+    const double b_norm = std::max(b.norm(), reference);
+    if (b.norm() == 0.0) {
       result.converged = true;
       return result;
     }
@@ -406,6 +457,7 @@ struct TransientSolver::Impl {
   bool have_old = false;        // u^(n−1) valid: the next step is BDF2
 
   ViscosityField mu_now;        // of the current state
+  int predictor_iterations = 0; // largest CG iteration count of the last predictor (0: direct)
   double torque_top = 0, torque_bottom = 0;
 
   explicit Impl(TransientParams prm)
@@ -432,16 +484,22 @@ struct TransientSolver::Impl {
     if (k == g.nz) return (omega_top() - omega(v, i, j, g.nz - 1)) / g.dzc[g.nz];
     return (omega(v, i, j, k) - omega(v, i, j, k - 1)) / g.dzc[k];
   }
+  // The same for evaluating μ: second order at the plates (quadratic through the wall value and
+  // the two nearest centres), as SwirlSolver does; the half-cell difference is first order
+  // there and would make μ at the wall, and so the torque of a non-Newtonian fluid, first
+  // order. Exact, like the half-cell form, for the creeping linear profile.
+  double dw_dz_for_viscosity(const Velocity& v, std::size_t i, std::size_t j, std::size_t k) const {
+    if (k != 0 && k != g.nz) return dw_dz(v, i, j, k);
+    if (k == 0) {
+      const double h = g.dz[0], a = omega(v, i, j, 0), b = omega(v, i, j, 1);
+      return (9 * a - b - 8 * omega_bottom()) / (3 * h);
+    }
+    const double h = g.dz[g.nz - 1], a = omega(v, i, j, g.nz - 1), b = omega(v, i, j, g.nz - 2);
+    return (8 * omega_top() - 9 * a + b) / (3 * h);
+  }
   double duz_dtheta(const Velocity& v, std::size_t i, std::size_t j, std::size_t k) const {
     if (k == 0 || k == g.nz || g.nt == 1) return 0.0;
     return (v.uz[g.uz(i, j, k)] - v.uz[g.uz(i, g.jm(j), k)]) / g.dth;
-  }
-  // 2E_rθ on the rθ-edge (r_i, θ_j, z_c,k); zero on the axis and the shear-free rim.
-  double strain_rt(const Velocity& v, std::size_t i, std::size_t j, std::size_t k) const {
-    if (i == 0 || i == g.nr) return 0.0;
-    double s = g.rf[i] * (omega(v, i, j, k) - omega(v, i - 1, j, k)) / g.drc[i];
-    if (g.nt > 1) s += (v.ur[g.ur(i, j, k)] - v.ur[g.ur(i, g.jm(j), k)]) / (g.rf[i] * g.dth);
-    return s;
   }
   double dur_dz(const Velocity& v, std::size_t i, std::size_t j, std::size_t k) const {
     if (k == 0) return v.ur[g.ur(i, j, 0)] / g.dzc[0];
@@ -452,9 +510,12 @@ struct TransientSolver::Impl {
     if (k == 0 || k == g.nz) return 0.0;
     return (v.uz[g.uz(i, j, k)] - v.uz[g.uz(i - 1, j, k)]) / g.drc[i];
   }
-  // 2E_rz on the rz-edge (r_i, θ_c,j, z_k); zero on the axis and the shear-free rim.
-  double strain_rz(const Velocity& v, std::size_t i, std::size_t j, std::size_t k) const {
+  // 2E_rz on the rz-edge (r_i, θ_c,j, z_k) for evaluating μ (second order at the plates, where
+  // ∂_ru_z = 0); zero on the axis and the shear-free rim.
+  double strain_rz_for_viscosity(const Velocity& v, std::size_t i, std::size_t j, std::size_t k) const {
     if (i == 0 || i == g.nr) return 0.0;
+    if (k == 0) return (9 * v.ur[g.ur(i, j, 0)] - v.ur[g.ur(i, j, 1)]) / (3 * g.dz[0]);
+    if (k == g.nz) return -(9 * v.ur[g.ur(i, j, g.nz - 1)] - v.ur[g.ur(i, j, g.nz - 2)]) / (3 * g.dz[g.nz - 1]);
     return dur_dz(v, i, j, k) + duz_dr(v, i, j, k);
   }
   // ∇·u per cell [1/s] (not ε-weighted): the −(2/3)μ∇·u part of CD eq. 28.
@@ -475,25 +536,38 @@ struct TransientSolver::Impl {
   //   2E:E = 2(E_rr² + E_θθ² + E_zz²) + (2E_rθ)² + (2E_θz)² + (2E_rz)²,
   //   E_rr = ∂_ru_r, E_θθ = ∂_θω + u_r/r, E_zz = ∂_zu_z,
   //   2E_rθ = r∂_rω + (1/r)∂_θu_r, 2E_θz = r∂_zω + (1/r)∂_θu_z, 2E_rz = ∂_zu_r + ∂_ru_z.
-  // Normal parts live at cell centres and shear parts on their edges; a cell takes the mean of
-  // the squares on its four edges of each kind. On an edge, its own shear component is exact
-  // and the rest is the mean over the adjacent cells; on θz-edges 2E_θz is evaluated at the
-  // three Gauss radii (the r∂_zω part varies linearly with r), as SwirlSolver does.
+  // Normal parts live at cell centres, shear parts on their edges. A shear part of the form
+  // r·g + h (g a gradient of ω, h = (1/r)∂_θu at the edge's own radius) is evaluated at the
+  // radius where μ is wanted: a cell keeps the means of g², g·h and h² over its four edges of
+  // that kind, giving r²⟨g²⟩ + 2r⟨gh⟩ + ⟨h²⟩ at any r. On an edge, its own shear component is
+  // exact and the rest is the mean over the adjacent cells at the edge's radius; on θz-edges
+  // μ is taken at the three Gauss radii. For N_θ = 1 this is SwirlSolver's evaluation exactly.
   ViscosityField evaluate_viscosity(const Velocity& v) const {
     const std::size_t nr = g.nr, nt = g.nt, nz = g.nz, nc = g.nc;
-    std::vector<double> srt(g.n_ur()), srz(g.n_rz()), gz(g.n_uz()), hz(g.n_uz());
+    // Edge values: rθ-edges g_rt = ∂_rω, h_rt = ∂_θu_r/r_i (zero on axis and rim); θz-edges
+    // g_tz = ∂_zω, h_tz = ∂_θu_z/r_c; rz-edges the full 2E_rz.
+    std::vector<double> g_rt(g.n_ur(), 0.0), h_rt(g.n_ur(), 0.0), srz(g.n_rz()), g_tz(g.n_uz()), h_tz(g.n_uz());
     for (std::size_t i = 0; i <= nr; ++i)
       for (std::size_t j = 0; j < nt; ++j) {
-        for (std::size_t k = 0; k < nz; ++k) srt[g.ur(i, j, k)] = strain_rt(v, i, j, k);
+        if (i > 0 && i < nr)
+          for (std::size_t k = 0; k < nz; ++k) {
+            g_rt[g.ur(i, j, k)] = (omega(v, i, j, k) - omega(v, i - 1, j, k)) / g.drc[i];
+            if (nt > 1) h_rt[g.ur(i, j, k)] = (v.ur[g.ur(i, j, k)] - v.ur[g.ur(i, g.jm(j), k)]) / (g.rf[i] * g.dth);
+          }
         for (std::size_t k = 0; k <= nz; ++k) {
-          srz[g.uz(i, j, k)] = strain_rz(v, i, j, k);  // same index formula, i up to nr
+          srz[g.uz(i, j, k)] = strain_rz_for_viscosity(v, i, j, k);  // same index formula, i up to nr
           if (i < nr) {
-            gz[g.uz(i, j, k)] = dw_dz(v, i, j, k);
-            hz[g.uz(i, j, k)] = duz_dtheta(v, i, j, k);
+            g_tz[g.uz(i, j, k)] = dw_dz_for_viscosity(v, i, j, k);
+            h_tz[g.uz(i, j, k)] = duz_dtheta(v, i, j, k) / g.rc[i];
           }
         }
       }
-    std::vector<double> normal(nc), a_rt(nc), a_tz(nc), a_rz(nc);
+    struct Moments {  // ⟨g²⟩, ⟨gh⟩, ⟨h²⟩ over a cell's four edges of one kind
+      double gg = 0, gh = 0, hh = 0;
+      double at(double r) const { return r * r * gg + 2 * r * gh + hh; }
+    };
+    std::vector<double> normal(nc), a_rz(nc);
+    std::vector<Moments> m_rt(nc), m_tz(nc);
     for (std::size_t i = 0; i < nr; ++i)
       for (std::size_t j = 0; j < nt; ++j)
         for (std::size_t k = 0; k < nz; ++k) {
@@ -503,27 +577,38 @@ struct TransientSolver::Impl {
           if (nt > 1) ett += (omega(v, i, jj, k) - omega(v, i, j, k)) / g.dth;
           const double ezz = (v.uz[g.uz(i, j, k + 1)] - v.uz[g.uz(i, j, k)]) / g.dz[k];
           normal[c] = 2.0 * (err * err + ett * ett + ezz * ezz);
-          double s = 0;
-          for (std::size_t a : {i, i + 1})
-            for (std::size_t b : {j, jj}) s += srt[g.ur(a, b, k)] * srt[g.ur(a, b, k)];
-          a_rt[c] = 0.25 * s;
-          s = 0;
-          for (std::size_t b : {j, jj})
-            for (std::size_t f : {k, k + 1}) {
-              const double e = g.rc[i] * gz[g.uz(i, b, f)] + hz[g.uz(i, b, f)] / g.rc[i];
-              s += e * e;
+          Moments rt, tz;
+          for (std::size_t b : {j, jj}) {
+            for (std::size_t a : {i, i + 1}) {
+              const std::size_t e = g.ur(a, b, k);
+              rt.gg += 0.25 * g_rt[e] * g_rt[e];
+              rt.gh += 0.25 * g_rt[e] * h_rt[e];
+              rt.hh += 0.25 * h_rt[e] * h_rt[e];
             }
-          a_tz[c] = 0.25 * s;
-          s = 0;
+            for (std::size_t f : {k, k + 1}) {
+              const std::size_t e = g.uz(i, b, f);
+              tz.gg += 0.25 * g_tz[e] * g_tz[e];
+              tz.gh += 0.25 * g_tz[e] * h_tz[e];
+              tz.hh += 0.25 * h_tz[e] * h_tz[e];
+            }
+          }
+          m_rt[c] = rt;
+          m_tz[c] = tz;
+          double s = 0;
           for (std::size_t a : {i, i + 1})
             for (std::size_t f : {k, k + 1}) s += srz[g.uz(a, j, f)] * srz[g.uz(a, j, f)];
           a_rz[c] = 0.25 * s;
         }
 
     // All shear rates in one array: one rheology call for the whole field.
-    const std::size_t off_rt = nc, off_tz = nc + g.n_ur();
-    std::vector<double> rates(off_tz + 3 * g.n_uz(), 0.0);
-    for (std::size_t c = 0; c < nc; ++c) rates[c] = std::sqrt(normal[c] + a_rt[c] + a_tz[c] + a_rz[c]);
+    const std::size_t off_rt = nc, off_tz = nc + g.n_ur(), off_wall = off_tz + 3 * g.n_uz();
+    std::vector<double> rates(off_wall + 2 * (nr + 1) * nt, 0.0);
+    for (std::size_t i = 0; i < nr; ++i)
+      for (std::size_t j = 0; j < nt; ++j)
+        for (std::size_t k = 0; k < nz; ++k) {
+          const std::size_t c = g.cell(i, j, k);
+          rates[c] = std::sqrt(normal[c] + m_rt[c].at(g.rc[i]) + m_tz[c].at(g.rc[i]) + a_rz[c]);
+        }
     for (std::size_t i = 1; i < nr; ++i)
       for (std::size_t j = 0; j < nt; ++j)
         for (std::size_t k = 0; k < nz; ++k) {
@@ -531,30 +616,54 @@ struct TransientSolver::Impl {
           for (std::size_t a : {i - 1, i})
             for (std::size_t b : {g.jm(j), j}) {
               const std::size_t c = g.cell(a, b, k);
-              rest += 0.25 * (normal[c] + a_tz[c] + a_rz[c]);
+              rest += 0.25 * (normal[c] + m_tz[c].at(g.rf[i]) + a_rz[c]);
             }
-          const double s = srt[g.ur(i, j, k)];
-          rates[off_rt + g.ur(i, j, k)] = std::sqrt(s * s + rest);
+          const std::size_t e = g.ur(i, j, k);
+          const double s = g.rf[i] * g_rt[e] + h_rt[e];
+          rates[off_rt + e] = std::sqrt(s * s + rest);
         }
     for (std::size_t i = 0; i < nr; ++i) {
       const double mid = 0.5 * (g.rf[i] + g.rf[i + 1]), half = 0.5 * g.dr[i];
       for (std::size_t j = 0; j < nt; ++j)
         for (std::size_t k = 0; k <= nz; ++k) {
-          double rest = 0, n = 0;
-          for (std::size_t b : {g.jm(j), j})
-            for (std::size_t f : {k - 1, k}) {
-              if (f >= nz) continue;  // k − 1 wraps at k = 0
-              const std::size_t c = g.cell(i, b, f);
-              rest += normal[c] + a_rt[c] + a_rz[c];
-              n += 1;
-            }
-          rest /= n;
           const std::size_t e = g.uz(i, j, k);
           for (std::size_t q = 0; q < 3; ++q) {
             const double r = mid + half * gauss_nodes[q];
-            const double s = r * gz[e] + hz[e] / r;
+            double rest = 0, n = 0;
+            for (std::size_t b : {g.jm(j), j})
+              for (std::size_t f : {k - 1, k}) {
+                if (f >= nz) continue;  // k − 1 wraps at k = 0
+                const std::size_t c = g.cell(i, b, f);
+                rest += m_rt[c].at(r) + ((k == 0 || k == nz) ? 0.0 : normal[c] + a_rz[c]);
+                n += 1;
+              }
+            rest /= n;
+            if (k == 0 || k == nz) {  // on a plate the rest is the wall shear ∂_zu_r alone (u = 0, ∂_zu_z = 0)
+              for (std::size_t a : {i, i + 1})
+                for (std::size_t b : {g.jm(j), j}) rest += 0.25 * srz[g.uz(a, b, k)] * srz[g.uz(a, b, k)];
+            }
+            const double s = r * g_tz[e] + h_tz[e];
             rates[off_tz + 3 * e + q] = std::sqrt(s * s + rest);
           }
+        }
+    }
+    // rz-edges on the plates, for τ_rz there: γ̇² = (r ∂_zω)² + (∂_zu_r)², ∂_zω averaged over the
+    // adjacent θz-edges.
+    for (std::size_t side = 0; side < 2; ++side) {
+      const std::size_t k = side == 0 ? 0 : nz;
+      for (std::size_t i = 0; i <= nr; ++i)
+        for (std::size_t j = 0; j < nt; ++j) {
+          double gz_mean = 0, n = 0;
+          for (std::size_t a : {i - 1, i})
+            for (std::size_t b : {j, g.jp(j)})
+              if (a < nr) {
+                gz_mean += g_tz[g.uz(a, b, k)];
+                n += 1;
+              }
+          gz_mean /= n;
+          const double shear = srz[g.uz(i, j, k)];
+          rates[off_wall + (side * (nr + 1) + i) * nt + j] =
+              std::sqrt(g.rf[i] * g.rf[i] * gz_mean * gz_mean + shear * shear);
         }
     }
     std::vector<double> mu(rates.size());
@@ -564,6 +673,7 @@ struct TransientSolver::Impl {
     out.centre.assign(mu.begin(), mu.begin() + static_cast<std::ptrdiff_t>(nc));
     out.shear_rate.assign(rates.begin(), rates.begin() + static_cast<std::ptrdiff_t>(nc));
     out.rt.assign(mu.begin() + static_cast<std::ptrdiff_t>(off_rt), mu.begin() + static_cast<std::ptrdiff_t>(off_tz));
+    out.wall_rz.assign(mu.begin() + static_cast<std::ptrdiff_t>(off_wall), mu.end());
     out.tz_moment.assign(g.n_uz(), 0.0);
     out.tz.assign(g.n_uz(), 0.0);
     for (std::size_t i = 0; i < nr; ++i) {
@@ -583,8 +693,11 @@ struct TransientSolver::Impl {
     return out;
   }
 
-  // μ on the rz-edge (r_i, θ_c,j, z_k): mean of the adjacent cells (SwirlSolver's corner value).
+  // μ on the rz-edge (r_i, θ_c,j, z_k): from the wall shear rate on the plates, else the mean of
+  // the adjacent cells (SwirlSolver's corner value).
   double mu_rz(const ViscosityField& mu, std::size_t i, std::size_t j, std::size_t k) const {
+    if (k == 0) return mu.wall_rz[i * g.nt + j];
+    if (k == g.nz) return mu.wall_rz[((g.nr + 1) + i) * g.nt + j];
     double sum = 0, n = 0;
     for (std::size_t a : {i - 1, i})
       for (std::size_t f : {k - 1, k})
@@ -748,8 +861,10 @@ struct TransientSolver::Impl {
     return out;
   }
 
-  // The viscous terms left explicit: cross-component parts of τ, −(2/3)μ∇·u, and the axis value
-  // of u_r in τ_rr of the first ring (the axis is not an unknown).
+  // The viscous terms left explicit: the transposed-gradient part ∇·(μ(∇u)ᵀ) — cross-component
+  // terms and half of each normal stress (the implicit operator is the Laplacian form) — plus
+  // −(2/3)μ∇·u and the axis value of u_r in τ_rr of the first ring (the axis is not an unknown).
+  // For constant μ and ∇·u = 0 this part is μ∇(∇·u) = 0 in the continuum.
   Explicit viscous_cross(const Velocity& v, const ViscosityField& mu) const {
     Explicit out{std::vector<double>(g.rows_r(), 0.0), std::vector<double>(g.nc, 0.0), std::vector<double>(g.rows_z(), 0.0)};
     const std::size_t nr = g.nr, nt = g.nt, nz = g.nz;
@@ -759,12 +874,13 @@ struct TransientSolver::Impl {
       for (std::size_t j = 0; j < nt; ++j)
         for (std::size_t k = 0; k < nz; ++k) {
           double force = 0;
-          for (std::size_t c : {i - 1, i}) {
+          for (std::size_t c : {i - 1, i}) {  // τ_rr ⊃ μ∂_ru_r − (2/3)μ∇·u
             const double sign = c == i ? 1.0 : -1.0;
-            force += sign * g.rc[c] * g.dth * g.dz[k] * (-2.0 / 3.0) * mu_c(c, j, k) * div[g.cell(c, j, k)];
+            const double dur = (v.ur[g.ur(c + 1, j, k)] - v.ur[g.ur(c, j, k)]) / g.dr[c];
+            force += sign * g.rc[c] * g.dth * g.dz[k] * mu_c(c, j, k) * (dur - (2.0 / 3.0) * div[g.cell(c, j, k)]);
           }
-          if (i == 1) {  // τ_rr at the first centre uses the axis value u_r(0, θ)
-            const double coef = 2.0 * mu_c(0, j, k) * g.rc[0] * g.dth * g.dz[k] / g.dr[0];
+          if (i == 1) {  // the implicit μ∂_ru_r at the first centre takes the axis value u_r(0, θ) from here
+            const double coef = mu_c(0, j, k) * g.rc[0] * g.dth * g.dz[k] / g.dr[0];
             force += coef * v.ur[g.ur(0, j, k)];
           }
           if (nt > 1)
@@ -777,13 +893,13 @@ struct TransientSolver::Impl {
             const double sign = f == k + 1 ? 1.0 : -1.0;
             force += sign * mu_rz(mu, i, j, f) * duz_dr(v, i, j, f) * g.rf[i] * g.drc[i] * g.dth;
           }
-          // Hoop term −τ_θθ/r ⊃ −[2μ∂_θω − (2/3)μ∇·u]/r at the face.
+          // Hoop term −τ_θθ/r ⊃ −[μu_r/r + 2μ∂_θω − (2/3)μ∇·u]/r at the face.
           const double mu_f = 0.5 * (mu_c(i - 1, j, k) + mu_c(i, j, k));
           double dtheta_w = 0;
           if (nt > 1)
             for (std::size_t c : {i - 1, i}) dtheta_w += 0.5 * (omega(v, c, g.jp(j), k) - omega(v, c, j, k)) / g.dth;
           const double div_f = 0.5 * (div[g.cell(i - 1, j, k)] + div[g.cell(i, j, k)]);
-          force -= (2.0 * mu_f * dtheta_w - (2.0 / 3.0) * mu_f * div_f) * g.drc[i] * g.dth * g.dz[k];
+          force -= mu_f * (v.ur[g.ur(i, j, k)] / g.rf[i] + 2.0 * dtheta_w - (2.0 / 3.0) * div_f) * g.drc[i] * g.dth * g.dz[k];
           out.r[g.row_r(i, j, k)] = force;
         }
     for (std::size_t i = 0; i < nr; ++i)
@@ -803,12 +919,13 @@ struct TransientSolver::Impl {
               torque += sign * mu.tz[g.uz(i, j, f)] * g.a1[i] * (v.uz[g.uz(i, j, f)] - v.uz[g.uz(i, g.jm(j), f)]);
             }
           }
-          for (std::size_t c : {g.jm(j), j}) {  // r τ_θθ ⊃ 2μu_r − (2/3)μ r ∇·u
+          for (std::size_t c : {g.jm(j), j}) {  // r τ_θθ ⊃ μ r∂_θω + 2μu_r − (2/3)μ r ∇·u
             if (nt == 1) break;
             const double sign = c == j ? 1.0 : -1.0;
             const double ur_mean = 0.5 * (v.ur[g.ur(i, c, k)] + v.ur[g.ur(i + 1, c, k)]);
+            const double dtheta_w = (omega(v, i, g.jp(c), k) - omega(v, i, c, k)) / g.dth;
             torque += sign * g.dz[k] * mu_c(i, c, k) *
-                      (2.0 * ur_mean * g.dr[i] - (2.0 / 3.0) * div[g.cell(i, c, k)] * g.a1[i]);
+                      (dtheta_w * g.a1[i] + 2.0 * ur_mean * g.dr[i] - (2.0 / 3.0) * div[g.cell(i, c, k)] * g.a1[i]);
           }
           out.w[g.cell(i, j, k)] = torque;
         }
@@ -816,9 +933,10 @@ struct TransientSolver::Impl {
       for (std::size_t j = 0; j < nt; ++j)
         for (std::size_t k = 1; k < nz; ++k) {
           double force = 0;
-          for (std::size_t c : {k - 1, k}) {
+          for (std::size_t c : {k - 1, k}) {  // τ_zz ⊃ μ∂_zu_z − (2/3)μ∇·u
             const double sign = c == k ? 1.0 : -1.0;
-            force += sign * g.a1[i] * g.dth * (-2.0 / 3.0) * mu_c(i, j, c) * div[g.cell(i, j, c)];
+            const double duz = (v.uz[g.uz(i, j, c + 1)] - v.uz[g.uz(i, j, c)]) / g.dz[c];
+            force += sign * g.a1[i] * g.dth * mu_c(i, j, c) * (duz - (2.0 / 3.0) * div[g.cell(i, j, c)]);
           }
           for (std::size_t f : {i, i + 1}) {  // τ_rz ⊃ μ ∂_zu_r
             if (f == 0 || f == nr) continue;
@@ -846,22 +964,23 @@ struct TransientSolver::Impl {
 
   double source_value(const std::vector<double>& s, std::size_t c) const { return s.empty() ? 0.0 : s[c]; }
 
-  // Integrated Σ_faces ε_f u_n A_f per cell with the pressure solver's face ε.
-  std::vector<double> flux_divergence(const Velocity& v, const std::vector<double>& e) const {
+  // Integrated Σ_faces ε_f u_n A_f per cell with the pressure solver's face ε (or, with
+  // `magnitude`, Σ_faces |ε_f u_n A_f|: the scale against which continuity is judged).
+  std::vector<double> flux_divergence(const Velocity& v, const std::vector<double>& e, bool magnitude = false) const {
     std::vector<double> d(g.nc);
     for (std::size_t i = 0; i < g.nr; ++i)
       for (std::size_t j = 0; j < g.nt; ++j)
         for (std::size_t k = 0; k < g.nz; ++k) {
           double flux = 0;
-          if (i + 1 < g.nr)
-            flux += CellFields::face_r(e, g, i + 1, j, k) * g.rf[i + 1] * g.dth * g.dz[k] * v.ur[g.ur(i + 1, j, k)];
-          if (i > 0) flux -= CellFields::face_r(e, g, i, j, k) * g.rf[i] * g.dth * g.dz[k] * v.ur[g.ur(i, j, k)];
+          const auto add = [&](double sign, double value) { flux += magnitude ? std::abs(value) : sign * value; };
+          if (i + 1 < g.nr) add(1, CellFields::face_r(e, g, i + 1, j, k) * g.rf[i + 1] * g.dth * g.dz[k] * v.ur[g.ur(i + 1, j, k)]);
+          if (i > 0) add(-1, CellFields::face_r(e, g, i, j, k) * g.rf[i] * g.dth * g.dz[k] * v.ur[g.ur(i, j, k)]);
           if (g.nt > 1) {
-            flux += CellFields::face_t(e, g, i, g.jp(j), k) * g.dr[i] * g.dz[k] * v.ut[g.cell(i, g.jp(j), k)];
-            flux -= CellFields::face_t(e, g, i, j, k) * g.dr[i] * g.dz[k] * v.ut[g.cell(i, j, k)];
+            add(1, CellFields::face_t(e, g, i, g.jp(j), k) * g.dr[i] * g.dz[k] * v.ut[g.cell(i, g.jp(j), k)]);
+            add(-1, CellFields::face_t(e, g, i, j, k) * g.dr[i] * g.dz[k] * v.ut[g.cell(i, j, k)]);
           }
-          if (k + 1 < g.nz) flux += CellFields::face_z(e, g, i, j, k + 1) * g.a1[i] * g.dth * v.uz[g.uz(i, j, k + 1)];
-          if (k > 0) flux -= CellFields::face_z(e, g, i, j, k) * g.a1[i] * g.dth * v.uz[g.uz(i, j, k)];
+          if (k + 1 < g.nz) add(1, CellFields::face_z(e, g, i, j, k + 1) * g.a1[i] * g.dth * v.uz[g.uz(i, j, k + 1)]);
+          if (k > 0) add(-1, CellFields::face_z(e, g, i, j, k) * g.a1[i] * g.dth * v.uz[g.uz(i, j, k)]);
           d[g.cell(i, j, k)] = flux;
         }
     return d;
@@ -901,16 +1020,18 @@ struct TransientSolver::Impl {
                        dt * params.max_courant / before.value),
            report);
 
-    // SBDF2 coefficients (variable step); BDF1 after a reset.
+    // SBDF2 coefficients (variable step); BDF1 after a reset and when the step grows by more
+    // than max_step_ratio (variable-step BDF2 is zero-stable only for ratios below 1 + √2).
     double a0 = 1, a1 = -1, a2 = 0, w = 0;
-    if (have_old) {
+    const bool second_order = have_old && dt <= max_step_ratio * dt_old;
+    if (second_order) {
       w = dt / dt_old;
       a0 = (1 + 2 * w) / (1 + w);
       a1 = -(1 + w);
       a2 = w * w / (1 + w);
     }
     Velocity ue = u;
-    if (have_old) {
+    if (second_order) {
       const auto extrapolate = [w](std::vector<double>& out, const std::vector<double>& now, const std::vector<double>& old) {
         for (std::size_t n = 0; n < out.size(); ++n) out[n] = (1 + w) * now[n] - w * old[n];
       };
@@ -920,6 +1041,13 @@ struct TransientSolver::Impl {
       impose_boundary_values(g, ue);
     }
     const ViscosityField mu = evaluate_viscosity(ue);
+    for (const std::vector<double>* field : {&mu.centre, &mu.rt, &mu.tz_moment, &mu.wall_rz})
+      if (!all_finite(*field))
+        fail(StepFailure::non_finite,
+             fmt::format("the rheology law '{}' returned a non-finite viscosity (NaN or inf) at t = {:.6g} s (step {}); "
+                         "the state before the step is kept",
+                         params.rheology->name(), time, steps + 1),
+             report);
     const Explicit conv = convection(ue, eps_next);
     const Explicit cross = viscous_cross(ue, mu);
 
@@ -931,6 +1059,13 @@ struct TransientSolver::Impl {
       fail(StepFailure::linear_solver, e.what(), report);
     }
 
+    if (!all_finite(next.u.ur) || !all_finite(next.u.ut) || !all_finite(next.u.uz))
+      fail(StepFailure::non_finite,
+           fmt::format("NaN or inf in the predicted velocity at t = {:.6g} s (step {}, dt = {:.4g} s); the state before "
+                       "the step is kept",
+                       time + dt, steps + 1, dt),
+           report);
+
     // Projection.
     try {
       pressure_solver.set_void_fraction(eps_next);
@@ -938,27 +1073,44 @@ struct TransientSolver::Impl {
       fail(StepFailure::linear_solver, e.what(), report);
     }
     const std::vector<double> flux = flux_divergence(next.u, eps_next);
+    const std::vector<double> flux_magnitude = flux_divergence(next.u, eps_next, true);
     Eigen::VectorXd b(static_cast<Eigen::Index>(g.nc));
     const double scale = dt / (a0 * params.density);
+    double flux_scale = 0;
+    // BDF2 ∂ε/∂t with a₁ = −a₀ − a₂ substituted: exactly zero where ε does not change.
+    const auto eps_rate = [&](std::size_t c) {
+      return (a0 * (eps_next[c] - eps_now[c]) + a2 * (eps_old[c] - eps_now[c])) / dt;
+    };
     for (std::size_t i = 0; i < g.nr; ++i)
       for (std::size_t j = 0; j < g.nt; ++j)
         for (std::size_t k = 0; k < g.nz; ++k) {
           const std::size_t c = g.cell(i, j, k);
-          const double deps = (a0 * eps_next[c] + a1 * eps_now[c] + a2 * eps_old[c]) / dt;
-          b[static_cast<Eigen::Index>(c)] = -(flux[c] + g.volume(i, k) * deps) / scale;
+          const double rate = g.volume(i, k) * eps_rate(c);
+          b[static_cast<Eigen::Index>(c)] = -(flux[c] + rate) / scale;
+          const double magnitude = (flux_magnitude[c] + std::abs(rate)) / scale;
+          flux_scale += magnitude * magnitude;
         }
     Eigen::VectorXd phi;
-    next.pressure = pressure_solver.solve(b, phi, params.pressure_tolerance, params.pressure_max_iterations);
+    next.pressure =
+        pressure_solver.solve(b, phi, params.pressure_tolerance, params.pressure_max_iterations, std::sqrt(flux_scale));
     report.pressure_iterations = next.pressure.iterations;
+    report.viscous_iterations = predictor_iterations;
     report.pressure_residual = next.pressure.residual;
     if (!next.pressure.converged)
       fail(StepFailure::linear_solver,
            fmt::format("pressure PCG did not reach the relative residual {:.3g} in {} iterations (last {:.3g})",
                        params.pressure_tolerance, next.pressure.iterations, next.pressure.residual),
            report);
+    const std::vector<double> div_star = velocity_divergence(next.u);
     correct(next.u, phi, scale);
+    // Rotational pressure update: p += φ − μ∇·(u* − u^(n+1)), the viscous stress of the
+    // gradient the projection removed. Without it the pressure update φ ∝ ρ/Δt vanishes at
+    // large viscous Courant numbers and the pressure converges like an Uzawa iteration with a
+    // tiny step; the term is zero at a steady state.
+    const std::vector<double> div_new = velocity_divergence(next.u);
     next.p = p;
-    for (std::size_t c = 0; c < g.nc; ++c) next.p[c] += phi[static_cast<Eigen::Index>(c)];
+    for (std::size_t c = 0; c < g.nc; ++c)
+      next.p[c] += phi[static_cast<Eigen::Index>(c)] - mu.centre[c] * (div_star[c] - div_new[c]);
     remove_volume_mean(next.p);
 
     // Continuity residual after the projection.
@@ -967,8 +1119,7 @@ struct TransientSolver::Impl {
       for (std::size_t j = 0; j < g.nt; ++j)
         for (std::size_t k = 0; k < g.nz; ++k) {
           const std::size_t c = g.cell(i, j, k);
-          const double deps = (a0 * eps_next[c] + a1 * eps_now[c] + a2 * eps_old[c]) / dt;
-          next.max_divergence = std::max(next.max_divergence, std::abs(flux_after[c] / g.volume(i, k) + deps));
+          next.max_divergence = std::max(next.max_divergence, std::abs(flux_after[c] / g.volume(i, k) + eps_rate(c)));
         }
     report.max_divergence = next.max_divergence;
 
@@ -1041,6 +1192,14 @@ struct TransientSolver::Impl {
     const double rho = params.density;
     const auto mu_c = [&](std::size_t i, std::size_t j, std::size_t k) { return mu.centre[g.cell(i, j, k)]; };
     Triplets t;
+    predictor_iterations = 0;
+    const auto run = [&](PredictorSystem& system, std::string_view name, std::size_t n, const Triplets& triplets,
+                         const Eigen::VectorXd& rhs, const Eigen::VectorXd& guess, Eigen::VectorXd& x) {
+      const auto outcome = system.solve(n, triplets, rhs, guess, static_cast<std::size_t>(params.direct_solver_limit),
+                                        params.viscous_tolerance, params.viscous_max_iterations, x);
+      if (!outcome.ok) throw std::runtime_error(fmt::format("{} predictor: {}", name, outcome.failure));
+      predictor_iterations = std::max(predictor_iterations, outcome.iterations);
+    };
 
     // ---- u_r --------------------------------------------------------------------------------
     {
@@ -1059,8 +1218,8 @@ struct TransientSolver::Impl {
             double b = -rho * volume / dt * (a1 * e0 * u.ur[face] + a2 * e1 * u_old.ur[face]) / en;
             if (!drag.empty()) diag += 0.5 * (drag[g.cell(i - 1, j, k)] + drag[g.cell(i, j, k)]) * volume / en;
             b -= g.rf[i] * g.dth * g.dz[k] * (p[g.cell(i, j, k)] - p[g.cell(i - 1, j, k)]);
-            for (std::size_t c : {i - 1, i}) {  // τ_rr = 2μ∂_ru_r at the centres
-              const double k_rr = 2.0 * mu_c(c, j, k) * g.rc[c] * g.dth * g.dz[k] / g.dr[c];
+            for (std::size_t c : {i - 1, i}) {  // τ_rr ⊃ μ∂_ru_r at the centres (the other μ∂_ru_r explicit)
+              const double k_rr = mu_c(c, j, k) * g.rc[c] * g.dth * g.dz[k] / g.dr[c];
               diag += k_rr;
               const std::size_t other = c == i ? i + 1 : i - 1;
               if (other != 0 && other != nr) add(g.row_r(other, j, k), -k_rr);  // axis: explicit; rim: u_r = 0
@@ -1076,14 +1235,17 @@ struct TransientSolver::Impl {
               diag += k_rz;
               if (f != 0 && f != nz) add(g.row_r(i, j, f == k ? k - 1 : k + 1), -k_rz);
             }
-            diag += 2.0 * 0.5 * (mu_c(i - 1, j, k) + mu_c(i, j, k)) * g.drc[i] * g.dth * g.dz[k] / g.rf[i];  // hoop 2μu_r/r²
+            diag += 0.5 * (mu_c(i - 1, j, k) + mu_c(i, j, k)) * g.drc[i] * g.dth * g.dz[k] / g.rf[i];  // hoop ⊃ μu_r/r²
             const double source = 0.5 * (source_value(source_r, g.cell(i - 1, j, k)) + source_value(source_r, g.cell(i, j, k))) * volume;
             b += cross.r[row] + (conv.r[row] + source) / en;
             add(row, diag);
             rhs[static_cast<Eigen::Index>(row)] = b;
           }
-      if (!system_r.factorize(g.rows_r(), t)) throw std::runtime_error("factorisation of the u_r system failed");
-      const Eigen::VectorXd x = system_r.solve(rhs);
+      Eigen::VectorXd guess(static_cast<Eigen::Index>(g.rows_r())), x;
+      for (std::size_t i = 1; i < nr; ++i)
+        for (std::size_t j = 0; j < nt; ++j)
+          for (std::size_t k = 0; k < nz; ++k) guess[static_cast<Eigen::Index>(g.row_r(i, j, k))] = u.ur[g.ur(i, j, k)];
+      run(system_r, "u_r", g.rows_r(), t, rhs, guess, x);
       for (std::size_t i = 1; i < nr; ++i)
         for (std::size_t j = 0; j < nt; ++j)
           for (std::size_t k = 0; k < nz; ++k) star.ur[g.ur(i, j, k)] = x[static_cast<Eigen::Index>(g.row_r(i, j, k))];
@@ -1104,7 +1266,10 @@ struct TransientSolver::Impl {
             const double e1 = CellFields::face_t(eps_old, g, i, j, k);
             double diag = rho * a0 * inertia_moment / dt;
             double b = -rho * inertia_moment / dt * (a1 * e0 * omega(u, i, j, k) + a2 * e1 * omega(u_old, i, j, k)) / en;
-            if (!drag.empty()) diag += 0.5 * (drag[g.cell(i, g.jm(j), k)] + drag[g.cell(i, j, k)]) * inertia_moment / en;
+            // Drag torque ∫ r βu_θ dV with the stored u_θ = r_c ω over the control volume, like the
+            // source torque below, so that f_θ = βu_θ balances exactly.
+            if (!drag.empty())
+              diag += 0.5 * (drag[g.cell(i, g.jm(j), k)] + drag[g.cell(i, j, k)]) * g.rc[i] * g.dth * g.dz[k] * g.r3[i] / en;
             if (nt > 1) b -= g.dz[k] * g.a1[i] * (p[g.cell(i, j, k)] - p[g.cell(i, g.jm(j), k)]);
             for (std::size_t f : {i, i + 1}) {  // r³μ∂_rω (none through axis and rim)
               if (f == 0 || f == nr) continue;
@@ -1120,8 +1285,8 @@ struct TransientSolver::Impl {
               else add(g.cell(i, j, f == k ? k - 1 : k + 1), -k_z);
             }
             if (nt > 1)
-              for (std::size_t c : {g.jm(j), j}) {  // r τ_θθ ⊃ 2μ r ∂_θω·(1/r)·r, through the cell centres
-                const double k_t = 2.0 * mu_c(i, c, k) * g.dz[k] * g.a1[i] / g.dth;
+              for (std::size_t c : {g.jm(j), j}) {  // r τ_θθ ⊃ μ r ∂_θω through the cell centres (the other half explicit)
+                const double k_t = mu_c(i, c, k) * g.dz[k] * g.a1[i] / g.dth;
                 diag += k_t;
                 add(g.cell(i, c == j ? g.jp(j) : g.jm(j), k), -k_t);
               }
@@ -1131,8 +1296,9 @@ struct TransientSolver::Impl {
             add(row, diag);
             rhs[static_cast<Eigen::Index>(row)] = b;
           }
-      if (!system_w.factorize(g.nc, t)) throw std::runtime_error("factorisation of the ω system failed");
-      const Eigen::VectorXd x = system_w.solve(rhs);
+      Eigen::VectorXd guess(static_cast<Eigen::Index>(g.nc)), x;
+      for (std::size_t c = 0; c < g.nc; ++c) guess[static_cast<Eigen::Index>(c)] = u.ut[c] / g.rc[c / (nt * nz)];
+      run(system_w, "ω", g.nc, t, rhs, guess, x);
       for (std::size_t i = 0; i < nr; ++i)
         for (std::size_t j = 0; j < nt; ++j)
           for (std::size_t k = 0; k < nz; ++k)
@@ -1156,8 +1322,8 @@ struct TransientSolver::Impl {
             double b = -rho * volume / dt * (a1 * e0 * u.uz[face] + a2 * e1 * u_old.uz[face]) / en;
             if (!drag.empty()) diag += 0.5 * (drag[g.cell(i, j, k - 1)] + drag[g.cell(i, j, k)]) * volume / en;
             b -= g.a1[i] * g.dth * (p[g.cell(i, j, k)] - p[g.cell(i, j, k - 1)]);
-            for (std::size_t c : {k - 1, k}) {  // τ_zz = 2μ∂_zu_z
-              const double k_zz = 2.0 * mu_c(i, j, c) * g.a1[i] * g.dth / g.dz[c];
+            for (std::size_t c : {k - 1, k}) {  // τ_zz ⊃ μ∂_zu_z (the other μ∂_zu_z explicit)
+              const double k_zz = mu_c(i, j, c) * g.a1[i] * g.dth / g.dz[c];
               diag += k_zz;
               const std::size_t other = c == k ? k + 1 : k - 1;
               if (other != 0 && other != nz) add(g.row_z(i, j, other), -k_zz);
@@ -1179,8 +1345,11 @@ struct TransientSolver::Impl {
             add(row, diag);
             rhs[static_cast<Eigen::Index>(row)] = b;
           }
-      if (!system_z.factorize(g.rows_z(), t)) throw std::runtime_error("factorisation of the u_z system failed");
-      const Eigen::VectorXd x = system_z.solve(rhs);
+      Eigen::VectorXd guess(static_cast<Eigen::Index>(g.rows_z())), x;
+      for (std::size_t i = 0; i < nr; ++i)
+        for (std::size_t j = 0; j < nt; ++j)
+          for (std::size_t k = 1; k < nz; ++k) guess[static_cast<Eigen::Index>(g.row_z(i, j, k))] = u.uz[g.uz(i, j, k)];
+      run(system_z, "u_z", g.rows_z(), t, rhs, guess, x);
       for (std::size_t i = 0; i < nr; ++i)
         for (std::size_t j = 0; j < nt; ++j)
           for (std::size_t k = 1; k < nz; ++k) star.uz[g.uz(i, j, k)] = x[static_cast<Eigen::Index>(g.row_z(i, j, k))];
@@ -1286,6 +1455,11 @@ void check_params(const TransientParams& p) {
   if (!(p.pressure_tolerance > 0)) bad(fmt::format("pressure_tolerance = {} is out of range, expected > 0", p.pressure_tolerance));
   if (p.pressure_max_iterations < 1)
     bad(fmt::format("pressure_max_iterations = {} is out of range, expected >= 1", p.pressure_max_iterations));
+  if (p.direct_solver_limit < 0)
+    bad(fmt::format("direct_solver_limit = {} is out of range, expected >= 0", p.direct_solver_limit));
+  if (!(p.viscous_tolerance > 0)) bad(fmt::format("viscous_tolerance = {} is out of range, expected > 0", p.viscous_tolerance));
+  if (p.viscous_max_iterations < 1)
+    bad(fmt::format("viscous_max_iterations = {} is out of range, expected >= 1", p.viscous_max_iterations));
   if (!(p.blow_up_factor > 1)) bad(fmt::format("blow_up_factor = {} is out of range, expected > 1", p.blow_up_factor));
 }
 
@@ -1308,15 +1482,36 @@ TransientSolver& TransientSolver::operator=(TransientSolver&&) noexcept = defaul
 
 StepReport TransientSolver::advance(double dt) { return impl_->advance(dt); }
 
-void TransientSolver::set_void_fraction(std::span<const double> void_fraction) {
-  Impl& m = *impl_;
-  check_size("void_fraction", void_fraction.size(), m.g.nc);
+namespace {
+void check_void_fraction(std::span<const double> void_fraction, std::size_t cells) {
+  check_size("void_fraction", void_fraction.size(), cells);
   for (std::size_t c = 0; c < void_fraction.size(); ++c)
     if (!(void_fraction[c] > 0 && void_fraction[c] <= 1))
       throw std::invalid_argument(
           fmt::format("TransientSolver: void_fraction[{}] = {} is out of range, expected 0 < ε <= 1", c, void_fraction[c]));
+}
+}  // namespace
+
+void TransientSolver::set_void_fraction(std::span<const double> void_fraction) {
+  Impl& m = *impl_;
+  check_void_fraction(void_fraction, m.g.nc);
   m.eps_next.assign(void_fraction.begin(), void_fraction.end());
-  if (m.steps == 0) m.eps_now = m.eps_old = m.eps_next;
+}
+
+void TransientSolver::reset_void_fraction(std::span<const double> void_fraction) {
+  Impl& m = *impl_;
+  check_void_fraction(void_fraction, m.g.nc);
+  m.eps_next.assign(void_fraction.begin(), void_fraction.end());
+  m.eps_now = m.eps_old = m.eps_next;
+}
+
+void TransientSolver::set_pressure(std::span<const double> pressure) {
+  Impl& m = *impl_;
+  check_size("pressure", pressure.size(), m.g.nc);
+  if (!std::all_of(pressure.begin(), pressure.end(), [](double x) { return std::isfinite(x); }))
+    throw std::invalid_argument("TransientSolver: pressure contains a non-finite value");
+  m.p.assign(pressure.begin(), pressure.end());
+  m.remove_volume_mean(m.p);
 }
 
 void TransientSolver::set_momentum_source(const MomentumSource& source) {
@@ -1363,10 +1558,16 @@ int TransientSolver::project_velocity() {
   Impl& m = *impl_;
   m.pressure_solver.set_void_fraction(m.eps_now);
   const std::vector<double> flux = m.flux_divergence(m.u, m.eps_now);
+  const std::vector<double> magnitude = m.flux_divergence(m.u, m.eps_now, true);
   Eigen::VectorXd b(static_cast<Eigen::Index>(m.g.nc));
-  for (std::size_t c = 0; c < m.g.nc; ++c) b[static_cast<Eigen::Index>(c)] = -flux[c];
+  double reference = 0;
+  for (std::size_t c = 0; c < m.g.nc; ++c) {
+    b[static_cast<Eigen::Index>(c)] = -flux[c];
+    reference += magnitude[c] * magnitude[c];
+  }
   Eigen::VectorXd phi;
-  const auto result = m.pressure_solver.solve(b, phi, m.params.pressure_tolerance, m.params.pressure_max_iterations);
+  const auto result = m.pressure_solver.solve(b, phi, m.params.pressure_tolerance, m.params.pressure_max_iterations,
+                                              std::sqrt(reference));
   if (!result.converged)
     throw StepError(StepFailure::linear_solver,
                     fmt::format("TransientSolver::project_velocity: PCG did not converge ({} iterations, residual {:.3g})",

@@ -22,21 +22,34 @@
 //
 // Time scheme (per step n → n+1, step Δt, ratio w = Δt/Δt_prev): SBDF2, i.e. variable-step
 // BDF2 for ∂(εu)/∂t with every explicit term evaluated at the extrapolated velocity
-// u^e = (1+w)u^n − w u^(n−1) (the first step after a reset is backward Euler/forward Euler):
-//   1. μ, γ̇ from u^e (one array call of the rheology law).
-//   2. Predictor, three decoupled SPD sparse systems (u_r, ω, u_z), viscous term implicit:
-//      every stress contribution of a component to its own equation (τ_rr, the ∂_θu_r part of
-//      τ_rθ, ∂_zu_r of τ_rz, the hoop term 2μu_r/r² for u_r; r³μ∂_rω, ∫μr³dr ∂_zω, 2μ∂_θω for ω;
-//      τ_zz, ∂_ru_z, (1/r)∂_θu_z for u_z). Cross-component terms of variable viscosity, the
-//      −(2/3)μ∇·u part and the axis extrapolation are explicit; with constant μ and ∇·u = 0 the
-//      cross terms vanish in the continuum, so the split is stable at viscous Courant numbers
-//      far above 1. Convection (central, conservative, ∇·(εuu) with the centrifugal force
-//      ρu_θ²/r) is explicit; `inertia = false` drops it (creeping/unsteady-Stokes limit).
-//      Each system is factorised by SimplicialLDLT (refactorised only when its values change,
-//      i.e. not at all for a Newtonian fluid at fixed Δt and ε).
-//   3. Incremental pressure correction: ∇·(ε∇φ) = (a₀ρ/Δt)[∇·(εu*) + (BDF2 ∂ε/∂t)],
-//      u^(n+1) = u* − (Δt/(a₀ρ))∇φ, p^(n+1) = p^n + φ. The continuity equation including ∂ε/∂t
-//      holds to the solver tolerance after every step.
+// u^e = (1+w)u^n − w u^(n−1). The first step after a reset, and any step with w > 2 (variable-step
+// BDF2 is zero-stable only for w < 1 + √2), is backward/forward Euler. Second order in time
+// (validate_transient: observed 2.0–2.2 on the spin-up series solution).
+//   1. μ, γ̇ from u^e (one array call of the rheology law). Shear components of the form
+//      r·∂ω + (1/r)∂_θu are evaluated at the radius where μ is wanted (cell centre, edge, or
+//      Gauss point), and ∂_zω, ∂_zu_r at the plates by the second-order one-sided formula,
+//      both exactly as SwirlSolver evaluates them, so that for N_θ = 1 the discrete steady
+//      equations are SwirlSolver's (the transient reaches its torque to ~1e-10).
+//   2. Predictor, three decoupled SPD sparse systems (u_r, ω, u_z), viscous term implicit in
+//      its Laplacian form for each component's own derivatives: μ∂_ru_r (half of τ_rr), the
+//      ∂_θu_r part of τ_rθ, ∂_zu_r of τ_rz and the hoop term μu_r/r² for u_r; r³μ∂_rω, ∫μr³dr ∂_zω
+//      and μ∂_θω (half of τ_θθ) for ω; μ∂_zu_z, ∂_ru_z and (1/r)∂_θu_z for u_z. The transposed
+//      part ∇·(μ(∇u)ᵀ) — the other halves of the normal stresses and the cross-component terms —
+//      with −(2/3)μ∇·u and the axis value of u_r is explicit; for constant μ and ∇·u = 0 it is
+//      μ∇(∇·u) = 0, so the split costs nothing for a Newtonian fluid and stays stable with
+//      variable μ at viscous Courant numbers νΔt/Δz² of 1000 (test_transient). Convection
+//      (central, conservative, ∇·(εuu) with the centrifugal force ρu_θ²/r) is explicit;
+//      `inertia = false` drops it (creeping/unsteady-Stokes limit). Small systems are
+//      factorised by SimplicialLDLT (refactorised only when their values change, i.e. not at
+//      all for a Newtonian fluid at fixed Δt and ε); larger ones are solved by CG with an IC(0)
+//      preconditioner in the natural ordering (k fastest: the stiff axial coupling is in the
+//      factor), warm-started from u^n.
+//   3. Pressure correction in rotational incremental form (Timmermans; Guermond, Minev & Shen
+//      2006): ∇·(ε∇φ) = (a₀ρ/Δt)[∇·(εu*) + (BDF2 ∂ε/∂t)], u^(n+1) = u* − (Δt/(a₀ρ))∇φ,
+//      p^(n+1) = p^n + φ − μ∇·(u* − u^(n+1)). The last term (zero at a steady state) keeps the
+//      pressure converging at large viscous Courant numbers, where φ ∝ ρ/Δt alone would not.
+//      The continuity equation including ∂ε/∂t holds to the solver tolerance after every step
+//      (relative to the magnitude of the face fluxes).
 // A steady state of the scheme satisfies the discrete steady equations exactly, whatever Δt.
 //
 // Pressure solver: preconditioned conjugate gradients on the 3D variable-coefficient Poisson
@@ -59,9 +72,15 @@
 // interior ring (N_θ >= 3; the average of opposite faces for N_θ = 2; 0 for N_θ = 1). It is
 // stored in radial_velocity() at i = 0 and enters the u_r equation explicitly.
 //
+// Momentum source: f and β are given per cell and averaged to the faces; in the angular-momentum
+// equation both act through ∫ r (·) dV with u_θ uniform over the control volume, so f_θ = βu_θ
+// balances exactly. Gravity ερg_z acts on u_z.
+//
 // Failure handling: advance() refuses a step whose convective Courant number (from u^n)
-// exceeds max_courant, and rejects a step that produces NaN/inf, a velocity blow-up or a
-// failed linear solve; in every case it throws StepError and keeps the last good state.
+// exceeds max_courant, and rejects a step that produces NaN/inf (including a non-finite μ from
+// the rheology law), a velocity blow-up (a speed above blow_up_factor × the reference speed of
+// the step) or a failed linear solve; in every case it throws StepError and keeps the last
+// good state.
 //
 // Parameters (SI):
 //   grid                     CylindricalGrid::Params, N_r >= 2, N_z >= 2, any N_θ >= 1
@@ -71,19 +90,32 @@
 //   top_angular_velocity     Ω  [rad/s]   finite (also settable between steps)
 //   bottom_angular_velocity  Ω_b [rad/s]  finite, default 0 (fixed bottom plate)
 //   axial_gravity            g_z [m/s²]   finite, default 0 (−9.80665 for gravity pointing down)
-//   max_courant              [-]          > 0, default 0.5: largest Δt Σ|u_d|/Δx_d accepted
-//   pressure_tolerance       [-]          > 0, default 1e-10: PCG relative residual
+//   max_courant              [-]          > 0, default 0.5: largest Δt Σ|u_d|/Δx_d accepted (the
+//                                         first ring's θ-width r_c,0 Δθ is the smallest Δx of a
+//                                         polar grid: many θ cells limit Δt there)
+//   pressure_tolerance       [-]          > 0, default 1e-10: PCG residual relative to the face fluxes
 //   pressure_max_iterations  [-]          >= 1, default 200
-//   blow_up_factor           [-]          > 1, default 1e3: a step whose largest speed exceeds
+//   blow_up_factor           [-]          > 1, default 100: a step whose largest speed exceeds
 //                                         this times the reference speed (plates, u^n, source
 //                                         and ε change over the step) is rejected as diverged
+//   direct_solver_limit      [-]          >= 0, default 1000: predictor systems with at most this
+//                                         many unknowns are solved by SimplicialLDLT, larger ones
+//                                         by CG with IC(0) (3D Cholesky fill grows too fast: on
+//                                         32×16×16 cells CG takes 7–14 ms a step, LDLT 70–290 ms)
+//   viscous_tolerance        [-]          > 0, default 1e-14: relative CG residual of those
+//   viscous_max_iterations   [-]          >= 1, default 500
 //
 // Example:
 //   TransientParams p;
 //   p.grid = {.radius = 0.015, .gap = 0.0005, .radial_cells = 16, .azimuthal_cells = 8, .axial_cells = 8};
 //   p.density = 1000; p.rheology = law; p.top_angular_velocity = 0.333;
 //   TransientSolver solver(p);
-//   while (solver.time() < t_end) { const auto report = solver.advance(1e-3); use(report.torque); }
+//   while (solver.time() < t_end) {
+//     solver.set_void_fraction(eps_next);                  // coupling: ε at the end of the step
+//     solver.set_momentum_source({f_r, f_theta, f_z, beta});
+//     const StepReport report = solver.advance(1e-5);       // throws StepError on failure
+//     use(report.torque, solver.sample_velocity(particle_positions));
+//   }
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -104,9 +136,12 @@ struct TransientParams {
   double bottom_angular_velocity = 0;              // Ω_b [rad/s]; 0 = fixed bottom plate
   double axial_gravity = 0;                        // g_z [m/s²]
   double max_courant = 0.5;                        // > 0
-  double pressure_tolerance = 1e-10;               // > 0, relative PCG residual
+  double pressure_tolerance = 1e-10;               // > 0, PCG residual relative to the face fluxes
   int pressure_max_iterations = 200;               // >= 1
-  double blow_up_factor = 1e3;                     // > 1
+  double blow_up_factor = 100;                     // > 1
+  int direct_solver_limit = 1000;                  // >= 0: predictor systems up to this size use LDLT
+  double viscous_tolerance = 1e-14;                // > 0, relative CG residual of larger predictor systems
+  int viscous_max_iterations = 500;                // >= 1
 };
 
 struct CylindricalPoint {
@@ -135,7 +170,8 @@ struct StepReport {
   double time_step = 0;         // Δt [s]
   double courant = 0;           // convective Courant number of the new state at this Δt
   int pressure_iterations = 0;  // PCG iterations
-  double pressure_residual = 0; // final relative PCG residual
+  int viscous_iterations = 0;   // largest CG iteration count of the three predictor systems (0: direct)
+  double pressure_residual = 0; // final PCG residual relative to the norm of the face-flux magnitudes
   double max_divergence = 0;    // max |∇·(εu) + ∂ε/∂t| over cells [1/s] after the projection
   double torque = 0;            // on the top plate [N·m], resisting rotation (> 0 for Ω > 0)
   double bottom_torque = 0;     // transmitted to the bottom plate [N·m]
@@ -144,7 +180,7 @@ struct StepReport {
 
 enum class StepFailure {
   courant_exceeded,  // the step was refused before it started
-  non_finite,        // NaN or inf in the new velocity or pressure
+  non_finite,        // NaN or inf in the viscosity, the new velocity or the pressure
   diverged,          // speeds above blow_up_factor × the reference speed
   linear_solver,     // a factorisation failed or PCG did not converge
 };
@@ -176,9 +212,12 @@ class TransientSolver {
   // pressure tolerance. Throws StepError (state unchanged) on any failure.
   StepReport advance(double dt);
 
-  // Void fraction ε^(n+1) in (0, 1] per cell at the end of the next step (kept until changed).
-  // Before the first step it is also the initial field.
+  // Void fraction ε^(n+1) in (0, 1] per cell at the end of the next step (kept until changed);
+  // its change from the current field drives ∇·(εu) = −∂ε/∂t.
   void set_void_fraction(std::span<const double> void_fraction);
+  // Sets the current field, and the next one, to ε with no change in time (∂ε/∂t = 0): the
+  // initial condition, or a restart.
+  void reset_void_fraction(std::span<const double> void_fraction);
   // Momentum source for the following steps (kept until changed); an empty source clears it.
   void set_momentum_source(const MomentumSource& source);
   void set_top_angular_velocity(double angular_velocity);  // Ω [rad/s] from the next step on
@@ -188,6 +227,9 @@ class TransientSolver {
   // call project_velocity() to make an arbitrary initial field divergence-free.
   void set_velocity(std::span<const double> radial, std::span<const double> azimuthal,
                     std::span<const double> axial);
+  // Replaces the pressure [Pa] (cell centres), e.g. on a restart; the predictor of the next step
+  // starts from it. Its volume mean is removed.
+  void set_pressure(std::span<const double> pressure);
   // Removes the divergent part of the current velocity: ∇·(εu) = 0 to the pressure tolerance
   // (with the current ε); the pressure is unchanged. Returns the PCG iteration count.
   int project_velocity();
