@@ -6,6 +6,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -50,6 +51,7 @@ constexpr const char* store_fix_command =
     "fix rheosim_external_store all property/atom rheosimExternalLoad vector no no no 0 0 0 0 0 0";
 constexpr const char* external_fix_command = "fix rheosim_external all external pf/callback 1 1";
 constexpr std::size_t store_width = 6;
+constexpr const char* null_device = "/dev/null";
 
 void check_params(const Engine::Params& p) {
   if (p.run_directory.empty())
@@ -101,6 +103,7 @@ class Engine::Impl {
   Impl& operator=(const Impl&) = delete;
 
   void execute(std::string_view line);
+  void set_equal_variable(std::string_view name, double value);
   void run(std::int64_t steps);
 
   [[nodiscard]] int local_count(const char* caller) const;
@@ -111,6 +114,8 @@ class Engine::Impl {
   [[nodiscard]] std::int64_t step(const char* caller) const;
   [[nodiscard]] double time_step(const char* caller) const;
   [[nodiscard]] double time(const char* caller) const;
+
+  [[nodiscard]] double fix_output(std::string_view fix_id, int index);  // index < 0: scalar
 
   void store_external(std::span<const double> load);  // store_width values per local particle
   void clear_external(const char* caller);
@@ -159,7 +164,10 @@ Engine::Impl::Impl(Params params) : params_(std::move(params)) {
                                      ec ? ec.message() : "not a directory"));
   log_path = params_.run_directory / params_.log_file_name;
 
-  std::vector<std::string> args{"liggghts", "-screen", "none", "-log", log_path.string(),
+  // The screen goes to the null device rather than `-screen none`: LIGGGHTS writes to its
+  // screen without checking for "none" in places (e.g. InputMeshTri::meshtrifile, reached by
+  // every fix mesh/surface with an STL file), which would dereference a null FILE*.
+  std::vector<std::string> args{"liggghts", "-screen", null_device, "-log", log_path.string(),
                                 "-echo",    params_.echo_commands ? "log" : "none", "-nocite"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -255,6 +263,20 @@ void Engine::Impl::execute(std::string_view line) {
   guarded(text, [&] { lammps_command(lmp_, text.c_str()); });
 }
 
+void Engine::Impl::set_equal_variable(std::string_view name, double value) {
+  const bool valid_name = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  });
+  if (!valid_name)
+    throw std::invalid_argument(fmt::format(
+        "set_equal_variable: name = '{}', expected letters, digits and underscores only", name));
+  if (!std::isfinite(value))
+    throw std::invalid_argument(fmt::format("set_equal_variable: {} = {} is not finite", name, value));
+  const bool setup_was_needed = setup_needed_;
+  execute(fmt::format("variable {} equal {:.17g}", name, value));
+  setup_needed_ = setup_was_needed;  // a new constant needs no setup of the run
+}
+
 void Engine::Impl::run(std::int64_t steps) {
   if (steps < 0 || steps > std::numeric_limits<int>::max())
     throw std::invalid_argument(fmt::format("run: steps = {}, expected 0 <= steps <= {}", steps,
@@ -316,6 +338,23 @@ double Engine::Impl::time_step(const char* caller) const {
 double Engine::Impl::time(const char* caller) const {
   require_usable(caller);
   return lmp_->update->get_cur_time();
+}
+
+double Engine::Impl::fix_output(std::string_view fix_id, int index) {
+  const bool scalar = index < 0;
+  const std::string what = scalar ? fmt::format("f_{}", fix_id) : fmt::format("f_{}[{}]", fix_id, index + 1);
+  require_usable(scalar ? "fix_scalar" : "fix_vector", what);
+  const std::string id(fix_id);
+  LAMMPS_NS::Fix* fix = lmp_->modify->find_fix_id(id.c_str());
+  if (fix == nullptr) throw std::invalid_argument(fmt::format("{}: there is no LIGGGHTS fix '{}'", what, fix_id));
+  if (scalar && fix->scalar_flag == 0)
+    throw std::invalid_argument(fmt::format("{}: fix '{}' ({}) has no global scalar", what, fix_id, fix->style));
+  if (!scalar && (fix->vector_flag == 0 || index >= fix->size_vector))
+    throw std::invalid_argument(fmt::format("{}: fix '{}' ({}) has no global vector element {} (size {})", what,
+                                            fix_id, fix->style, index, fix->vector_flag != 0 ? fix->size_vector : 0));
+  double value = 0.0;
+  guarded(what, [&] { value = scalar ? fix->compute_scalar() : fix->compute_vector(index); });
+  return value;
 }
 
 LAMMPS_NS::Fix* Engine::Impl::store_fix() const {
@@ -394,6 +433,8 @@ Engine::~Engine() = default;
 
 void Engine::command(std::string_view line) { impl_->execute(line); }
 
+void Engine::set_equal_variable(std::string_view name, double value) { impl_->set_equal_variable(name, value); }
+
 void Engine::commands(std::initializer_list<std::string_view> lines) {
   for (const auto line : lines) impl_->execute(line);
 }
@@ -469,6 +510,13 @@ void Engine::set_external_forces(std::span<const ParticleId> particle_ids, std::
     }
   }
   impl_->store_external(load);
+}
+
+double Engine::fix_scalar(std::string_view fix_id) const { return impl_->fix_output(fix_id, -1); }
+
+double Engine::fix_vector(std::string_view fix_id, int index) const {
+  if (index < 0) throw std::invalid_argument(fmt::format("fix_vector: index = {}, expected >= 0", index));
+  return impl_->fix_output(fix_id, index);
 }
 
 void Engine::clear_external_forces() { impl_->clear_external("clear_external_forces"); }

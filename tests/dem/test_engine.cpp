@@ -387,6 +387,28 @@ TEST_F(EngineTest, RankLocalErrorAndQuitThrow) {
   }
 }
 
+// Global fix outputs (f_ID, f_ID[i]) and equal-style variables changed between runs.
+TEST_F(EngineTest, ReadsFixOutputsAndSetsVariables) {
+  Engine engine(params());
+  make_box(engine);
+  add_particle(engine, 0.0, 0.0, 0.005);
+  engine.set_equal_variable("rheosim_a", 2.5);
+  engine.command("fix avg all ave/time 1 1 1 v_rheosim_a");
+  engine.run(1);
+  EXPECT_DOUBLE_EQ(engine.fix_scalar("avg"), 2.5);
+  engine.set_equal_variable("rheosim_a", -4.0);  // redefined; the run continues without setup
+  engine.run(1);
+  EXPECT_DOUBLE_EQ(engine.fix_scalar("avg"), -4.0);
+  EXPECT_EQ(engine.step(), 2);
+
+  EXPECT_THROW((void)engine.fix_scalar("no_such_fix"), std::invalid_argument);
+  EXPECT_THROW((void)engine.fix_vector("avg", 0), std::invalid_argument);  // a scalar-only fix
+  EXPECT_THROW((void)engine.fix_vector("avg", -1), std::invalid_argument);
+  EXPECT_THROW(engine.set_equal_variable("bad name", 1.0), std::invalid_argument);
+  EXPECT_THROW(engine.set_equal_variable("a", NAN), std::invalid_argument);
+  EXPECT_FALSE(engine.has_failed());
+}
+
 TEST_F(EngineTest, RejectsBadParamsAndMultiLineCommands) {
   EXPECT_THROW(Engine({}), std::invalid_argument);
   EXPECT_THROW(Engine({.run_directory = dir_, .log_file_name = "sub/liggghts.log"}), std::invalid_argument);

@@ -4,9 +4,10 @@
 //
 // Lifetime and output
 //   The constructor opens LIGGGHTS with lammps_open on MPI_COMM_WORLD (or a given
-//   communicator), starting MPI first if nobody did (MpiSession::ensure). LIGGGHTS' screen is
-//   switched off and its log goes to <run_directory>/<log_file_name> (written by rank 0), so
-//   nothing reaches stdout; citations (log.cite) are off, and the harmless style-collision
+//   communicator), starting MPI first if nobody did (MpiSession::ensure). LIGGGHTS' screen
+//   goes to the null device (`-screen none` would crash LIGGGHTS' STL reader, which writes to
+//   the screen unchecked) and its log goes to <run_directory>/<log_file_name> (written by rank
+//   0), so nothing reaches stdout; citations (log.cite) are off, and the harmless style-collision
 //   warnings that LIGGGHTS prints to std::cerr when a second instance opens go to the log,
 //   too. Nothing is written to the working directory. The destructor closes the instance
 //   (lammps_close), which closes the log.
@@ -125,6 +126,12 @@ class Engine {
   // Runs one LIGGGHTS input line (no line breaks; LIGGGHTS' `&` continuation is not
   // supported here). @post on EngineError the Engine has failed.
   void command(std::string_view line);
+  // Defines or redefines the equal-style LIGGGHTS variable `name` as the constant value
+  // (`variable name equal value`). Unlike command(), this does not make the next run() set up
+  // again: fixes that evaluate the variable every step (e.g. fix move/mesh rotate/variable)
+  // see the new value from the next step on, and the run continues as if uninterrupted.
+  // name: letters, digits and underscores; value finite (std::invalid_argument otherwise).
+  void set_equal_variable(std::string_view name, double value);
   // Runs the lines in order; stops at the first failing one.
   void commands(std::initializer_list<std::string_view> lines);
   void commands(std::span<const std::string> lines);
@@ -160,6 +167,14 @@ class Engine {
                            std::span<const double> torques = {});
   // Zero external force and torque on every particle.
   void clear_external_forces();
+
+  // Global output of a LIGGGHTS fix, what an input script calls f_ID and f_ID[index + 1]:
+  // e.g. the total force and torque on a mesh (mesh/surface/stress: vector elements 0–2 force,
+  // 3–5 torque) or the average of a fix ave/time. The value LIGGGHTS holds now, the same on
+  // every rank for reduced quantities. Throws std::invalid_argument if there is no fix fix_id
+  // or it has no global scalar / no vector element index.
+  [[nodiscard]] double fix_scalar(std::string_view fix_id) const;
+  [[nodiscard]] double fix_vector(std::string_view fix_id, int index) const;
 
   // Failure state (see the header comment).
   [[nodiscard]] bool has_failed() const;

@@ -1,0 +1,323 @@
+// Particle placement in the plate gap (see placement.hpp for the method).
+#include "rheosim/dem/placement.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string_view>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "rheosim/core/units.hpp"
+
+namespace rheosim::dem {
+namespace {
+
+using core::units::pi;
+
+constexpr double clearance = 1e-9;        // relative to d, see placement.hpp
+constexpr double target_acceptance = 0.4;
+constexpr double spare = 1.05;            // lattice sites per particle after stretching
+
+void check_positive(std::string_view name, double value) {
+  if (!(std::isfinite(value) && value > 0.0))
+    throw std::invalid_argument(fmt::format("{} = {} is out of range, expected a finite value > 0", name, value));
+}
+
+void check_geometry(double plate_radius, double gap, double diameter, double volume_fraction) {
+  check_positive("plate_radius", plate_radius);
+  check_positive("gap", gap);
+  check_positive("diameter", diameter);
+  if (!(diameter < gap))
+    throw std::invalid_argument(fmt::format(
+        "diameter = {} m is out of range, expected < gap = {} m (a particle must fit between the plates)", diameter,
+        gap));
+  if (!(diameter < plate_radius))
+    throw std::invalid_argument(
+        fmt::format("diameter = {} m is out of range, expected < plate_radius = {} m", diameter, plate_radius));
+  if (!(volume_fraction >= 0.0 && volume_fraction <= 0.5))
+    throw std::invalid_argument(
+        fmt::format("volume_fraction = {} is out of range, expected [0, 0.5]", volume_fraction));
+}
+
+// Uniform doubles from a portable engine (the std distributions are implementation-defined).
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : engine_(seed) {}
+  double uniform() { return static_cast<double>(engine_() >> 11U) * 0x1.0p-53; }  // [0, 1)
+  double symmetric() { return 2.0 * uniform() - 1.0; }                            // [-1, 1)
+  std::size_t below(std::size_t n) {  // [0, n), n >= 1; rejection keeps it unbiased
+    const std::uint64_t limit = std::numeric_limits<std::uint64_t>::max() -
+                                std::numeric_limits<std::uint64_t>::max() % static_cast<std::uint64_t>(n);
+    std::uint64_t x = 0;
+    do x = engine_();
+    while (x >= limit);
+    return static_cast<std::size_t>(x % n);
+  }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
+struct Lattice {
+  bool hexagonal = true;
+  int layers = 1;
+  double layer_spacing = 0.0;    // s
+  double spacing = 0.0;          // a
+  double sites_per_area = 0.0;   // all layers together
+};
+
+// The densest layered lattice for a centre slab of thickness w (see placement.hpp).
+Lattice choose_lattice(double w, double d) {
+  Lattice best;
+  best.spacing = d;
+  best.sites_per_area = 2.0 / (std::sqrt(3.0) * d * d);  // one hexagonal layer
+  const int max_layers = static_cast<int>(std::floor(3.0 * w / d)) + 1;
+  for (int layers = 2; layers <= max_layers; ++layers) {
+    const double s = w / (layers - 1);
+    const double deficit = std::max(0.0, d * d - s * s);
+    if (layers <= 3 || 3.0 * s >= d) {
+      const double a = std::max(d, std::sqrt(3.0 * deficit));
+      const double density = layers * 2.0 / (std::sqrt(3.0) * a * a);
+      if (density > best.sites_per_area) best = {true, layers, s, a, density};
+    }
+    if (layers <= 2 || 2.0 * s >= d) {
+      const double a = std::max(d, std::sqrt(2.0 * deficit));
+      const double density = layers / (a * a);
+      if (density > best.sites_per_area) best = {false, layers, s, a, density};
+    }
+  }
+  return best;
+}
+
+// Sites of the lattice with centres in r <= r_max, z_lo <= z <= z_lo + (L−1) s.
+std::vector<std::array<double, 3>> lattice_sites(const Lattice& lattice, double r_max, double z_lo, double gap,
+                                                 double angle) {
+  const double a = lattice.spacing;
+  // In-plane basis and per-layer offsets.
+  std::array<double, 2> e1{a, 0.0};
+  std::array<double, 2> e2{};
+  std::array<std::array<double, 2>, 3> offsets{};
+  int period = 1;
+  if (lattice.hexagonal) {
+    e2 = {0.5 * a, 0.5 * std::sqrt(3.0) * a};
+    const std::array<double, 2> hollow{(e1[0] + e2[0]) / 3.0, (e1[1] + e2[1]) / 3.0};
+    offsets = {{{0.0, 0.0}, hollow, {2.0 * hollow[0], 2.0 * hollow[1]}}};
+    period = 3;
+  } else {
+    e2 = {0.0, a};
+    offsets = {{{0.0, 0.0}, {0.5 * a, 0.5 * a}, {0.0, 0.0}}};
+    period = 2;
+  }
+  const double c = std::cos(angle);
+  const double sn = std::sin(angle);
+  const int n = static_cast<int>(std::ceil(2.0 * r_max / a)) + 3;  // e2 has |e2| = a; the skew needs 2x
+  std::vector<std::array<double, 3>> sites;
+  for (int layer = 0; layer < lattice.layers; ++layer) {
+    const double z = lattice.layers == 1 ? 0.5 * gap : z_lo + layer * lattice.layer_spacing;
+    const auto& off = offsets[static_cast<std::size_t>(layer % period)];
+    for (int i = -n; i <= n; ++i) {
+      for (int j = -n; j <= n; ++j) {
+        const double u = off[0] + i * e1[0] + j * e2[0];
+        const double v = off[1] + i * e1[1] + j * e2[1];
+        const double x = c * u - sn * v;
+        const double y = sn * u + c * v;
+        if (x * x + y * y <= r_max * r_max) sites.push_back({x, y, z});
+      }
+    }
+  }
+  return sites;
+}
+
+// Uniform cell list over [-R, R]² × [0, H] with cells no smaller than the contact distance.
+class CellList {
+ public:
+  CellList(double plate_radius, double gap, double min_cell) : radius_(plate_radius) {
+    nxy_ = std::max(1, static_cast<int>(std::floor(2.0 * plate_radius / min_cell)));
+    nz_ = std::max(1, static_cast<int>(std::floor(gap / min_cell)));
+    // Cap the number of cells for very wide plates (memory); cells only get larger.
+    while (static_cast<double>(nxy_) * nxy_ * nz_ > 5e7) nxy_ /= 2;
+    hxy_ = 2.0 * plate_radius / nxy_;
+    hz_ = gap / nz_;
+    cells_.resize(static_cast<std::size_t>(nxy_) * nxy_ * nz_);
+  }
+
+  [[nodiscard]] std::array<int, 3> coords(const std::array<double, 3>& p) const {
+    const auto clamp = [](int v, int n) { return std::min(std::max(v, 0), n - 1); };
+    return {clamp(static_cast<int>(std::floor((p[0] + radius_) / hxy_)), nxy_),
+            clamp(static_cast<int>(std::floor((p[1] + radius_) / hxy_)), nxy_),
+            clamp(static_cast<int>(std::floor(p[2] / hz_)), nz_)};
+  }
+  [[nodiscard]] std::size_t index(const std::array<int, 3>& c) const {
+    return (static_cast<std::size_t>(c[2]) * nxy_ + c[1]) * nxy_ + c[0];
+  }
+  void insert(std::uint32_t id, const std::array<double, 3>& p) { cells_[index(coords(p))].push_back(id); }
+  void erase(std::uint32_t id, const std::array<double, 3>& p) {
+    auto& cell = cells_[index(coords(p))];
+    const auto it = std::find(cell.begin(), cell.end(), id);
+    if (it != cell.end()) {
+      *it = cell.back();
+      cell.pop_back();
+    }
+  }
+  // Calls f(other_id) for every particle in the 27 cells around p.
+  template <class F>
+  void for_neighbours(const std::array<double, 3>& p, F&& f) const {
+    const auto c = coords(p);
+    for (int dz = -1; dz <= 1; ++dz) {
+      const int z = c[2] + dz;
+      if (z < 0 || z >= nz_) continue;
+      for (int dy = -1; dy <= 1; ++dy) {
+        const int y = c[1] + dy;
+        if (y < 0 || y >= nxy_) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = c[0] + dx;
+          if (x < 0 || x >= nxy_) continue;
+          for (const std::uint32_t other : cells_[index({x, y, z})]) f(other);
+        }
+      }
+    }
+  }
+
+ private:
+  double radius_;
+  int nxy_ = 1;
+  int nz_ = 1;
+  double hxy_ = 0.0;
+  double hz_ = 0.0;
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
+double squared_distance(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  const double dx = a[0] - b[0];
+  const double dy = a[1] - b[1];
+  const double dz = a[2] - b[2];
+  return dx * dx + dy * dy + dz * dz;
+}
+
+}  // namespace
+
+std::size_t target_particle_count(double plate_radius, double gap, double diameter, double volume_fraction) {
+  check_geometry(plate_radius, gap, diameter, volume_fraction);
+  const double particle_volume = core::units::sphere_volume(diameter);
+  return static_cast<std::size_t>(std::llround(volume_fraction * pi * plate_radius * plate_radius * gap /
+                                               particle_volume));
+}
+
+Placement place_particles(const PlacementParams& params) {
+  const double R = params.plate_radius;
+  const double H = params.gap;
+  const double d = params.diameter;
+  const std::size_t count = target_particle_count(R, H, d, params.volume_fraction);
+  if (params.shake_sweeps < 0)
+    throw std::invalid_argument(
+        fmt::format("shake_sweeps = {} is out of range, expected >= 0", params.shake_sweeps));
+  if (count > std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument(fmt::format("{} particles are too many for the placement", count));
+
+  const double contact = d * (1.0 + clearance);  // minimum centre distance
+  const double z_lo = 0.5 * contact;  // limits of the centres, for the Monte Carlo moves
+  const double z_hi = H - 0.5 * contact;
+  const double r_max = R - 0.5 * contact;
+  const double gap_volume = pi * R * R * H;
+  const double particle_volume = core::units::sphere_volume(d);
+
+  // The lattice keeps twice the clearance, so rounding cannot bring its sites closer than
+  // `contact` to each other or to the walls.
+  Random random(params.seed);
+  const double lattice_contact = d * (1.0 + 2.0 * clearance);
+  Lattice lattice = choose_lattice(H - lattice_contact, lattice_contact);
+  const double angle = 2.0 * pi * random.uniform();
+  const double site_radius = R - 0.5 * lattice_contact;
+  const double site_z = 0.5 * lattice_contact;
+  auto sites = lattice_sites(lattice, site_radius, site_z, H, angle);
+
+  Placement result;
+  result.count = count;
+  result.volume_fraction = static_cast<double>(count) * particle_volume / gap_volume;
+  result.lattice = lattice.hexagonal ? "hexagonal" : "square";
+  result.layers = lattice.layers;
+  result.layer_spacing = lattice.layers > 1 ? lattice.layer_spacing : 0.0;
+  result.capacity_volume_fraction = static_cast<double>(sites.size()) * particle_volume / gap_volume;
+  if (sites.size() < count)
+    throw std::invalid_argument(fmt::format(
+        "volume_fraction = {} needs {} particles, but the placement lattice holds only {} (φ = {:.3f}) for "
+        "R = {} m, H = {} m, d = {} m ({} {} layers); use a lower volume fraction or a wider gap",
+        params.volume_fraction, count, sites.size(), result.capacity_volume_fraction, R, H, d, lattice.layers,
+        result.lattice));
+
+  // Spread the layers in-plane so that they hold about `spare` · N sites: every particle then
+  // has room to move (in the densest lattice, neighbours touch and the Monte Carlo step would
+  // collapse).
+  const double wanted = std::ceil(spare * static_cast<double>(count));
+  if (count > 0 && static_cast<double>(sites.size()) > wanted) {
+    const double densest = lattice.spacing;
+    double stretch = std::sqrt(static_cast<double>(sites.size()) / wanted);
+    for (;;) {
+      lattice.spacing = densest * stretch;
+      auto stretched = lattice_sites(lattice, site_radius, site_z, H, angle);
+      if (static_cast<double>(stretched.size()) >= wanted || stretch <= 1.0) {
+        if (stretched.size() >= count) sites = std::move(stretched);
+        else lattice.spacing = densest;  // cannot happen for stretch <= 1; keep the densest
+        break;
+      }
+      stretch = std::max(1.0, stretch * 0.99);
+    }
+  }
+  result.lattice_spacing = lattice.spacing;
+  result.lattice_sites = sites.size();
+
+  // Random subset: the first `count` entries of a partial Fisher–Yates shuffle.
+  for (std::size_t i = 0; i < count; ++i) std::swap(sites[i], sites[i + random.below(sites.size() - i)]);
+  sites.resize(count);
+
+  // Hard-sphere Monte Carlo shaking.
+  CellList cells(R, H, contact);
+  for (std::uint32_t i = 0; i < count; ++i) cells.insert(i, sites[i]);
+  const auto fits = [&](std::uint32_t self, const std::array<double, 3>& p) {
+    if (p[2] < z_lo || p[2] > z_hi || p[0] * p[0] + p[1] * p[1] > r_max * r_max) return false;
+    bool free = true;
+    cells.for_neighbours(p, [&](std::uint32_t other) {
+      if (other != self && squared_distance(p, sites[other]) < contact * contact) free = false;
+    });
+    return free;
+  };
+  double step = 0.1 * d;
+  std::size_t proposed = 0;
+  std::size_t accepted = 0;
+  for (int sweep = 0; sweep < params.shake_sweeps && count > 0; ++sweep) {
+    std::size_t sweep_accepted = 0;
+    for (std::uint32_t i = 0; i < count; ++i) {
+      const std::array<double, 3> trial{sites[i][0] + step * random.symmetric(),
+                                        sites[i][1] + step * random.symmetric(),
+                                        sites[i][2] + step * random.symmetric()};
+      if (!fits(i, trial)) continue;
+      cells.erase(i, sites[i]);
+      sites[i] = trial;
+      cells.insert(i, trial);
+      ++sweep_accepted;
+    }
+    proposed += count;
+    accepted += sweep_accepted;
+    const double rate = static_cast<double>(sweep_accepted) / static_cast<double>(count);
+    step = std::clamp(step * std::clamp(rate / target_acceptance, 0.5, 2.0), 1e-6 * d, d);
+  }
+  result.shake_acceptance = proposed > 0 ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
+  result.shake_step = step;
+
+  // Final check of the invariant.
+  for (std::uint32_t i = 0; i < count; ++i)
+    if (!fits(i, sites[i]))
+      throw std::logic_error(fmt::format("place_particles: particle {} at ({}, {}, {}) overlaps a neighbour or a wall",
+                                         i, sites[i][0], sites[i][1], sites[i][2]));
+
+  result.centres.reserve(3 * count);
+  for (const auto& p : sites) result.centres.insert(result.centres.end(), p.begin(), p.end());
+  return result;
+}
+
+}  // namespace rheosim::dem
