@@ -16,9 +16,11 @@
 #
 # Usage: bench/openfoam_compare.sh [--meshes "M1 M2 M3"] [--rates "1 10 50 100"]
 #            [--fluids "newtonian pl0.3 pl0.6 pl0.9"] [--work DIR] [--rheosim BIN]
-#            [--with-rheosim] [--keep]
+#            [--with-rheosim] [--exporter BIN] [--rim shear_free|slip] [--keep]
 #   --work DIR       working folder (default: build/openfoam-compare); results.csv goes there
 #   --rheosim BIN    the rheosim executable (default: $RHEOSIM, build/bin/rheosim, or PATH)
+#   --exporter BIN   a different executable for `export-openfoam` (default: the rheosim one)
+#   --rim R          passed on as `export-openfoam --rim R` (default: the exporter's, shear_free)
 #   --keep           keep meshes and solution fields (by default only logs, postProcessing,
 #                    the exported dictionaries and rheosim.json are kept)
 # Needs: Debian's OpenFOAM v1912 (/usr/bin/blockMesh, simpleFoam), jq, awk.
@@ -35,6 +37,8 @@ work="$root/build/openfoam-compare"
 rheosim="${RHEOSIM:-}"
 with_rheosim=0
 keep=0
+exporter=""
+rim=""
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do
@@ -45,6 +49,8 @@ while [[ $# -gt 0 ]]; do
     --work) work="$2"; shift 2 ;;
     --rheosim) rheosim="$2"; shift 2 ;;
     --with-rheosim) with_rheosim=1; shift ;;
+    --exporter) exporter="$2"; shift 2 ;;
+    --rim) rim="$2"; shift 2 ;;
     --keep) keep=1; shift ;;
     -h|--help) usage; exit 0 ;;
     *) echo "openfoam_compare.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
@@ -57,6 +63,9 @@ if [[ -z "$rheosim" ]]; then
   else echo "openfoam_compare.sh: no rheosim executable (build it, or pass --rheosim BIN)" >&2; exit 2
   fi
 fi
+exporter="${exporter:-$rheosim}"
+rim_args=()
+[[ -n "$rim" ]] && rim_args=(--rim "$rim")
 for tool in blockMesh simpleFoam jq awk; do
   command -v "$tool" > /dev/null || { echo "openfoam_compare.sh: '$tool' not found" >&2; exit 2; }
 done
@@ -121,12 +130,13 @@ run_rheosim() {
 
 echo "# OpenFOAM v1912 simpleFoam vs closed form$( ((with_rheosim)) && echo ' and rheosim')," \
      "$(nproc) cores ($(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo)), serial runs"
-echo "# exporter: $rheosim; work folder: $work"
-header="fluid,shear_rate,mesh,cells,iterations,converged,torque_openfoam,torque_analytic,rel_error_openfoam,gap_reynolds,wall_mesh,wall_openfoam"
+echo "# exporter: $exporter${rim:+ (--rim $rim)}; rheosim: $rheosim; work folder: $work"
+echo "# imb: (T_bottom - T_top)/T_top, the torque the rim carries (0 for a shear-free rim)"
+header="fluid,shear_rate,mesh,cells,iterations,converged,torque_openfoam,torque_bottom,torque_analytic,rel_error_openfoam,gap_reynolds,wall_mesh,wall_openfoam"
 ((with_rheosim)) && header+=",torque_rheosim,rel_error_rheosim,wall_rheosim_point,wall_rheosim_process,speed_ratio"
 echo "$header" > "$csv"
 
-printf '%-10s %6s %-4s %7s %6s %13s %13s %9s %7s %8s' fluid rate mesh cells iters "T_OF [N m]" "T_cf [N m]" "err_OF %" "Re" "t_OF [s]"
+printf '%-10s %6s %-4s %7s %6s %13s %13s %9s %8s %7s %8s' fluid rate mesh cells iters "T_OF [N m]" "T_cf [N m]" "err_OF %" "imb %" "Re" "t_OF [s]"
 ((with_rheosim)) && printf ' %13s %9s %9s %9s' "T_rs [N m]" "err_rs %" "t_rs [s]" "OF/rs"
 printf '\n'
 
@@ -139,7 +149,7 @@ for fluid in $fluids; do
     for mesh in $meshes; do
       dir="$work/openfoam/${name}_$mesh"
       rm -rf "$dir"
-      "$rheosim" export-openfoam "$case_file" "$dir" --shear-rate "$rate" --mesh "$mesh" > "$work/openfoam/${name}_$mesh.export.log" 2>&1 ||
+      "$exporter" export-openfoam "$case_file" "$dir" --shear-rate "$rate" --mesh "$mesh" "${rim_args[@]}" > "$work/openfoam/${name}_$mesh.export.log" 2>&1 ||
         { echo "export failed: see $work/openfoam/${name}_$mesh.export.log" >&2; exit 1; }
       t0=$(now)
       (cd "$dir" && blockMesh > log.blockMesh 2>&1) || { echo "blockMesh failed in $dir" >&2; exit 1; }
@@ -149,14 +159,18 @@ for fluid in $fluids; do
       iterations=$(awk '/^Time = / { n = $3 } END { print n + 0 }' "$dir/log.simpleFoam")
       converged=$(grep -q "SIMPLE solution converged" "$dir/log.simpleFoam" && echo yes || echo no)
       torque=$(read_torque "$dir/postProcessing/forces/0/moment.dat")
+      bottom=nan
+      [[ -f "$dir/postProcessing/forcesBottom/0/moment.dat" ]] &&
+        bottom=$(read_torque "$dir/postProcessing/forcesBottom/0/moment.dat" | awk '{ printf "%.10e", -$1 }')
+      imbalance=$(percent "$bottom" "$torque")
       analytic=$(jq -r '.torque_analytic // "nan"' "$dir/rheosim.json")
       reynolds=$(jq -r '.gap_reynolds_number' "$dir/rheosim.json")
       cells=$(jq -r '.mesh.cells' "$dir/rheosim.json")
       err=$(percent "$torque" "$analytic")
       t_mesh=$(elapsed "$t0" "$t1"); t_of=$(elapsed "$t1" "$t2")
-      line="$fluid,$rate,$mesh,$cells,$iterations,$converged,$torque,$analytic,$(fraction "$err"),$reynolds,$t_mesh,$t_of"
-      printf '%-10s %6s %-4s %7s %6s %13.6e %13.6e %9s %7.3f %8.2f' "$fluid" "$rate" "$mesh" "$cells" \
-        "$iterations$([[ $converged == yes ]] || echo '!')" "$torque" "$analytic" "$err" "$reynolds" "$t_of"
+      line="$fluid,$rate,$mesh,$cells,$iterations,$converged,$torque,$bottom,$analytic,$(fraction "$err"),$reynolds,$t_mesh,$t_of"
+      printf '%-10s %6s %-4s %7s %6s %13.6e %13.6e %9s %8s %7.3f %8.2f' "$fluid" "$rate" "$mesh" "$cells" \
+        "$iterations$([[ $converged == yes ]] || echo '!')" "$torque" "$analytic" "$err" "$imbalance" "$reynolds" "$t_of"
       if ((with_rheosim)); then
         rt=${rs_torque[$name]}; rp=${rs_point_time[$name]}; rq=${rs_process_time[$name]}
         rerr=$(percent "$rt" "$analytic")
@@ -179,7 +193,7 @@ if [[ " $meshes " == *" M1 "* && " $meshes " == *" M2 "* && " $meshes " == *" M3
   echo
   echo "# Richardson extrapolation of the OpenFOAM torque (M1, M2, M3; refinement ratio 2)"
   printf '%-10s %6s %8s %13s %9s %13s %9s\n' fluid rate order "T_ext [N m]" "err_ext %" "T_cf [N m]" "Re"
-  awk -F, 'NR > 1 { key = $1 "," $2; T[key, $3] = $7; A[key] = $8; Re[key] = $10; if (!(key in seen)) { seen[key] = 1; order[++n] = key } }
+  awk -F, 'NR > 1 { key = $1 "," $2; T[key, $3] = $7; A[key] = $9; Re[key] = $11; if (!(key in seen)) { seen[key] = 1; order[++n] = key } }
     END {
       for (i = 1; i <= n; ++i) {
         k = order[i]; t1 = T[k, "M1"]; t2 = T[k, "M2"]; t3 = T[k, "M3"]; split(k, kf, ",")

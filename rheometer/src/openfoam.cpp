@@ -15,6 +15,7 @@
 
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/core/units.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/rheometer/plate.hpp"
 
@@ -354,7 +355,59 @@ std::string turbulence_properties() {
   return out;
 }
 
-std::string velocity_field(double omega) {
+// partialSlip valueFraction f = −d/(R_f − d) for every rim face, in blockMesh's order: outer
+// block 0..3 (as listed in the rim patch), then axial layer, then azimuthal index (checked
+// against blockMesh's face centres). d is estimated from the block geometry: the rim cell spans
+// the last 1/N_r of the straight line from the core square's side to the arc at the same
+// parametric position, so d ≈ (L/(2N_r)) (û·n̂). blockMesh's transfinite interpolation moves
+// the true centre by < 1 % of d (measured on M1).
+std::vector<double> rim_value_fractions(const core::PlateGeometry& g, const OpenFoamMesh& mesh, double core_fraction) {
+  const double R = g.radius;
+  const double s = core_fraction * R;
+  const int nq = mesh.azimuthal_cells;
+  const double half_step = core::units::pi / (4.0 * nq);  // half the angle of one rim face
+  const double face_radius = R * std::cos(half_step);       // the face centre lies on the chord
+  const std::array<std::array<double, 2>, 4> corner{{{s, s}, {-s, s}, {-s, -s}, {s, -s}}};
+  std::vector<double> f;
+  f.reserve(static_cast<std::size_t>(4 * nq * mesh.axial_cells));
+  for (int b = 0; b < 4; ++b) {
+    const auto& c0 = corner[b];
+    const auto& c1 = corner[(b + 1) % 4];
+    for (int k = 0; k < mesh.axial_cells; ++k) {
+      for (int j = 0; j < nq; ++j) {
+        const double t = (j + 0.5) / nq;
+        const double angle = core::units::pi / 4.0 + core::units::pi / 2.0 * (b + t);
+        const double nx = std::cos(angle), ny = std::sin(angle);
+        const double sx = c0[0] + t * (c1[0] - c0[0]), sy = c0[1] + t * (c1[1] - c0[1]);
+        const double lx = face_radius * nx - sx, ly = face_radius * ny - sy;
+        const double length = std::hypot(lx, ly);
+        const double d = length / (2.0 * mesh.radial_cells) * (lx * nx + ly * ny) / length;
+        f.push_back(-d / (face_radius - d));
+      }
+    }
+  }
+  return f;
+}
+
+std::string velocity_field(double omega, const core::PlateGeometry& g, const OpenFoamExportOptions& o) {
+  std::string rim;
+  if (o.rim == OpenFoamRim::slip) {
+    rim =
+        "    rim         // OpenFOAM's slip: du_t/dn = 0, i.e. du_theta/dr = 0, so tau_r_theta = -mu u_theta/R\n"
+        "    {\n        type            slip;\n    }\n";
+  } else {
+    const auto f = rim_value_fractions(g, o.mesh, o.core_fraction);
+    rim = fmt::format(
+        "    // Flat shear-free meniscus (as rheosim's solver): u_r = 0 and tau_r_theta = 0, i.e.\n"
+        "    // du_theta/dr = u_theta/r. partialSlip's face value (1 - f) u_t,cell with f = -d/(R_f - d)\n"
+        "    // (d: cell centre to face) gives (u_f - u_cell)/d = u_f/R_f. OpenFOAM's plain slip would\n"
+        "    // impose du_theta/dr = 0 instead, a rim drag of -mu u_theta/R.\n"
+        "    rim\n    {{\n        type            partialSlip;\n"
+        "        valueFraction   nonuniform List<scalar> {}\n(\n",
+        f.size());
+    for (std::size_t i = 0; i < f.size(); ++i) rim += fmt::format("{:.9g}{}", f[i], (i % 8 == 7 || i + 1 == f.size()) ? "\n" : " ");
+    rim += ");\n        value           uniform (0 0 0);\n    }\n";
+  }
   std::string out = foam_header("volVectorField", "0", "U");
   out += fmt::format(
       "dimensions      [0 1 -1 0 0 0 0];\n\n"
@@ -365,10 +418,9 @@ std::string velocity_field(double omega) {
       "        axis            (0 0 1);\n        omega           {};\n        value           uniform (0 0 0);\n"
       "    }}\n"
       "    bottom\n    {{\n        type            noSlip;\n    }}\n"
-      "    rim         // flat shear-free meniscus: u_r = 0, zero shear stress (as rheosim's solver)\n"
-      "    {{\n        type            slip;\n    }}\n"
+      "{}"
       "}}\n",
-      num(omega));
+      num(omega), rim);
   out += foam_footer;
   return out;
 }
@@ -411,7 +463,19 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
                 "simpleFoam residualControl tolerance");
 
   const ParallelPlate plate = ParallelPlate::from(rc->geometry);
-  const core::FluidProperties& fluid = rc->fluid;
+  const core::FluidProperties* chosen = &rc->fluid;  // the first (or only) fluid
+  if (!options.fluid.empty()) {
+    const auto it = std::find_if(rc->fluids.begin(), rc->fluids.end(),
+                                 [&](const core::NamedFluid& f) { return f.name == options.fluid; });
+    if (it == rc->fluids.end()) {
+      std::string names;
+      for (const auto& f : rc->fluids) names += (names.empty() ? "" : ", ") + f.name;
+      input_error(c.file, "--fluid", fmt::format("the case has no fluid named '{}'", options.fluid),
+                  "one of: " + names);
+    }
+    chosen = &it->properties;
+  }
+  const core::FluidProperties& fluid = *chosen;
   const double omega = plate.angular_velocity(rim_shear_rate);
 
   OpenFoamExport result;
@@ -443,7 +507,7 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   write("system/fvSolution", fv_solution(options));
   write("constant/transportProperties", transport_properties(result.transport, fluid));
   write("constant/turbulenceProperties", turbulence_properties());
-  write("0/U", velocity_field(omega));
+  write("0/U", velocity_field(omega, rc->geometry, options));
   write("0/p", pressure_field());
 
   const std::string closed =
@@ -451,13 +515,15 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   write("README", fmt::format(
                       "OpenFOAM v1912 case written by rheosim {} from {} (sha256 {}).\n"
                       "Parallel plates R = {} m, H = {} m; rim shear rate {} 1/s, Omega = {} rad/s; "
-                      "{} cells ({}x{}x{}); transportModel {}.\n"
+                      "{} cells ({}x{}x{}); transportModel {}; rim {}.\n"
                       "Creeping-flow torque: closed form {}, quadrature {:.9g} N m; gap Reynolds number "
                       "rho Omega H^2/mu(gammaDot_R) = {:.4g} (simpleFoam includes inertia).\n"
                       "Run, from this directory:\n{}",
                       core::version, c.file.empty() ? c.name : c.file, c.sha256, num(plate.radius), num(plate.gap),
                       num(rim_shear_rate), num(omega), result.cells, options.mesh.radial_cells,
-                      options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model, closed,
+                      options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model,
+                      options.rim == OpenFoamRim::slip ? "slip (du_t/dn = 0)" : "shear-free (partialSlip, tau_r_theta = 0)",
+                      closed,
                       result.creeping_torque, result.gap_reynolds_number, result.commands));
 
   nlohmann::ordered_json info;
@@ -469,6 +535,7 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   nlohmann::ordered_json law;
   law["model"] = std::string(fluid.rheology->name());
   for (const auto& prm : fluid.rheology->parameters()) law[prm.name] = prm.value;
+  info["fluid"] = !options.fluid.empty() ? options.fluid : (rc->fluids.empty() ? std::string("fluid") : rc->fluids.front().name);
   info["rheology"] = law;
   nlohmann::ordered_json coeffs;
   for (const auto& [key, value] : result.transport.coeffs) coeffs[key] = value;
@@ -478,6 +545,7 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
                   {"axial_cells", options.mesh.axial_cells},
                   {"core_fraction", options.core_fraction},
                   {"cells", result.cells}};
+  info["rim"] = options.rim == OpenFoamRim::slip ? "slip" : "shear_free";
   info["shear_rate"] = rim_shear_rate;
   info["angular_velocity"] = omega;
   info["gap_reynolds_number"] = result.gap_reynolds_number;

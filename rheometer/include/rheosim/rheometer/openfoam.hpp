@@ -11,8 +11,9 @@
 //          to arcs of radius R. Counts per OpenFoamMesh below (CD's M1–M3 presets).
 //   flow   simpleFoam (steady, laminar, inertia included), SIMPLEC with residual control.
 //   walls  top (z = H): rotatingWallVelocity about +z through the origin, Ω = γ̇_R H / R.
-//          bottom (z = 0): noSlip. rim (r = R): the flat shear-free meniscus that rheosim's own
-//          solver uses, u_r = 0 and zero shear stress — `slip` for U, zeroGradient for p.
+//          bottom (z = 0): noSlip. rim (r = R): the flat shear-free meniscus of rheosim's own
+//          solver, u_r = 0 and zero shear stress τ_rθ = μ r ∂(u_θ/r)/∂r = 0; p zeroGradient.
+//          See OpenFoamRim: OpenFOAM's `slip` is not that condition on a curved rim.
 //   torque system/controlDict: a `forces` function object on patch top, CofR (0 0 0),
 //          rho rhoInf with the real density, so postProcessing/forces/0/moment.dat holds the
 //          moment of the fluid on the top plate in N·m. The plate rotates in +z, so the fluid's
@@ -58,8 +59,26 @@ struct OpenFoamMesh {
   bool operator==(const OpenFoamMesh&) const = default;
 };
 
+// The velocity condition at the rim r = R.
+// OpenFOAM's `slip` sets the face's tangential velocity to the cell centre's, i.e. ∂u_t/∂n = 0.
+// On the curved rim that is ∂u_θ/∂r = 0, so the shear stress there is τ_rθ = −μ u_θ/R, not 0:
+// the rim drags the fluid. In creeping flow this raises the top-plate torque by (4/3)(H/R)² of
+// the closed form in the continuum limit (+0.15 % for CD's H/R = 1/30; measured +0.11 % on M2) and
+// lowers the bottom plate's by (2/3)(H/R)² — an error that refinement does not remove.
+//   shear_free  `partialSlip` with a per-face valueFraction f = −d/(R_f − d) (d: cell-centre to
+//               face distance, R_f: face radius). Its face value u_f = (1 − f) u_t,cell makes
+//               (u_f − u_cell)/d = u_f/R_f, i.e. ∂u_θ/∂r = u_θ/r: zero τ_rθ, as rheosim's rim.
+//               It applies the same gradient to the axial component (∂u_z/∂r = u_z/R instead of
+//               0), an O(u_z/R) error confined to the weak secondary flow. The per-face values
+//               follow blockMesh's rim face order (block, then axial layer, then azimuth) and an
+//               estimate of d within 1 % (enough: the rim term itself is a 0.15 % effect).
+//   slip        OpenFOAM's `slip`, for reference.
+enum class OpenFoamRim { shear_free, slip };
+
 struct OpenFoamExportOptions {
   OpenFoamMesh mesh = OpenFoamMesh::m2();
+  OpenFoamRim rim = OpenFoamRim::shear_free;
+  std::string fluid;            // which of the case's `fluids:` (by name); empty: the first
   double core_fraction = 0.5;   // half-width of the core square / R, in (0.2, 0.65)
   int max_iterations = 10000;   // SIMPLE iterations at most (controlDict endTime, deltaT 1)
   // residualControl for p and U: simpleFoam stops when both initial residuals fall below it.
@@ -109,13 +128,15 @@ struct OpenFoamExport {
   std::string commands;                      // the shell commands that run the case
 };
 
-// Writes the OpenFOAM v1912 case for `c` (kind: rheometer, no particles) at rim shear rate
+// Writes the OpenFOAM v1912 case for `c` (kind: rheometer, no particles; of a case with several
+// `fluids:`, the one options.fluid names, else the first) at rim shear rate
 // `rim_shear_rate` [1/s] into `dir` (created; existing files of the same names are replaced):
 //   system/{blockMeshDict,controlDict,fvSchemes,fvSolution}, constant/{transportProperties,
 //   turbulenceProperties}, 0/{U,p}, README (the command sequence) and rheosim.json (geometry,
 //   Ω, transport mapping, closed-form and creeping torques, gap Reynolds number).
 // Every file is written atomically. Throws ConfigError for a case that cannot be exported
-// (another kind, particles, a law without OpenFOAM model, γ̇_R <= 0) and RunError on I/O failure.
+// (another kind, particles, an unknown fluid name, a law without OpenFOAM model, γ̇_R <= 0) and
+// RunError on I/O failure.
 OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const std::filesystem::path& dir,
                                const OpenFoamExportOptions& options = {});
 
