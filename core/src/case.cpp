@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "rheosim/core/units.hpp"
@@ -75,6 +76,59 @@ PlateGeometry read_plate_geometry(const Section& root) {
   return out;
 }
 
+// particles.size_distribution (see SizeDistribution); d is particles.diameter.
+SizeDistribution read_size_distribution(const Section& s, double d, const PlateGeometry& geometry) {
+  SizeDistribution out;
+  const std::string type = s.choice({"type", "size distribution", "-"}, {"uniform", "lognormal", "discrete"});
+  const KeyInfo min_key{"min_diameter", "smallest particle diameter", "m"};
+  const KeyInfo max_key{"max_diameter", "largest particle diameter", "m"};
+  std::string bounds_key = "max_diameter";
+  if (type == "uniform") {
+    out.type = SizeDistribution::Type::uniform;
+    out.min_diameter = s.number(min_key, Range::positive());
+    out.max_diameter = s.number(max_key, Range::positive());
+    if (!(out.min_diameter < out.max_diameter))
+      s.fail("max_diameter", fmt::format("max_diameter {} m is not above min_diameter {} m", out.max_diameter,
+                                         out.min_diameter),
+             "min_diameter < max_diameter", "for equal spheres omit size_distribution");
+  } else if (type == "lognormal") {
+    out.type = SizeDistribution::Type::lognormal;
+    out.geometric_std = s.number({"geometric_std", "geometric standard deviation σ_g of the volume distribution", "-"},
+                                 Range::closed(1.0, 3.0));
+    // Default truncation: d50 σ_g^∓2, which holds 95 % of the (untruncated) volume.
+    const double spread = out.geometric_std * out.geometric_std;
+    out.min_diameter = s.number_or(min_key, d / spread, Range::positive());
+    out.max_diameter = s.number_or(max_key, d * spread, Range::positive());
+  } else {
+    out.type = SizeDistribution::Type::discrete;
+    const auto max_classes = static_cast<std::size_t>(SizeDistribution::max_classes);
+    const auto diameters = s.numbers({"diameters", "diameter of each size class", "m"}, Range::positive(), 1, max_classes);
+    require_increasing(s, "diameters", diameters);
+    const auto shares = s.numbers({"volume_fractions", "share of the particle volume in each class", "-"},
+                                  Range::closed(0.0, 1.0), diameters.size(), diameters.size());
+    out.classes = static_cast<int>(diameters.size());
+    std::copy(diameters.begin(), diameters.end(), out.diameters.begin());
+    std::copy(shares.begin(), shares.end(), out.volume_fractions.begin());
+    double sum = 0;
+    for (const double w : shares) sum += w;
+    if (std::abs(sum - 1.0) > 1e-6)
+      s.fail("volume_fractions", fmt::format("the shares add up to {}", sum), "shares of the solid volume adding up to 1",
+             "divide each share by their sum");
+    out.min_diameter = diameters.front();
+    out.max_diameter = diameters.back();
+    bounds_key = "diameters";
+  }
+  if (!(out.min_diameter <= d && d <= out.max_diameter))
+    s.fail(bounds_key, fmt::format("particles.diameter {} m is outside the distribution's range [{}, {}] m", d,
+                                   out.min_diameter, out.max_diameter),
+           "a range that contains particles.diameter (the representative, volume-median size)");
+  if (out.max_diameter >= geometry.gap)
+    s.fail(bounds_key, fmt::format("the largest particles ({} m) do not fit in the gap of {} m", out.max_diameter,
+                                   geometry.gap),
+           "every diameter smaller than the gap");
+  return out;
+}
+
 ParticleProperties read_particles(const Section& p, const PlateGeometry& geometry, bool with_volume_fraction) {
   ParticleProperties out;
   if (with_volume_fraction)
@@ -88,6 +142,8 @@ ParticleProperties read_particles(const Section& p, const PlateGeometry& geometr
   if (out.diameter >= geometry.gap)
     p.fail("diameter", fmt::format("particles of {} m do not fit in the gap of {} m", out.diameter, geometry.gap),
            "a particle diameter smaller than the gap (H/d >= 10 for a continuum stress)");
+  const KeyInfo distribution_key{"size_distribution", "spread of particle diameters (omit for equal spheres)", "-"};
+  if (auto s = p.optional_section(distribution_key)) out.size_distribution = read_size_distribution(*s, out.diameter, geometry);
   return out;
 }
 
@@ -184,6 +240,28 @@ LddCase read_ldd(const Section& root) {
   if (out.end_time < out.time_step)
     time.fail("end", fmt::format("end time {} s is shorter than one step of {} s", out.end_time, out.time_step),
               "an end time of at least one time step");
+  out.steady_tolerance = time.number_or(
+      {"steady_tolerance", "stop when the centre-line rate of change (units of U²/L) drops below this; 0: never", "-"},
+      out.steady_tolerance, Range::closed(0.0, 1.0));
+  if (const auto s = root.optional_section({"solver", "LDD solver settings", "-"})) {
+    LddSolverSettings& v = out.solver;
+    v.threads = s->integer_or({"threads", "OpenMP threads (0: OMP_NUM_THREADS or all cores)", "-"}, v.threads, 0, 1024);
+    v.pressure_tolerance = s->number_or({"pressure_tolerance", "relative residual of the pressure solve", "-"},
+                                        v.pressure_tolerance, Range::open(0.0, 0.1));
+    v.velocity_tolerance = s->number_or({"velocity_tolerance", "relative residual of the velocity solve", "-"},
+                                        v.velocity_tolerance, Range::open(0.0, 0.1));
+    v.max_iterations = s->integer_or({"max_iterations", "iterations per linear solve", "-"}, v.max_iterations, 1, 1000000);
+    v.reordering = s->choice_or({"reordering", "node reordering after advection", "-"}, v.reordering,
+                                {"lattice", "density"});
+    v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"},
+                                 v.max_courant, Range::open_closed(0.0, 100.0));
+  }
+  if (const auto o = root.optional_section({"output", "LDD output settings", "-"})) {
+    out.output.frame_interval = o->number_or({"frame_interval", "time between VTK frames (0: end/20)", "s"},
+                                             out.output.frame_interval, Range::closed(0.0, 1e30));
+    out.output.probe_interval = o->number_or({"probe_interval", "time between centre-line samples (0: end/200)", "s"},
+                                             out.output.probe_interval, Range::closed(0.0, 1e30));
+  }
   return out;
 }
 

@@ -33,6 +33,18 @@ std::string describe_rheometer(const RheometerCase& r) {
         "  particles: diameter {} m, density {} kg/m³, E {} Pa, ν {}, restitution {}, friction {}, H/d {:.3g}\n",
         p->diameter, p->density, p->youngs_modulus, p->poisson_ratio, p->restitution, p->friction,
         r.geometry.gap / p->diameter);
+    if (const auto* s = &p->size_distribution; s->type != SizeDistribution::Type::none) {
+      using Type = SizeDistribution::Type;
+      if (s->type == Type::uniform)
+        out += fmt::format("  size distribution: uniform in [{}, {}] m\n", s->min_diameter, s->max_diameter);
+      else if (s->type == Type::lognormal)
+        out += fmt::format("  size distribution: lognormal by volume, d50 {} m, σ_g {}, truncated to [{}, {}] m\n",
+                           p->diameter, s->geometric_std, s->min_diameter, s->max_diameter);
+      else
+        out += fmt::format("  size distribution: {} classes, diameters {} m, volume shares {}\n", s->classes,
+                           list({s->diameters.begin(), s->diameters.begin() + s->classes}),
+                           list({s->volume_fractions.begin(), s->volume_fractions.begin() + s->classes}));
+    }
   } else {
     out += "  particles: none (single phase)\n";
   }
@@ -77,6 +89,10 @@ std::string describe(const Case& c) {
     out += fmt::format("  gravity: {} m/s²\n  spacing Δ {} m, h/Δ {}\n  time step {} s, end {} s ({} steps)\n",
                        list(l.gravity), l.spacing, l.smoothing_ratio, l.time_step, l.end_time,
                        static_cast<long long>(l.end_time / l.time_step + 0.5));
+    if (l.steady_tolerance > 0) out += fmt::format("  stops at steady state (residual < {})\n", l.steady_tolerance);
+    out += fmt::format("  solver: {} reordering, PPE tolerance {}, velocity tolerance {}, threads {}\n",
+                       l.solver.reordering, l.solver.pressure_tolerance, l.solver.velocity_tolerance,
+                       l.solver.threads == 0 ? std::string("default") : std::to_string(l.solver.threads));
   }
   return out;
 }

@@ -27,14 +27,36 @@ struct PlateGeometry {  // geometry: {type: parallel_plate, radius, gap}
   double gap = 0;       // H [m], < R
 };
 
+// particles.size_distribution: the spread of sphere diameters (absent: all spheres have d).
+// Sizes are given as a rheologist reads a particle-size analysis (volume basis): a lognormal
+// by its volume-median d50 (= particles.diameter) and geometric standard deviation σ_g, a
+// uniform range, or sieve classes with the share of the solid volume in each.
+// Trivially copyable on purpose (fixed arrays, no std::vector/optional): GCC 12 reports false
+// maybe-uninitialized warnings for such members in designated initialisers of the enclosing
+// structs, which -Werror would turn into build failures wherever particles are initialised.
+struct SizeDistribution {
+  enum class Type { none, uniform, lognormal, discrete };  // none: monodisperse
+  static constexpr int max_classes = 16;
+  Type type = Type::none;
+  double min_diameter = 0;               // [m] uniform: lower bound; lognormal: truncation; discrete: first class
+  double max_diameter = 0;               // [m] uniform: upper bound; lognormal: truncation; discrete: last class
+  double geometric_std = 1;              // σ_g [-] of the volume-weighted lognormal, in [1, 3]
+  int classes = 0;                       // discrete: number of classes, [1, max_classes]
+  std::array<double, max_classes> diameters{};         // [m] discrete classes, increasing
+  std::array<double, max_classes> volume_fractions{};  // [-] discrete: share of the solid volume per class, sum 1
+};
+
 struct ParticleProperties {  // particles: (CD §4 defaults)
   double volume_fraction = 0;     // φ [-], [0, 0.5]; a sweep sets it per point
-  double diameter = 0;            // d [m], < gap
+  double diameter = 0;            // d [m], < gap; with a size distribution the representative
+                                  // (volume-median) diameter used for H/d, Re_p and St
   double density = 0;             // ρ_p [kg/m³]
   double youngs_modulus = 3.0e9;  // E [Pa]
   double poisson_ratio = 0.33;    // ν [-]
   double restitution = 0.9;       // e [-]
   double friction = 0.3;          // μ_c [-], Coulomb friction coefficient
+  // Last, and not a std::optional (see SizeDistribution); type none (the default): monodisperse.
+  SizeDistribution size_distribution{};
 };
 
 struct NamedFluid {
@@ -88,6 +110,22 @@ struct ColumnScene {                  // a resting column (hydrostatics)
 };
 using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScene>;
 
+// solver: — numerical settings of the LDD solver (all optional; ldd/solver.hpp documents them).
+struct LddSolverSettings {
+  int threads = 0;                      // OpenMP threads; 0: OMP_NUM_THREADS or all cores
+  double pressure_tolerance = 1e-6;     // BiCGStab relative residual of the PPE (LDD eq. 17)
+  double velocity_tolerance = 1e-8;     // BiCGStab relative residual of LDD eq. 19
+  int max_iterations = 2000;            // per linear solve
+  std::string reordering = "lattice";   // lattice | density (experimental)
+  double max_courant = 1.0;             // stop (diverged) when max|u|δt/Δ exceeds this
+};
+
+// output: — what a run writes and how often (all optional).
+struct LddOutputSettings {
+  double frame_interval = 0;   // [s] between VTK frames; 0: end/20
+  double probe_interval = 0;   // [s] between centre-line samples (residual history); 0: end/200
+};
+
 struct LddCase {  // kind: ldd
   int dimension = 2;
   std::string scene_type;             // cavity | skewed_cavity | dam_break | slump | column
@@ -98,6 +136,9 @@ struct LddCase {  // kind: ldd
   double smoothing_ratio = 1.6;       // h/Δ [-]
   double time_step = 0;               // δt [s]
   double end_time = 0;                // [s]
+  double steady_tolerance = 0;        // stop when the centre-line residual drops below; 0: never
+  LddSolverSettings solver;
+  LddOutputSettings output;
 };
 
 // ---------------------------------------------------------------------------- the case
