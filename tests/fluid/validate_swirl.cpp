@@ -68,8 +68,35 @@ TEST(SwirlCreeping, VelocityFieldIsTheLinearProfileFromRest) {
   EXPECT_LT(worst / omega, 1e-9);
 }
 
-// The issue's hardest case (H = 2 mm, γ̇_R = 1000 1/s, Re ≈ 530) does not converge yet with
-// central convection; this is the strongest case that does (Re ≈ 53).
+// The issue's hardest case: water, H = 2 mm, γ̇_R = 1000 1/s (Re = ρΩH²/μ ≈ 530, rotational
+// Reynolds number ΩR²/ν = 3e4, gap ratio H/R = 0.133). Reached with the Newton-linearised
+// convection and pseudo-time continuation on a coarse 30 × 16 grid (finer grids stall in the
+// Ω continuation: an open item). Cross-check: Daily & Nece's (1960) laminar separate-boundary-
+// layer correlation C_M = 3.70 (H/R)^0.1 Re_R^(−1/2) for a rotor–stator gap gives about 11× the
+// Couette torque here (their cavity is shrouded; this rim is shear-free).
+TEST(SwirlInertia, WaterAtTheIssuesHighReynoldsCaseConverges) {
+  const double h = 0.002, rate = 1000;
+  const rheometer::ParallelPlate wide{radius, h};
+  auto p = params(law("model: newtonian\nviscosity: 1.0e-3\n"), true, 30, 16, radius, h);
+  p.pseudo_time_step = 1.0;
+  const SwirlSolver solver(p);
+  const auto result = solver.solve(wide.angular_velocity(rate));
+  ASSERT_TRUE(result.converged) << result.failure;
+  const double creeping = rheometer::newtonian_torque(wide, 1e-3, rate);
+  const double re = wide.gap_reynolds_number(1000, rate, 1e-3);
+  const double omega = wide.angular_velocity(rate);
+  const double re_rot = 1000 * omega * radius * radius / 1e-3;
+  const double daily_nece = 3.70 * std::pow(h / radius, 0.1) / std::sqrt(re_rot) /
+                            (2 * std::acos(-1.0) / ((h / radius) * re_rot));
+  std::printf("water H=2mm rate=1000: Re=%.0f torque=%.6e creeping=%.6e rise=%.1f%% (Daily-Nece II: x%.1f) "
+              "iterations=%d time=%.2fs\n",
+              re, result.torque, creeping, 100 * (result.torque / creeping - 1), daily_nece, result.iterations,
+              result.wall_time);
+  EXPECT_GT(result.torque, 5 * creeping);
+  EXPECT_NEAR(result.bottom_torque, result.torque, 1e-6 * result.torque);
+}
+
+// Re ≈ 53 on the default settings (no pseudo-time).
 TEST(SwirlInertia, WaterAtHighReynoldsRaisesTheTorque) {
   const double h = 0.002, rate = 100;
   const rheometer::ParallelPlate wide{radius, h};
