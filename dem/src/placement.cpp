@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "portable_random.hpp"
 #include "rheosim/core/units.hpp"
 
 namespace rheosim::dem {
@@ -44,24 +45,7 @@ void check_geometry(double plate_radius, double gap, double diameter, double vol
         fmt::format("volume_fraction = {} is out of range, expected [0, 0.5]", volume_fraction));
 }
 
-// Uniform doubles from a portable engine (the std distributions are implementation-defined).
-class Random {
- public:
-  explicit Random(std::uint64_t seed) : engine_(seed) {}
-  double uniform() { return static_cast<double>(engine_() >> 11U) * 0x1.0p-53; }  // [0, 1)
-  double symmetric() { return 2.0 * uniform() - 1.0; }                            // [-1, 1)
-  std::size_t below(std::size_t n) {  // [0, n), n >= 1; rejection keeps it unbiased
-    const std::uint64_t limit = std::numeric_limits<std::uint64_t>::max() -
-                                std::numeric_limits<std::uint64_t>::max() % static_cast<std::uint64_t>(n);
-    std::uint64_t x = 0;
-    do x = engine_();
-    while (x >= limit);
-    return static_cast<std::size_t>(x % n);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
+using Random = detail::PortableRandom;
 
 struct Lattice {
   bool hexagonal = true;
@@ -211,23 +195,34 @@ std::size_t target_particle_count(double plate_radius, double gap, double diamet
 Placement place_particles(const PlacementParams& params) {
   const double R = params.plate_radius;
   const double H = params.gap;
-  const double d = params.diameter;
-  const std::size_t count = target_particle_count(R, H, d, params.volume_fraction);
+  const bool sized = !params.diameters.empty();
+  // d: the lattice diameter, the largest particle.
+  double d = params.diameter;
+  if (sized) {
+    d = 0.0;
+    for (std::size_t i = 0; i < params.diameters.size(); ++i) {
+      const double di = params.diameters[i];
+      if (!(std::isfinite(di) && di > 0.0))
+        throw std::invalid_argument(fmt::format("diameters[{}] = {} is out of range, expected a finite value > 0", i, di));
+      d = std::max(d, di);
+    }
+    check_geometry(R, H, d, 0.0);
+  }
+  const std::size_t count = sized ? params.diameters.size() : target_particle_count(R, H, d, params.volume_fraction);
   if (params.shake_sweeps < 0)
     throw std::invalid_argument(
         fmt::format("shake_sweeps = {} is out of range, expected >= 0", params.shake_sweeps));
   if (count > std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument(fmt::format("{} particles are too many for the placement", count));
+  std::vector<double> diameters = sized ? params.diameters : std::vector<double>(count, d);
 
-  const double contact = d * (1.0 + clearance);  // minimum centre distance
-  const double z_lo = 0.5 * contact;  // limits of the centres, for the Monte Carlo moves
-  const double z_hi = H - 0.5 * contact;
-  const double r_max = R - 0.5 * contact;
+  // Limits of each centre, for the Monte Carlo moves: particle i keeps r_i (1 + clearance)
+  // from the plates and the rim, pairs keep (r_i + r_j)(1 + clearance).
+  const auto half = [&](std::uint32_t i) { return 0.5 * diameters[i] * (1.0 + clearance); };
   const double gap_volume = pi * R * R * H;
-  const double particle_volume = core::units::sphere_volume(d);
 
   // The lattice keeps twice the clearance, so rounding cannot bring its sites closer than
-  // `contact` to each other or to the walls.
+  // the contact distance to each other or to the walls.
   Random random(params.seed);
   const double lattice_contact = d * (1.0 + 2.0 * clearance);
   Lattice lattice = choose_lattice(H - lattice_contact, lattice_contact);
@@ -238,17 +233,19 @@ Placement place_particles(const PlacementParams& params) {
 
   Placement result;
   result.count = count;
-  result.volume_fraction = static_cast<double>(count) * particle_volume / gap_volume;
+  double solid_volume = 0.0;
+  for (const double di : diameters) solid_volume += core::units::sphere_volume(di);
+  result.volume_fraction = solid_volume / gap_volume;
   result.lattice = lattice.hexagonal ? "hexagonal" : "square";
   result.layers = lattice.layers;
   result.layer_spacing = lattice.layers > 1 ? lattice.layer_spacing : 0.0;
-  result.capacity_volume_fraction = static_cast<double>(sites.size()) * particle_volume / gap_volume;
+  result.capacity_volume_fraction = static_cast<double>(sites.size()) * core::units::sphere_volume(d) / gap_volume;
   if (sites.size() < count)
     throw std::invalid_argument(fmt::format(
-        "volume_fraction = {} needs {} particles, but the placement lattice holds only {} (φ = {:.3f}) for "
-        "R = {} m, H = {} m, d = {} m ({} {} layers); use a lower volume fraction or a wider gap",
-        params.volume_fraction, count, sites.size(), result.capacity_volume_fraction, R, H, d, lattice.layers,
-        result.lattice));
+        "volume_fraction = {:.4g} needs {} particles, but the placement lattice holds only {} (φ = {:.3f} of "
+        "spheres of {} m) for R = {} m, H = {} m, d = {} m ({} {} layers); use a lower volume fraction, a wider gap{}",
+        result.volume_fraction, count, sites.size(), result.capacity_volume_fraction, d, R, H, d, lattice.layers,
+        result.lattice, sized ? " or a narrower size distribution (sites are spaced for the largest particle)" : ""));
 
   // Spread the layers in-plane so that they hold about `spare` · N sites: every particle then
   // has room to move (in the densest lattice, neighbours touch and the Monte Carlo step would
@@ -271,17 +268,20 @@ Placement place_particles(const PlacementParams& params) {
   result.lattice_spacing = lattice.spacing;
   result.lattice_sites = sites.size();
 
-  // Random subset: the first `count` entries of a partial Fisher–Yates shuffle.
+  // Random subset: the first `count` entries of a partial Fisher–Yates shuffle. Particle i
+  // (diameter diameters[i]) gets site i.
   for (std::size_t i = 0; i < count; ++i) std::swap(sites[i], sites[i + random.below(sites.size() - i)]);
   sites.resize(count);
 
   // Hard-sphere Monte Carlo shaking.
-  CellList cells(R, H, contact);
+  CellList cells(R, H, d * (1.0 + clearance));
   for (std::uint32_t i = 0; i < count; ++i) cells.insert(i, sites[i]);
   const auto fits = [&](std::uint32_t self, const std::array<double, 3>& p) {
-    if (p[2] < z_lo || p[2] > z_hi || p[0] * p[0] + p[1] * p[1] > r_max * r_max) return false;
+    const double h = half(self);
+    if (p[2] < h || p[2] > H - h || p[0] * p[0] + p[1] * p[1] > (R - h) * (R - h)) return false;
     bool free = true;
     cells.for_neighbours(p, [&](std::uint32_t other) {
+      const double contact = h + half(other);
       if (other != self && squared_distance(p, sites[other]) < contact * contact) free = false;
     });
     return free;
@@ -317,6 +317,7 @@ Placement place_particles(const PlacementParams& params) {
 
   result.centres.reserve(3 * count);
   for (const auto& p : sites) result.centres.insert(result.centres.end(), p.begin(), p.end());
+  result.diameters = std::move(diameters);
   return result;
 }
 

@@ -19,6 +19,7 @@
 #include "disk_mesh.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/dem/contact.hpp"
+#include "rheosim/dem/size_distribution.hpp"
 
 namespace rheosim::dem {
 namespace {
@@ -61,6 +62,19 @@ void check_params(const RheometerScene::Params& p) {
   if (!(q.diameter < g.gap))
     throw std::invalid_argument(fmt::format(
         "RheometerScene::Params::particles.diameter = {} m is out of range, expected < gap = {} m", q.diameter, g.gap));
+  if (q.size_distribution.type != core::SizeDistribution::Type::none) {
+    if (p.positions)
+      throw std::invalid_argument(
+          "RheometerScene::Params: explicit positions take particles.diameter for every particle; drop "
+          "particles.size_distribution");
+    const double smallest = smallest_diameter(q);
+    const double largest = largest_diameter(q);
+    if (!(smallest > 0.0 && smallest <= largest && largest < g.gap))
+      throw std::invalid_argument(fmt::format(
+          "RheometerScene::Params::particles.size_distribution: diameters in [{}, {}] m, expected 0 < d_min <= "
+          "d_max < gap = {} m",
+          smallest, largest, g.gap));
+  }
   check_range("particles.volume_fraction", q.volume_fraction, 0.0, 0.5, "[0, 0.5]");
   check_finite_positive("particles.density", q.density);
   check_finite_positive("particles.youngs_modulus", q.youngs_modulus);
@@ -130,8 +144,9 @@ void check_params(const RheometerScene::Params& p) {
   }
 }
 
+// The smallest sphere: it has the shortest Rayleigh time (t_R ∝ r), which bounds the step.
 ElasticSphere sphere_of(const core::ParticleProperties& q) {
-  return {.radius = 0.5 * q.diameter, .density = q.density, .youngs_modulus = q.youngs_modulus,
+  return {.radius = 0.5 * smallest_diameter(q), .density = q.density, .youngs_modulus = q.youngs_modulus,
           .poisson_ratio = q.poisson_ratio};
 }
 
@@ -149,6 +164,68 @@ RheometerScene::Params checked(RheometerScene::Params p) {
 
 MPI_Comm communicator_of(const RheometerScene::Params& p) {
   return p.communicator_fortran_handle ? MPI_Comm_f2c(*p.communicator_fortran_handle) : MPI_COMM_WORLD;
+}
+
+// Sends rank 0's vector to every rank of comm.
+void broadcast(std::vector<double>& values, MPI_Comm comm) {
+  auto n = static_cast<unsigned long long>(values.size());
+  MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, comm);
+  values.resize(static_cast<std::size_t>(n));
+  if (n > 0) MPI_Bcast(values.data(), static_cast<int>(n), MPI_DOUBLE, 0, comm);
+}
+
+// Places the particles on rank 0 only and sends the result to the other ranks: the placement
+// is done once, and every rank holds the very same one (placement() is the same everywhere).
+// An invalid_argument on rank 0 (φ beyond the lattice) is re-thrown on every rank.
+Placement place_once(const RheometerScene::Params& params, MPI_Comm comm) {
+  const auto& g = params.geometry;
+  const auto& q = params.particles;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  Placement placed;
+  std::string error;
+  if (rank == 0) {
+    try {
+      PlacementParams pp{.plate_radius = g.radius, .gap = g.gap, .diameter = q.diameter,
+                         .volume_fraction = q.volume_fraction, .seed = params.seed,
+                         .shake_sweeps = params.placement_sweeps};
+      if (q.size_distribution.type != core::SizeDistribution::Type::none)
+        pp.diameters = sample_diameters(q.size_distribution, q.diameter,
+                                        q.volume_fraction * pi * g.radius * g.radius * g.gap,
+                                        params.seed ^ 0x2545f4914f6cdd1dULL);  // a stream apart from the placement's
+      placed = place_particles(pp);
+    } catch (const std::exception& e) {  // every rank must learn of it, or the others would wait forever
+      error = std::string(dynamic_cast<const std::invalid_argument*>(&e) != nullptr ? "I" : "L") + e.what();
+    }
+  }
+  std::vector<double> text(error.begin(), error.end());
+  broadcast(text, comm);
+  if (!text.empty()) {
+    const std::string message(text.begin() + 1, text.end());
+    if (text.front() == 'I') throw std::invalid_argument(message);
+    throw std::logic_error(message);
+  }
+  broadcast(placed.centres, comm);
+  broadcast(placed.diameters, comm);
+  std::vector<double> scalars{static_cast<double>(placed.count), placed.volume_fraction,
+                              static_cast<double>(placed.layers), placed.layer_spacing,
+                              placed.capacity_volume_fraction, placed.lattice_spacing,
+                              static_cast<double>(placed.lattice_sites), placed.shake_acceptance, placed.shake_step,
+                              placed.lattice == "hexagonal" ? 1.0 : 0.0};
+  broadcast(scalars, comm);
+  if (rank != 0) {
+    placed.count = static_cast<std::size_t>(scalars[0]);
+    placed.volume_fraction = scalars[1];
+    placed.layers = static_cast<int>(scalars[2]);
+    placed.layer_spacing = scalars[3];
+    placed.capacity_volume_fraction = scalars[4];
+    placed.lattice_spacing = scalars[5];
+    placed.lattice_sites = static_cast<std::size_t>(scalars[6]);
+    placed.shake_acceptance = scalars[7];
+    placed.shake_step = scalars[8];
+    placed.lattice = scalars[9] == 1.0 ? "hexagonal" : "square";
+  }
+  return placed;
 }
 
 }  // namespace
@@ -171,7 +248,8 @@ class RheometerScene::Impl {
 
  private:
   [[nodiscard]] double omega_of(double rate) const { return rate * params.geometry.gap / params.geometry.radius; }
-  void write_files(const std::vector<double>& centres, const detail::DiskMesh& mesh);
+  void write_files(const std::vector<double>& centres, const std::vector<double>& diameters,
+                   const detail::DiskMesh& mesh);
   void set_up_liggghts();
 };
 
@@ -186,25 +264,27 @@ RheometerScene::Impl::Impl(Params p)
   time_step = params.time_step ? *params.time_step : params.time_step_fraction * rayleigh_time;
 
   std::vector<double> centres;
+  std::vector<double> diameters;
   if (params.positions) {
     centres = *params.positions;
+    diameters.assign(centres.size() / 3, q.diameter);
   } else {
-    placement = place_particles({.plate_radius = g.radius, .gap = g.gap, .diameter = q.diameter,
-                                 .volume_fraction = q.volume_fraction, .seed = params.seed,
-                                 .shake_sweeps = params.placement_sweeps});
+    placement = place_once(params, communicator_of(params));
     centres = placement->centres;
+    diameters = placement->diameters;
   }
   const int rings = params.top_plate_rings > 0
                         ? params.top_plate_rings
                         : std::max(1, static_cast<int>(std::ceil(g.radius / (10.0 * q.diameter))));
   const auto mesh = detail::make_disk_mesh(g.radius, g.gap, rings);
   triangles = static_cast<int>(mesh.triangles.size());
-  write_files(centres, mesh);
+  write_files(centres, diameters, mesh);
   set_up_liggghts();
 }
 
 // Rank 0 writes, everybody waits: LIGGGHTS reads the files in the next commands.
-void RheometerScene::Impl::write_files(const std::vector<double>& centres, const detail::DiskMesh& mesh) {
+void RheometerScene::Impl::write_files(const std::vector<double>& centres, const std::vector<double>& diameters,
+                                       const detail::DiskMesh& mesh) {
   const MPI_Comm comm = communicator_of(params);
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -236,17 +316,18 @@ void RheometerScene::Impl::write_files(const std::vector<double>& centres, const
       }
     }
     // The box holds the whole mesh (LIGGGHTS warns about mesh nodes outside it) with a margin.
-    const double half_width = mesh.outer_radius + q.diameter;
+    const double margin = largest_diameter(q);
+    const double half_width = mesh.outer_radius + margin;
     core::write_atomically(params.run_directory / "particles.data", [&](std::ostream& out) {
       fmt::print(out, "LIGGGHTS data file written by rheosim: parallel-plate gap R = {} m, H = {} m\n\n", g.radius,
                  g.gap);
       fmt::print(out, "{} atoms\n{} atom types\n\n", n, material_types);
       fmt::print(out, "{:.17g} {:.17g} xlo xhi\n{:.17g} {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n", -half_width,
-                 half_width, -half_width, half_width, -q.diameter, g.gap + q.diameter);
+                 half_width, -half_width, half_width, -margin, g.gap + margin);
       if (n == 0) return;
       fmt::print(out, "\nAtoms\n\n");  // atom-ID atom-type diameter density x y z (atom_style granular)
       for (std::size_t i = 0; i < n; ++i)
-        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, q.diameter, q.density,
+        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, diameters[i], q.density,
                    centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
       if (velocities.empty()) return;
       fmt::print(out, "\nVelocities\n\n");  // atom-ID vx vy vz ωx ωy ωz
@@ -283,7 +364,7 @@ void RheometerScene::Impl::set_up_liggghts() {
   });
   engine.command(fmt::format("read_data {}", data_file));
   engine.commands({
-      fmt::format("neighbor {:.17g} bin", params.neighbor_skin_fraction * q.diameter),
+      fmt::format("neighbor {:.17g} bin", params.neighbor_skin_fraction * largest_diameter(q)),
       "neigh_modify delay 0",
       "hard_particles yes",  // LIGGGHTS refuses E > 1e9 Pa in SI units without it
       fmt::format("fix rheosim_m1 all property/global youngsModulus peratomtype{}",

@@ -1,6 +1,6 @@
 #pragma once
-// Initial particle positions for the parallel-plate gap: monodisperse spheres of diameter d at a
-// target volume fraction φ, with no overlaps (DESIGN §4 dem/, issue 4 item 2). Pure geometry, no
+// Initial particle positions for the parallel-plate gap: monodisperse spheres of diameter d (or
+// spheres of given diameters, see "Polydisperse") at a target volume fraction φ, with no overlaps (DESIGN §4 dem/, issue 4 item 2). Pure geometry, no
 // LIGGGHTS: dem::RheometerScene hands the result to LIGGGHTS as a data file.
 //
 // What φ means
@@ -48,6 +48,14 @@
 //   All distances use d (1 + 1e-9) (a 1e-9 d clearance), so "no overlap" survives the rounding
 //   of positions: pair distances >= d, distances to the plates and to the rim >= d/2.
 //
+// Polydisperse particles (PlacementParams::diameters, e.g. from size_distribution.hpp): the
+//   same method with the lattice spaced for the largest diameter d_max; particle i takes the
+//   i-th drawn site, and the Monte Carlo moves and the final check use each pair's own contact
+//   distance (r_i + r_j)(1 + 1e-9) and each particle's own wall distance. φ is then the given
+//   spheres' total volume over π R² H. The price of spacing sites for d_max: the lattice holds
+//   at most capacity · (mean d³ / d_max³) of solid, so a wide distribution at high φ in a thin
+//   gap may be refused (the error says so).
+//
 // Randomness: std::mt19937_64 from `seed` with our own conversion to doubles and our own
 // shuffle, so a seed gives the same positions with any standard library (and on every MPI rank).
 //
@@ -69,12 +77,17 @@ struct PlacementParams {
   double volume_fraction = 0.0;  // φ [-], in [0, 0.5], of the whole gap volume π R² H
   std::uint64_t seed = 1;        // random subset, lattice angle and shaking
   int shake_sweeps = 50;         // Monte Carlo sweeps, >= 0 (0: lattice sites only)
+  // Polydisperse: the diameter of every particle [m] (e.g. from sample_diameters); then N is
+  // their number, diameter and volume_fraction are ignored, and the lattice is spaced for
+  // the largest of them (it must be < gap and < plate_radius).
+  std::vector<double> diameters{};
 };
 
 struct Placement {
   std::vector<double> centres;       // [x0 y0 z0 x1 y1 z1 ...] [m], axis at x = y = 0, bottom plate z = 0
-  std::size_t count = 0;             // N = round(6 φ R² H / d³)
-  double volume_fraction = 0.0;      // achieved: N π d³/6 / (π R² H)
+  std::vector<double> diameters;     // [d0 d1 ...] [m], one per particle
+  std::size_t count = 0;             // N = round(6 φ R² H / d³), or the number of given diameters
+  double volume_fraction = 0.0;      // achieved: Σ π d_i³/6 / (π R² H)
   // The lattice of step 1.
   std::string lattice;               // "hexagonal" or "square"
   int layers = 0;                    // L

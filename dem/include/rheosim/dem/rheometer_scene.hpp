@@ -29,15 +29,17 @@
 //   - Contact: `pair_style gran model hertz tangential history` and the same for every wall
 //     (CD §3.1, eqs. 12–24; LIGGGHTS derives the damping from e, see contact.hpp). In SI units
 //     E > 1e9 Pa needs `hard_particles yes`, which the scene sets.
-//   - Particles: monodisperse, type 1, placed at the requested φ by dem::place_particles
-//     (placement.hpp: layered lattice, random subset, hard-sphere Monte Carlo; φ is of the whole
-//     gap volume π R² H; no overlaps; the count is exact up to rounding), or at explicit
-//     positions (tests, restarts). They enter LIGGGHTS through a data file that the scene
+//   - Particles: type 1, monodisperse (particles.diameter) or with particles.size_distribution (type not none)
+//     (diameters drawn to fill φ π R² H by size_distribution.hpp), placed at the requested φ by
+//     dem::place_particles (placement.hpp: layered lattice, random subset, hard-sphere Monte
+//     Carlo; φ is of the whole gap volume π R² H; no overlaps; within 1 % of the target), or
+//     at explicit positions (tests, restarts; monodisperse only). Under MPI the placement runs
+//     once, on rank 0, and is broadcast, so every rank's placement() is the same. They enter LIGGGHTS through a data file that the scene
 //     writes, <run_directory>/particles.data (read_data), with optional random initial
 //     velocities.
 //   - Gravity optional (fix gravity), along any direction.
-//   - Time step: δt = time_step_fraction · t_R, with the Rayleigh time t_R of the particles
-//     (contact.hpp), unless time_step overrides it. Default fraction 0.3: the CD §4 particles
+//   - Time step: δt = time_step_fraction · t_R, with the Rayleigh time t_R of the (smallest)
+//     particles (contact.hpp), unless time_step overrides it. Default fraction 0.3: the CD §4 particles
 //     (r = 100 µm, ρ = 1000 kg/m³, E = 3 GPa, ν = 0.33) have t_R = 3.18e-7 s, and the seed's
 //     DEM step of 1e-7 s is 0.31 t_R; 0.3 t_R is that choice, inside the usual 0.1–0.4 t_R,
 //     and the cheapest step that resolves a Hertz collision with about 15 steps at 1 m/s
@@ -133,7 +135,7 @@ class RheometerScene {
   [[nodiscard]] double rim_shear_rate() const;    // γ̇_R [1/s]
   [[nodiscard]] double angular_velocity() const;  // Ω [rad/s]
   [[nodiscard]] double time_step() const;         // δt [s]
-  [[nodiscard]] double rayleigh_time() const;     // t_R of the particles [s]
+  [[nodiscard]] double rayleigh_time() const;     // t_R of the (smallest) particles [s]
   [[nodiscard]] std::int64_t total_particle_count() const;
 
   // Torque samples so far, oldest first (see "Torque").
