@@ -25,7 +25,7 @@ double DiFelice::beta(const DragInput& particle) const {
   const double chi = voidage_exponent(reynolds);
   const double cd_times_re_root = 4.8 + 0.63 * std::sqrt(reynolds);  // √(C_d Re_p)
   return core::units::pi / 8.0 * particle.fluid_viscosity * particle.diameter *
-         std::pow(particle.void_fraction, -1.0 - chi) * cd_times_re_root * cd_times_re_root;
+         std::pow(particle.void_fraction, 1.0 - chi) * cd_times_re_root * cd_times_re_root;
 }
 
 }  // namespace rheosim::coupling

@@ -1,0 +1,113 @@
+// coupling::Coupler: start-up checks (CFD δt = N × DEM δt, gravity), and one short run on a
+// dem::RheometerScene: torque series (fluid + contact parts), cost split, plate speed.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "coupling_test_support.hpp"
+#include "rheosim/core/units.hpp"
+#include "rheosim/coupling/coupler.hpp"
+
+namespace rheosim::coupling {
+namespace {
+
+using ::testing::HasSubstr;
+
+class CouplerTest : public ::testing::Test {
+ protected:
+  testing::RunFolder folder_;
+};
+
+fluid::TransientParams gap_fluid(double gravity) {
+  fluid::TransientParams fp;
+  fp.grid = {.radius = 0.002, .gap = 0.0005, .radial_cells = 4, .azimuthal_cells = 8, .axial_cells = 2};
+  fp.density = 1000;
+  fp.rheology = testing::newtonian(1e-3);
+  fp.axial_gravity = gravity;
+  return fp;
+}
+
+TEST_F(CouplerTest, FluidTimeStepMustBeTheCouplingIntervalTimesTheDemStep) {
+  fluid::TransientSolver fluid(gap_fluid(0.0));
+  dem::Engine engine({.run_directory = folder_.path()});
+  testing::make_box(engine, 0.002, 0.0005, 1e-6, 0.0, {{.x = 0.001, .y = 0, .z = 2.5e-4, .diameter = 1e-4, .density = 1000}});
+  CouplerSettings settings;
+  settings.coupling_interval = 100;
+  settings.fluid_time_step = 2e-4;  // 100 × 1e-6 = 1e-4
+  try {
+    Coupler coupler(settings, engine, fluid);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("coupling interval 100"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr("0.0001 s"));
+  }
+  settings.fluid_time_step = 1e-4;
+  EXPECT_NO_THROW(Coupler(settings, engine, fluid));
+  settings.coupling_interval = 0;
+  EXPECT_THROW(Coupler(settings, engine, fluid), std::invalid_argument);
+  settings.coupling_interval = 100;
+  settings.void_fraction = "nowhere";
+  EXPECT_ANY_THROW(Coupler(settings, engine, fluid));
+}
+
+dem::RheometerScene::Params scene_params(const std::filesystem::path& dir) {
+  dem::RheometerScene::Params p;
+  p.geometry = {.radius = 0.002, .gap = 0.0005};
+  p.particles = {.volume_fraction = 0.05, .diameter = 1e-4, .density = 1000, .youngs_modulus = 1e7,
+                 .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
+  p.rim_shear_rate = 20.0;
+  p.time_step = 1e-6;
+  p.torque_sample_interval = 50;
+  p.run_directory = dir;
+  return p;
+}
+
+TEST_F(CouplerTest, GravityMustMatchBetweenDemAndFluid) {
+  dem::RheometerScene scene(scene_params(folder_.path()));
+  fluid::TransientSolver fluid(gap_fluid(0.0));  // the scene has standard gravity
+  CouplerSettings settings;
+  settings.coupling_interval = 100;
+  settings.fluid_time_step = 1e-4;
+  try {
+    Coupler coupler(settings, scene, fluid);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("gravity"));
+  }
+}
+
+TEST_F(CouplerTest, RunsOnARheometerSceneAndReportsTorquesAndCost) {
+  dem::RheometerScene scene(scene_params(folder_.path()));
+  fluid::TransientSolver fluid(gap_fluid(-core::units::standard_gravity));
+  CouplerSettings settings;
+  settings.coupling_interval = 100;
+  settings.fluid_time_step = 1e-4;
+  Coupler coupler(settings, scene, fluid);
+  EXPECT_DOUBLE_EQ(fluid.params().top_angular_velocity, scene.angular_velocity());
+  for (int s = 0; s < 5; ++s) {
+    const CouplingStepReport& r = coupler.step();
+    EXPECT_LT(r.void_fraction.relative_error, 1e-13);
+    EXPECT_LT(r.balance.relative_error, 1e-13);
+    EXPECT_GT(r.drag_relaxation_steps, 1.0);
+  }
+  ASSERT_EQ(coupler.torque_series().size(), 5u);
+  EXPECT_NEAR(coupler.time(), 5e-4, 1e-15);
+  EXPECT_GT(coupler.torque_series().back().fluid_torque, 0.0);
+  EXPECT_TRUE(std::isfinite(coupler.torque_series().back().contact_torque));
+  const CostSplit& c = coupler.cost();
+  EXPECT_EQ(c.steps, 5);
+  EXPECT_GT(c.dem, 0.0);
+  EXPECT_GT(c.void_fraction, 0.0);
+  EXPECT_GT(c.forces, 0.0);
+  EXPECT_GT(c.fluid, 0.0);
+  EXPECT_GT(scene.total_particle_count(), 100);
+  // The plate speed follows the scene.
+  scene.set_shear_rate(40.0);
+  coupler.step();
+  EXPECT_DOUBLE_EQ(fluid.params().top_angular_velocity, scene.angular_velocity());
+}
+
+}  // namespace
+}  // namespace rheosim::coupling
