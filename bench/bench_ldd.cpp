@@ -1,0 +1,130 @@
+// LDD cavity benchmark (scripted; prints a table): milliseconds per time step for the seed's
+// cavities at 100² and 200² nodes on 1 and 2 threads, with the time per phase, next to the
+// seed's GPU figures (LDD §4.1: 12 ms/step square Casson cavity; §4.2: 26 ms/step skewed
+// power-law cavity), and the centre-line error against the finest resolution for the Newtonian
+// Re = 100 cavity run to steady state (and against Ghia et al. 1982 at x = 0.5, y = 0.5).
+//
+//   build-ldd/bin/bench_ldd            # full table (several minutes)
+//   build-ldd/bin/bench_ldd --quick    # timings only, fewer steps
+//
+// Timings exclude the first step (which builds the operators and factorises the pressure matrix;
+// reported separately as "setup").
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/ldd/domain.hpp"
+#include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/solver.hpp"
+
+namespace {
+
+using namespace rheosim;
+
+std::shared_ptr<const core::Rheology> rheology(const std::string& yaml) {
+  const std::string text = "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+                           "fluid: {density: 1, rheology: " +
+                           yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+  return std::get<core::LddCase>(core::parse_case(text, "bench.yaml").spec).fluid.rheology;
+}
+
+struct Scenario {
+  const char* name;
+  double skew_angle;  // 0: square
+  const char* rheology;
+  double gpu_ms;      // seed's GPU ms/step
+};
+
+void time_steps(const Scenario& s, int cells, int threads, int steps) {
+  omp_set_num_threads(threads);
+  core::CavityScene scene;
+  scene.size = {1.0, 1.0};
+  scene.lid_velocity = 1.0;
+  scene.skew_angle = s.skew_angle;
+  ldd::SolverParams p;
+  p.rheology = rheology(s.rheology);
+  p.spacing = 1.0 / cells;
+  p.time_step = 1e-3;
+  const ldd::Cavity cavity(scene, p.spacing);
+  ldd::Solver solver(p, cavity.walls(), cavity.initial_cloud());
+  const auto t0 = std::chrono::steady_clock::now();
+  solver.step();
+  const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const ldd::PhaseTimes before = solver.phase_times();
+  const auto t1 = std::chrono::steady_clock::now();
+  int pressure_iterations = 0, velocity_iterations = 0;
+  for (int k = 0; k < steps; ++k) {
+    const auto stats = solver.step();
+    pressure_iterations += stats.pressure_iterations;
+    velocity_iterations += stats.velocity_iterations;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  const ldd::PhaseTimes& a = solver.phase_times();
+  const double per = 1e3 / steps;
+  std::printf("| %s | %d² (%zu nodes) | %d | %.1f | %.0f | %.2f s | %.1f / %.1f / %.1f / %.1f | %.1f / %.1f |\n", s.name,
+              cells, solver.node_count(), threads, 1e3 * seconds / steps, s.gpu_ms, setup,
+              per * (a.rheology - before.rheology), per * (a.pressure - before.pressure),
+              per * (a.momentum - before.momentum), per * (a.advection - before.advection),
+              static_cast<double>(pressure_iterations) / steps, static_cast<double>(velocity_iterations) / steps);
+  std::fflush(stdout);
+}
+
+void convergence() {
+  omp_set_num_threads(2);
+  core::CavityScene scene;
+  scene.size = {1.0, 1.0};
+  scene.lid_velocity = 1.0;
+  std::vector<double> probes;
+  for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {0.5, k / 100.0});
+  for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {k / 100.0, 0.5});
+  std::vector<std::vector<double>> profiles;
+  const std::vector<int> resolutions{25, 50, 100, 200};
+  std::printf("\n| Re 100 Newtonian | steps to steady | t [s] | ms/step (2 threads) | u(0.5, 0.5) | v(0.5, 0.5) |\n"
+              "| --- | --- | --- | --- | --- | --- |\n");
+  for (int cells : resolutions) {
+    ldd::SolverParams p;
+    p.rheology = rheology("{model: newtonian, viscosity: 0.01}");
+    p.spacing = 1.0 / cells;
+    p.time_step = 5e-3;
+    const auto r = ldd::simulate_cavity(scene, p, 40.0, 1e-4, probes);
+    const std::vector<double> u_line(r.probe_velocity.begin(), r.probe_velocity.end());
+    profiles.push_back(u_line);
+    std::printf("| %d² | %zu | %.2f | %.1f | %.4f (Ghia −0.20581) | %.4f (Ghia 0.05454) |\n", cells, r.steps, r.time,
+                r.ms_per_step, u_line[2 * 50], u_line[2 * 151 + 1]);
+    std::fflush(stdout);
+  }
+  std::printf("\n| resolution | max |Δu|, |Δv| vs %d² over 202 centre-line points |\n| --- | --- |\n", resolutions.back());
+  for (std::size_t r = 0; r + 1 < profiles.size(); ++r) {
+    double error = 0;
+    for (std::size_t k = 0; k < 202; ++k) {
+      error = std::max(error, std::abs(profiles[r][2 * k] - profiles.back()[2 * k]));
+      error = std::max(error, std::abs(profiles[r][2 * k + 1] - profiles.back()[2 * k + 1]));
+    }
+    std::printf("| %d² | %.4f |\n", resolutions[r], error);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  const int steps = quick ? 20 : 200;
+  const std::vector<Scenario> scenarios{
+      {"square, Casson Re 100 Bn 0.01", 0.0,
+       "{model: casson, plastic_viscosity: 0.01, yield_stress: 1.0e-4, regularization: 1000}", 12},
+      {"skewed 60°, power law n 1.5 Re 500", std::acos(-1.0) / 3, "{model: power_law, consistency: 0.002, index: 1.5}",
+       26}};
+  std::printf("| case | nodes | threads | ms/step | seed GPU ms/step | setup | rheology / pressure / momentum / "
+              "advection ms | PPE / velocity iterations |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  for (const auto& s : scenarios)
+    for (int cells : {100, 200})
+      for (int threads : {1, 2}) time_steps(s, cells, threads, steps);
+  if (!quick) convergence();
+  return 0;
+}

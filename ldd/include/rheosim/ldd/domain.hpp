@@ -1,0 +1,66 @@
+#pragma once
+// Closed 2D domains for the LDD solver: a convex polygon of straight walls at any angle, each
+// moving tangentially at its own velocity (a lid) or at rest, and the initial node cloud.
+//
+// Cavities (DESIGN §3 `cavity`, `skewed_cavity`; LDD §4.1–4.2) are parallelograms in their own
+// coordinates (ξ, η) ∈ [0, W] × [0, S]:
+//     x = ξ + η cos α,   y = η sin α
+// with W the width (bottom and lid), S the side-wall length and α the angle between the bottom
+// and the side walls (90° for the square cavity). The lid is the top edge, moving in +x.
+// Nodes start on the (ξ, η) lattice with spacing Δ (a square lattice for α = 90°, the
+// hexagonal one for α = 60°); the lattice's outer ring sits on the walls (wall nodes), its
+// four corners are corner nodes (velocity of the stationary walls, see docs/ldd.md).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "rheosim/core/case.hpp"
+
+namespace rheosim::ldd {
+
+using Vec2 = std::array<double, 2>;
+
+enum class NodeKind : std::uint8_t { fluid = 0, wall = 1, corner = 2 };
+
+struct Wall {
+  Vec2 start{}, end{};  // counter-clockwise around the domain: the fluid is on the left
+  Vec2 velocity{};      // [m/s], tangential (a lid) or zero
+  [[nodiscard]] Vec2 inward_normal() const;
+};
+
+// The initial point cloud: positions interleaved {x0, y0, x1, y1, ...} [m].
+struct NodeCloud {
+  std::vector<double> positions;
+  std::vector<NodeKind> kinds;
+  std::vector<double> normals;         // inward unit normal per node (0 for fluid nodes; corners: bisector)
+  std::vector<double> wall_velocities; // per node [m/s] (0 for fluid nodes)
+  [[nodiscard]] std::size_t size() const { return kinds.size(); }
+};
+
+// A parallelogram cavity (square when the skew angle is 90°).
+class Cavity {
+ public:
+  // scene.skew_angle == 0 means a square cavity (α = 90°). Throws std::invalid_argument for a
+  // spacing that leaves fewer than 4 cells along a side.
+  Cavity(const core::CavityScene& scene, double spacing);
+
+  [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
+  [[nodiscard]] const NodeCloud& initial_cloud() const { return cloud_; }
+  [[nodiscard]] double width() const { return width_; }
+  [[nodiscard]] double side_length() const { return side_; }
+  [[nodiscard]] double skew_angle() const { return angle_; }  // α [rad]
+  [[nodiscard]] double lid_velocity() const { return lid_velocity_; }
+  [[nodiscard]] std::array<int, 2> cells() const { return cells_; }  // lattice cells along ξ, η
+  // Physical point of the cavity coordinates (ξ/W, η/S) ∈ [0, 1]².
+  [[nodiscard]] Vec2 point(double xi_fraction, double eta_fraction) const;
+  // Area of the cavity [m²].
+  [[nodiscard]] double area() const;
+
+ private:
+  double width_, side_, angle_, lid_velocity_;
+  std::array<int, 2> cells_{};
+  std::vector<Wall> walls_;
+  NodeCloud cloud_;
+};
+
+}  // namespace rheosim::ldd

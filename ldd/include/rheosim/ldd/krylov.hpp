@@ -1,0 +1,60 @@
+#pragma once
+// Matrix-free linear algebra for the LDD pressure (eq. 17) and velocity (eq. 19) systems.
+//
+// A StencilMatrix is a row per node: (A x)_i = diagonal_i x_i + Σ_j off_diagonal_ij x_j over the
+// node's neighbours (the pattern of a NeighbourList, which it refers to, never owns). The LDD
+// operators are applied pair by pair, so no global sparse matrix is assembled.
+//
+// bicgstab() is van der Vorst's BiCGStab with right preconditioning (Jacobi unless a
+// preconditioner is given). The
+// LDD Laplacian is not symmetric, so CG does not apply. Every vector loop and reduction runs
+// with OpenMP over contiguous node blocks whose partial sums are added in block order, so the
+// iterates are bit-identical for a given thread count (no atomics, no reduction clauses).
+#include <cstddef>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "rheosim/ldd/neighbours.hpp"
+
+namespace rheosim::ldd {
+
+struct StencilMatrix {
+  const NeighbourList* pattern = nullptr;  // not owned; must outlive the matrix
+  std::vector<double> diagonal;            // per node
+  std::vector<double> off_diagonal;        // per pair of `pattern`
+
+  [[nodiscard]] std::size_t size() const { return diagonal.size(); }
+  // out = A x (parallel, deterministic).
+  void multiply(std::span<const double> x, std::span<double> out) const;
+};
+
+struct KrylovSettings {
+  double relative_tolerance = 1e-8;   // stop when ‖b − A x‖₂ <= tol · ‖b‖₂ ...
+  double absolute_tolerance = 1e-300; // ... or <= this
+  int max_iterations = 1000;
+  // Right preconditioner z = M⁻¹ r; empty: Jacobi (1/diagonal).
+  std::function<void(std::span<const double> r, std::span<double> z)> preconditioner;
+};
+
+struct KrylovResult {
+  int iterations = 0;
+  double residual = 0;           // final ‖b − A x‖₂
+  double relative_residual = 0;  // residual / ‖b‖₂ (residual itself when b = 0)
+  bool converged = false;
+};
+
+// Reusable work vectors, so a time loop does not allocate.
+struct KrylovWorkspace {
+  std::vector<double> r, r_hat, p, v, s, t, p_hat, s_hat;
+};
+
+// Solves A x = b, starting from the given x (a warm start). Never throws on non-convergence:
+// the caller reads KrylovResult (a breakdown, e.g. ρ = 0, ends the iteration unconverged).
+KrylovResult bicgstab(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
+                      const KrylovSettings& settings, KrylovWorkspace& work);
+
+// Deterministic parallel dot product (block partial sums added in block order).
+[[nodiscard]] double parallel_dot(std::span<const double> a, std::span<const double> b);
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,180 @@
+#pragma once
+// The LDD time step for closed 2D domains (LDD §3.2), one call to Solver::step():
+//
+//   1. operators (eqs. 13–16) on the current cloud (built once in the lattice reordering mode,
+//      where the cloud returns to the same places every step);
+//   2. explicit velocity gradient (eq. 14), strain rate E (eq. 4), shear rate γ̇ (eq. 5),
+//      viscosity μ(γ̇) from the rheology law, ∇μ, and the explicit stress term ∇·(μ(∇u)ᵀ);
+//   3. semi-implicit momentum (eq. 19) with the previous pressure, one matrix-free BiCGStab
+//      solve per component, no-slip Dirichlet rows on wall nodes (the lid moves):
+//        ρ u* − δt ∇·(μ∇u*) = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + F_ext + ∇·(μ(∇u)ᵀ)_{n−1}).
+//      For ∇·u = 0, ∇·(μ∇u) + ∇·(μ(∇u)ᵀ) = μ∇²u + 2E∇μ (eq. 18); the implicit part uses the pair
+//      viscosity ½(μ_i + μ_j) on the eq. 15 coefficients. Identical to eq. 19 for a Newtonian
+//      fluid; for viscosity contrasts of 10⁴ (Bn = 10) the explicit 2E∇μ of eq. 19 blew up at the
+//      first step, this split does not (docs/ldd.md);
+//   4. pressure Poisson equation (eq. 17) for the increment φ = p_n − p_{n−1} (incremental
+//      pressure correction), matrix-free BiCGStab:
+//        fluid     ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩   (eq. 17's −ρ∇·(Du/Dt) with ∇·∇·τ dropped, as in the seed)
+//        walls     n·⟨∇φ⟩ = ρ n·F_ext − n·⟨∇p_{n−1}⟩ (eq. 17's Neumann condition for p; walls at
+//                  rest or moving steadily, so ∂U/∂t = 0; the ν n·∇×∇×u term is dropped)
+//        corners   φ = Shepard average of the neighbours (eq. 12), the normal being undefined;
+//      the closed domain's singular Neumann problem is regularised by a 1e-6 relative diagonal
+//      shift (a pinned node destabilised its neighbourhood); p is reported relative to its mean;
+//      then u_n = u* − δt/ρ ⟨∇φ⟩ on fluid nodes;
+//   5. divergence checks: NaN, Courant number max|u|δt/Δ, solver residuals; on failure step()
+//      throws DivergenceError and leaves the state of the last good step untouched;
+//   6. Lagrangian advection (eq. 20): x' = x + (3/2 u_n − 1/2 u_{n−1}) δt;
+//   7. reordering (see Reordering): by default every node returns to its lattice place and takes
+//      the velocity interpolated there from the advected cloud (eq. 12); the density-constraint
+//      PBD mode keeps the nodes Lagrangian (experimental).
+//
+// OpenMP parallelises every loop over nodes; reductions add per-thread blocks in order, so a
+// run is bit-identical for a given thread count.
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rheosim/core/rheology.hpp"
+#include "rheosim/ldd/domain.hpp"
+#include "rheosim/ldd/krylov.hpp"
+#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/ldd/operators.hpp"
+
+namespace rheosim::ldd {
+
+// How nodes are reordered after the Lagrangian advection (eq. 20), LDD §3.2:
+//   lattice — every node goes back to its initial lattice place and its velocity is
+//             interpolated there (eq. 12 + gradient correction): the "significant reordering"
+//             case of the seed, taken every step. Node spacing is kept exactly, the operators
+//             are built once. The default, and the mode validated against Ghia et al.
+//   density — position-based dynamics (Macklin & Müller 2013): the nodes stay Lagrangian.
+//             pbd_iterations Jacobi sweeps of the density constraint C_i = ρ_i/ρ₀ − 1
+//             (ρ_i = Σ_j W_ij + W(0), ρ₀ its median on the initial lattice):
+//             Δx_i = s/ρ₀ Σ_j (λ_i + λ_j) ∇W_ij, λ_i = −C_i / Σ_k |∇_k C_i|², plus a
+//             minimum-distance push for pairs closer than pbd_min_distance·Δ, each node's shift
+//             capped at pbd_max_shift·Δ per sweep; walls do not move; fluid nodes are kept
+//             wall_clearance·Δ inside the walls (without velocity into them); velocities follow
+//             the shift to first order, u += ⟨∇u⟩·δx. Experimental: at the lid corners of a
+//             cavity the cloud opens a void/pile-up within ~0.2 L/U and the run diverges
+//             (docs/ldd.md).
+enum class Reordering { lattice, density };
+
+struct SolverParams {
+  double density = 1.0;                          // ρ [kg/m³], > 0
+  std::shared_ptr<const core::Rheology> rheology;  // μ(γ̇), not null
+  Vec2 gravity{0, 0};                            // F_ext/ρ [m/s²]
+  double spacing = 0;                            // Δ [m], > 0
+  double smoothing_ratio = 1.6;                  // h/Δ, [1.2, 3]
+  double time_step = 0;                          // δt [s], > 0
+  double pressure_tolerance = 1e-6;              // BiCGStab relative residual, PPE
+  double velocity_scale = 1.0;                   // U [m/s] and L [m]: the PPE also stops when the
+  double length_scale = 1.0;                     // RMS divergence left is < pressure_tolerance·U/L
+  double velocity_tolerance = 1e-8;              // BiCGStab relative residual, eq. 19
+  int max_iterations = 2000;                     // per linear solve
+  int pbd_iterations = 2;                        // PBD sweeps per step (0: no reordering)
+  double pbd_stiffness = 0.5;                    // s ∈ (0, 1]: fraction of the PBD shift applied
+  double pbd_max_shift = 0.05;                   // per sweep, in units of Δ
+  double pbd_min_distance = 0.6;                 // pairs closer than this (units of Δ) are pushed apart
+  double wall_clearance = 0.5;                   // min fluid-node distance to a wall, units of Δ
+  double max_courant = 1.0;                      // stop when max|u| δt/Δ exceeds this
+  double neighbour_skin = 0.2;                   // search radius h + skin·Δ (PBD moves nodes)
+  Reordering reordering = Reordering::lattice;   // see the header comment, step 7
+  bool direct_pressure_preconditioner = true;    // lattice mode: sparse LU of the PPE as BiCGStab preconditioner
+  bool corrected_interpolation = false;          // lattice mode: eq. 12 + gradient term (2nd order, unstable at Re 1000)
+
+  void check() const;  // throws std::invalid_argument naming the field and its valid range
+};
+
+// Thrown by step() when the solution diverges (NaN, Courant number, failed solves). The solver's
+// state is the last good step's.
+class DivergenceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct StepStats {
+  int pressure_iterations = 0;
+  double pressure_residual = 0;   // relative
+  int velocity_iterations = 0;    // both components
+  double velocity_residual = 0;   // relative, the larger of the two
+  double max_speed = 0;           // [m/s]
+  double courant = 0;             // max|u| δt/Δ
+  double max_divergence = 0;      // max |⟨∇·u⟩| over fluid nodes before the pressure step [1/s]
+  double max_pbd_shift = 0;       // largest PBD displacement this step, in units of Δ
+  std::size_t guarded_nodes = 0;  // nodes using an operator guard (operators.hpp)
+};
+
+// Wall-clock seconds per phase, accumulated over all steps (for the benchmark and summary.json).
+struct PhaseTimes {
+  double neighbours = 0, operators = 0, rheology = 0, pressure = 0, momentum = 0, advection = 0, reordering = 0;
+  [[nodiscard]] double total() const {
+    return neighbours + operators + rheology + pressure + momentum + advection + reordering;
+  }
+};
+
+struct SparseFactorisation;  // sparse LU used as a preconditioner (solver.cpp)
+
+class Solver {
+ public:
+  Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud);
+  ~Solver();
+  Solver(Solver&&) noexcept;
+  Solver& operator=(Solver&&) noexcept;
+
+  // Advances one time step δt. Throws DivergenceError (state unchanged) on divergence.
+  StepStats step();
+
+  [[nodiscard]] double time() const { return time_; }
+  [[nodiscard]] std::size_t steps() const { return steps_; }
+  [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
+  [[nodiscard]] std::size_t fluid_node_count() const;
+  [[nodiscard]] const SolverParams& params() const { return params_; }
+  [[nodiscard]] std::span<const double> positions() const { return positions_; }
+  [[nodiscard]] std::span<const double> velocity() const { return velocity_; }
+  [[nodiscard]] std::span<const double> pressure() const { return pressure_; }
+  [[nodiscard]] std::span<const double> shear_rate() const { return shear_rate_; }
+  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }
+  [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
+  [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
+
+  // Velocity at arbitrary points (interleaved x, y) by Shepard interpolation (eq. 12) with a
+  // first-order gradient correction: ⟨u(x)⟩ = Σ W_j (u_j + ⟨∇u⟩_j·(x − x_j)) / Σ W_j over the
+  // nodes within h of x. Points without a node within h get NaN.
+  [[nodiscard]] std::vector<double> sample_velocity(std::span<const double> points) const;
+  // Kinetic energy per unit depth, Σ ½ ρ |u|² Δ² over fluid nodes [J/m] (a lattice-area estimate).
+  [[nodiscard]] double kinetic_energy() const;
+
+ private:
+  void rebuild_neighbours();
+  void reorder(std::span<const double> velocity_gradient);
+  void keep_inside(std::size_t node, std::span<double> velocity);
+
+  SolverParams params_;
+  std::vector<Wall> walls_;
+  std::vector<NodeKind> kinds_;
+  std::vector<double> normals_, wall_velocities_;
+  std::vector<double> positions_, velocity_, previous_velocity_, pressure_;
+  std::vector<double> shear_rate_, viscosity_;
+  double support_radius_ = 0;
+  double rest_density_ = 0;  // ρ₀ of the PBD constraint (kernel sum, dimensionless)
+  double time_ = 0;
+  std::size_t steps_ = 0;
+  bool first_step_ = true;
+  NeighbourList neighbours_;
+  Operators operators_;
+  bool operators_valid_ = false;
+  std::unique_ptr<SparseFactorisation> pressure_lu_;  // lattice mode only
+  PhaseTimes times_;
+  // Work buffers reused across steps.
+  KrylovWorkspace krylov_;
+  StencilMatrix pressure_matrix_, momentum_matrix_;
+  std::vector<double> velocity_gradient_, viscosity_gradient_, divergence_, rhs_, rhs_y_, pressure_gradient_;
+  std::vector<double> new_velocity_, component_, shift_, increment_;
+  std::vector<double> transpose_stress_divergence_, stress_component_, stress_gradient_;
+};
+
+}  // namespace rheosim::ldd

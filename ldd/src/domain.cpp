@@ -1,0 +1,71 @@
+#include "rheosim/ldd/domain.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace rheosim::ldd {
+
+Vec2 Wall::inward_normal() const {
+  const double tx = end[0] - start[0], ty = end[1] - start[1];
+  const double length = std::hypot(tx, ty);
+  return {-ty / length, tx / length};  // left of start → end
+}
+
+Cavity::Cavity(const core::CavityScene& scene, double spacing)
+    : width_(scene.size[0]),
+      side_(scene.size[1]),
+      angle_(scene.skew_angle > 0 ? scene.skew_angle : std::numbers::pi / 2),
+      lid_velocity_(scene.lid_velocity) {
+  if (!(spacing > 0)) throw std::invalid_argument(fmt::format("cavity: spacing {} m is not > 0", spacing));
+  cells_ = {static_cast<int>(std::lround(width_ / spacing)), static_cast<int>(std::lround(side_ / spacing))};
+  if (cells_[0] < 4 || cells_[1] < 4)
+    throw std::invalid_argument(fmt::format("cavity: spacing {} m leaves {} × {} cells; at least 4 per side are needed",
+                                            spacing, cells_[0], cells_[1]));
+  const Vec2 a = point(0, 0), b = point(1, 0), c = point(1, 1), d = point(0, 1);
+  walls_ = {Wall{a, b, {0, 0}}, Wall{b, c, {0, 0}}, Wall{c, d, {lid_velocity_, 0}}, Wall{d, a, {0, 0}}};
+
+  const int nx = cells_[0], ny = cells_[1];
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      const Vec2 p = point(static_cast<double>(i) / nx, static_cast<double>(j) / ny);
+      cloud_.positions.insert(cloud_.positions.end(), {p[0], p[1]});
+      const bool left = i == 0, right = i == nx, bottom = j == 0, top = j == ny;
+      Vec2 normal{0, 0}, velocity{0, 0};
+      NodeKind kind = NodeKind::fluid;
+      const auto add_normal = [&](const Wall& w) {
+        const Vec2 n = w.inward_normal();
+        normal[0] += n[0];
+        normal[1] += n[1];
+      };
+      if (bottom) add_normal(walls_[0]);
+      if (right) add_normal(walls_[1]);
+      if (top) add_normal(walls_[2]);
+      if (left) add_normal(walls_[3]);
+      const int sides = int{bottom} + int{right} + int{top} + int{left};
+      if (sides == 1) {
+        kind = NodeKind::wall;
+        if (top) velocity = walls_[2].velocity;  // the lid moves; its end points are corners
+      } else if (sides == 2) {
+        kind = NodeKind::corner;  // stationary: the lid's ends belong to the side walls
+      }
+      if (sides > 0) {
+        const double length = std::hypot(normal[0], normal[1]);
+        normal = {normal[0] / length, normal[1] / length};
+      }
+      cloud_.kinds.push_back(kind);
+      cloud_.normals.insert(cloud_.normals.end(), {normal[0], normal[1]});
+      cloud_.wall_velocities.insert(cloud_.wall_velocities.end(), {velocity[0], velocity[1]});
+    }
+}
+
+Vec2 Cavity::point(double xi_fraction, double eta_fraction) const {
+  const double xi = xi_fraction * width_, eta = eta_fraction * side_;
+  return {xi + eta * std::cos(angle_), eta * std::sin(angle_)};
+}
+
+double Cavity::area() const { return width_ * side_ * std::sin(angle_); }
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,164 @@
+#include "rheosim/ldd/operators.hpp"
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace rheosim::ldd {
+namespace {
+
+// Below this fraction of Σ W r² the Laplacian's offset-corrected denominator is treated as
+// cancelled and the offset correction is dropped for the node.
+constexpr double min_laplacian_denominator_fraction = 0.05;
+
+template <int D>
+void build_node(std::size_t i, std::span<const double> x, const NeighbourList& nb, const OperatorSettings& settings,
+                Operators& ops) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+  const double h = settings.support_radius;
+  const Vec xi = Eigen::Map<const Vec>(&x[i * D]);
+  const std::size_t begin = nb.offsets[i];
+  const std::size_t end = nb.offsets[i + 1];
+
+  Mat moment = Mat::Zero();
+  Vec offset = Vec::Zero();
+  for (std::size_t k = begin; k < end; ++k) {
+    const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
+    const double w = weight(xij.norm(), h);
+    ops.weights[k] = w;
+    moment.noalias() += w * xij * xij.transpose();  // eq. 13 (before inversion)
+    offset += w * xij;                              // eq. 16
+  }
+  std::uint8_t guard = 0;
+  Mat b;
+  const Eigen::SelfAdjointEigenSolver<Mat> eigen(moment);
+  const double lambda_max = eigen.eigenvalues().maxCoeff();
+  const double lambda_min = eigen.eigenvalues().minCoeff();
+  if (lambda_max > 0 && lambda_min >= settings.min_moment_rcond * lambda_max) {
+    b = moment.inverse();  // eq. 13
+  } else {
+    // Near-singular: pseudo-inverse on the well-determined directions only. The gradient stays
+    // exact along the directions the neighbours span and is zero across them.
+    guard |= 1U;
+    Vec inverse_eigenvalues = Vec::Zero();
+    for (int d = 0; d < D; ++d)
+      if (lambda_max > 0 && eigen.eigenvalues()[d] >= settings.min_moment_rcond * lambda_max)
+        inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
+    b = eigen.eigenvectors() * inverse_eigenvalues.asDiagonal() * eigen.eigenvectors().transpose();
+  }
+  const Vec b_offset = b * offset;
+
+  double denominator = 0, plain_denominator = 0;
+  for (std::size_t k = begin; k < end; ++k) {
+    const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
+    const double w = ops.weights[k];
+    Eigen::Map<Vec>(&ops.gradient[k * D]) = w * (b * xij);  // eq. 14 coefficient
+    const double r2 = xij.squaredNorm();
+    denominator += w * r2 * (1.0 - xij.dot(b_offset));
+    plain_denominator += w * r2;
+  }
+  const bool use_offset = denominator > min_laplacian_denominator_fraction * plain_denominator;
+  if (!use_offset && plain_denominator > 0) guard |= 2U;
+  const double scale_denominator = use_offset ? denominator : plain_denominator;
+  const double scale = scale_denominator > 0 ? 2.0 * D / scale_denominator : 0.0;
+  for (std::size_t k = begin; k < end; ++k) {
+    const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
+    const double factor = use_offset ? 1.0 - xij.dot(b_offset) : 1.0;
+    ops.laplacian[k] = scale * ops.weights[k] * factor;  // eq. 15 coefficient of f_ij
+  }
+  Eigen::Map<Vec>(&ops.offset[i * D]) = offset;
+  ops.guarded[i] = guard;
+}
+
+void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
+                 std::size_t out_size, std::size_t out_stride, const char* what) {
+  const std::size_t n = nb.node_count();
+  if (ops.node_count() != n || f_size != n * f_stride || out_size != n * out_stride)
+    throw std::invalid_argument(fmt::format("{}: sizes do not match the {} nodes of the neighbour list", what, n));
+}
+
+}  // namespace
+
+std::size_t Operators::guarded_count() const {
+  return static_cast<std::size_t>(std::count_if(guarded.begin(), guarded.end(), [](std::uint8_t g) { return g != 0; }));
+}
+
+Operators build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
+                          const OperatorSettings& settings) {
+  if (dimension != 2 && dimension != 3)
+    throw std::invalid_argument(fmt::format("build_operators: dimension = {}, expected 2 or 3", dimension));
+  if (!(settings.support_radius > 0))
+    throw std::invalid_argument(fmt::format("build_operators: support radius {} is not > 0", settings.support_radius));
+  const auto dim = static_cast<std::size_t>(dimension);
+  const std::size_t n = neighbours.node_count();
+  if (positions.size() != n * dim)
+    throw std::invalid_argument(
+        fmt::format("build_operators: {} coordinates for {} nodes in {}D", positions.size(), n, dimension));
+  Operators ops;
+  ops.dimension = dimension;
+  ops.weights.resize(neighbours.pair_count());
+  ops.gradient.resize(neighbours.pair_count() * dim);
+  ops.laplacian.resize(neighbours.pair_count());
+  ops.offset.resize(n * dim);
+  ops.guarded.resize(n);
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    if (dimension == 2)
+      build_node<2>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
+    else
+      build_node<3>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
+  }
+  return ops;
+}
+
+void gradient(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {
+  const auto dim = static_cast<std::size_t>(ops.dimension);
+  check_sizes(nb, ops, f.size(), 1, out.size(), dim, "gradient");
+  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double g[3] = {0, 0, 0};
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const double fij = f[nb.indices[k]] - f[i];
+      for (std::size_t d = 0; d < dim; ++d) g[d] += ops.gradient[k * dim + d] * fij;
+    }
+    for (std::size_t d = 0; d < dim; ++d) out[i * dim + d] = g[d];
+  }
+}
+
+void divergence(const NeighbourList& nb, const Operators& ops, std::span<const double> v, std::span<double> out) {
+  const auto dim = static_cast<std::size_t>(ops.dimension);
+  check_sizes(nb, ops, v.size(), dim, out.size(), 1, "divergence");
+  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double sum = 0;
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      for (std::size_t d = 0; d < dim; ++d) sum += ops.gradient[k * dim + d] * (v[j * dim + d] - v[i * dim + d]);
+    }
+    out[i] = sum;
+  }
+}
+
+void laplacian(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {
+  check_sizes(nb, ops, f.size(), 1, out.size(), 1, "laplacian");
+  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double sum = 0;
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) sum += ops.laplacian[k] * (f[nb.indices[k]] - f[i]);
+    out[i] = sum;
+  }
+}
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,379 @@
+#include "rheosim/ldd/run.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/progress.hpp"
+#include "rheosim/core/version.hpp"
+#include "rheosim/ldd/domain.hpp"
+#include "rheosim/ldd/solver.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+constexpr int probe_count = 101;      // points per centre line
+constexpr int field_grid_points = 101; // structured output grid per direction
+constexpr double blow_up_residual = 1e3;
+
+struct Centerlines {
+  std::vector<double> y, u;  // vertical line: η/S, u/U
+  std::vector<double> x, v;  // horizontal line: ξ/W, v/U
+};
+
+std::vector<double> probe_points(const Cavity& cavity) {
+  std::vector<double> points;
+  for (int k = 0; k < probe_count; ++k) {
+    const double f = static_cast<double>(k) / (probe_count - 1);
+    const Vec2 p = cavity.point(0.5, f);
+    points.insert(points.end(), {p[0], p[1]});
+  }
+  for (int k = 0; k < probe_count; ++k) {
+    const double f = static_cast<double>(k) / (probe_count - 1);
+    const Vec2 p = cavity.point(f, 0.5);
+    points.insert(points.end(), {p[0], p[1]});
+  }
+  return points;
+}
+
+Centerlines sample_centerlines(const Solver& solver, const Cavity& cavity) {
+  const auto values = solver.sample_velocity(probe_points(cavity));
+  const double lid = cavity.lid_velocity() != 0 ? cavity.lid_velocity() : 1.0;
+  Centerlines c;
+  for (int k = 0; k < probe_count; ++k) {
+    const double f = static_cast<double>(k) / (probe_count - 1);
+    const auto kk = static_cast<std::size_t>(k);
+    c.y.push_back(f);
+    c.u.push_back(values[2 * kk] / lid);
+    c.x.push_back(f);
+    c.v.push_back(values[2 * (kk + probe_count) + 1] / lid);
+  }
+  return c;
+}
+
+double residual_between(const Centerlines& a, const Centerlines& b, double interval, const Cavity& cavity) {
+  const double lid = std::abs(cavity.lid_velocity()) > 0 ? std::abs(cavity.lid_velocity()) : 1.0;
+  double change = 0;
+  for (std::size_t k = 0; k < a.u.size(); ++k) {
+    change = std::max({change, std::abs(a.u[k] - b.u[k]), std::abs(a.v[k] - b.v[k])});
+    if (!std::isfinite(a.u[k]) || !std::isfinite(a.v[k])) return std::numeric_limits<double>::infinity();
+  }
+  const double convective_time = cavity.width() / lid;
+  return change / (interval / convective_time);
+}
+
+void write_field(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir,
+                 const std::filesystem::path& grid_file, bool with_plot_data);
+
+// One frame: the node cloud (frames/nodes_NNNN.vtk) and the resampled field with the stream
+// function (frames/field_NNNN.vtk, for streamlines). Returns the node file, relative to dir.
+std::filesystem::path write_frame(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir, int index) {
+  write_field(s, cavity, dir, std::filesystem::path("frames") / fmt::format("field_{:04d}.vtk", index), false);
+  const auto name = std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
+  std::vector<double> kind(s.node_count());
+  for (std::size_t i = 0; i < kind.size(); ++i) kind[i] = static_cast<double>(s.kinds()[i]);
+  core::write_vtk_points(dir / name, s.positions(),
+                         {{"velocity", 2, s.velocity()},
+                          {"pressure", 1, s.pressure()},
+                          {"shear_rate", 1, s.shear_rate()},
+                          {"viscosity", 1, s.viscosity()},
+                          {"kind", 1, kind}},
+                         2);
+  return name;
+}
+
+void write_frame_indexes(const std::filesystem::path& dir, const std::vector<core::TimeSeriesEntry>& entries) {
+  std::vector<core::TimeSeriesEntry> beside_frames = entries;  // the series files sit in frames/
+  for (auto& e : beside_frames) e.file = e.file.filename();
+  core::write_vtk_series(dir / "frames" / "nodes.vtk.series", beside_frames);
+  for (auto& e : beside_frames) e.file = "field" + e.file.string().substr(std::string("nodes").size());
+  core::write_vtk_series(dir / "frames" / "field.vtk.series", beside_frames);
+  core::write_pvd(dir / "nodes.pvd", entries);
+}
+
+// Velocity and stream function ψ (∂ψ/∂y = u, ∂ψ/∂x = −v; ψ = 0 on the walls) on a structured
+// grid in cavity coordinates. ψ is integrated along η from the bottom wall (trapezoid rule).
+// Writes `grid_file` (relative to dir); with `with_plot_data` also psi.dat for gnuplot.
+void write_field(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir,
+                 const std::filesystem::path& grid_file, bool with_plot_data) {
+  const int m = field_grid_points;
+  std::vector<double> points;
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      const Vec2 p = cavity.point(static_cast<double>(i) / (m - 1), static_cast<double>(j) / (m - 1));
+      points.insert(points.end(), {p[0], p[1]});
+    }
+  std::vector<double> velocity = s.sample_velocity(points);
+  for (double& v : velocity)
+    if (!std::isfinite(v)) v = 0.0;
+  const auto mm = static_cast<std::size_t>(m);
+  std::vector<double> psi(mm * mm, 0.0);
+  const double step = cavity.side_length() / (m - 1);
+  const double dx = std::cos(cavity.skew_angle()) * step, dy = std::sin(cavity.skew_angle()) * step;
+  for (std::size_t j = 1; j < mm; ++j)
+    for (std::size_t i = 0; i < mm; ++i) {
+      const std::size_t a = (j - 1) * mm + i, b = j * mm + i;
+      const double u = 0.5 * (velocity[2 * a] + velocity[2 * b]), v = 0.5 * (velocity[2 * a + 1] + velocity[2 * b + 1]);
+      psi[b] = psi[a] + u * dy - v * dx;
+    }
+  core::write_vtk_structured_grid(dir / grid_file, {mm, mm, 1}, points, {{"velocity", 2, velocity}, {"psi", 1, psi}},
+                                  {}, 2);
+  if (!with_plot_data) return;
+  core::write_atomically(dir / "psi.dat", [&](std::ostream& os) {
+    os << "# x y psi [m²/s], blocks of constant η for gnuplot\n";
+    for (std::size_t j = 0; j < mm; ++j) {
+      for (std::size_t i = 0; i < mm; ++i)
+        os << points[2 * (j * mm + i)] << ' ' << points[2 * (j * mm + i) + 1] << ' ' << psi[j * mm + i] << '\n';
+      os << '\n';
+    }
+  });
+}
+
+void write_plots(const std::filesystem::path& dir, const std::string& title, const core::Log& log) {
+  core::write_atomically(dir / "centerlines.gp", [&](std::ostream& os) {
+    os << "# Centre-line velocity profiles of an LDD cavity run (rheosim). Regenerate: gnuplot centerlines.gp\n"
+          "set terminal pngcairo size 1100,500 noenhanced\nset output 'centerlines.png'\n"
+          "set datafile separator ','\nset key autotitle columnhead\nset grid\nset multiplot layout 1,2 title '"
+       << title
+       << "'\n"
+          "set xlabel 'u / U'\nset ylabel 'y / S (vertical centre line)'\n"
+          "plot 'centerline_vertical.csv' using 2:1 with lines lw 2 title 'LDD'\n"
+          "set xlabel 'x / W (horizontal centre line)'\nset ylabel 'v / U'\n"
+          "plot 'centerline_horizontal.csv' using 1:2 with lines lw 2 title 'LDD'\n"
+          "unset multiplot\n";
+  });
+  core::write_atomically(dir / "streamlines.gp", [&](std::ostream& os) {
+    os << "# Streamlines (contours of the stream function psi). Regenerate: gnuplot streamlines.gp\n"
+          "set terminal pngcairo size 600,600 noenhanced\nset output 'streamlines.png'\n"
+          "set title '"
+       << title
+       << " — streamlines'\nset view map\nunset surface\nset contour base\n"
+          "set cntrparam levels 24\n"
+          "set size ratio -1\nunset key\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n"
+          "splot 'psi.dat' using 1:2:3 with lines lc rgb 'black'\n";
+  });
+  for (const char* script : {"centerlines.gp", "streamlines.gp"}) {
+    const std::string command = fmt::format("cd '{}' && gnuplot {} > gnuplot.log 2>&1", dir.string(), script);
+    if (std::system(command.c_str()) != 0)
+      log.warn("gnuplot failed or is missing (see {}); {} is kept to plot by hand", (dir / "gnuplot.log").string(), script);
+  }
+}
+
+}  // namespace
+
+RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
+  const auto& l = std::get<core::LddCase>(c.spec);
+  const auto* scene = std::get_if<core::CavityScene>(&l.scene);
+  if (!scene)
+    throw core::RunError(fmt::format("the LDD '{}' scene is not built yet (only cavity and skewed_cavity); nothing was run",
+                                     l.scene_type));
+  const auto wall_start = std::chrono::steady_clock::now();
+  if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
+  const int threads = omp_get_max_threads();
+  std::filesystem::create_directories(out_dir / "frames");
+  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+
+  const Cavity cavity(*scene, l.spacing);
+  SolverParams params;
+  params.density = l.fluid.density;
+  params.rheology = l.fluid.rheology;
+  params.gravity = {l.gravity.at(0), l.gravity.at(1)};
+  params.spacing = l.spacing;
+  params.smoothing_ratio = l.smoothing_ratio;
+  params.time_step = l.time_step;
+  params.pressure_tolerance = l.solver.pressure_tolerance;
+  params.velocity_tolerance = l.solver.velocity_tolerance;
+  params.max_iterations = l.solver.max_iterations;
+  params.max_courant = l.solver.max_courant;
+  params.reordering = l.solver.reordering == "density" ? Reordering::density : Reordering::lattice;
+  params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;
+  params.length_scale = cavity.width();
+  Solver solver(params, cavity.walls(), cavity.initial_cloud());
+
+  const double reynolds = l.fluid.density * params.velocity_scale * cavity.width() / l.fluid.rheology->viscosity(
+                                                                                           params.velocity_scale / cavity.width());
+  log.info("LDD {}: {} nodes ({} fluid), Δ = {} m, δt = {} s, {} threads, Re(U/L) ≈ {:.4g}", l.scene_type,
+           solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads, reynolds);
+
+  const auto total_steps = static_cast<std::size_t>(std::llround(l.end_time / l.time_step));
+  const auto steps_for = [&](double interval, double fallback) {
+    const double t = interval > 0 ? interval : fallback;
+    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(t / l.time_step)));
+  };
+  const std::size_t frame_every = steps_for(l.output.frame_interval, l.end_time / 20);
+  const std::size_t probe_every = steps_for(l.output.probe_interval, l.end_time / 200);
+
+  core::CsvTable history({{"time", "s"},
+                          {"residual", ""},
+                          {"kinetic_energy", "J/m"},
+                          {"pressure_iterations", ""},
+                          {"velocity_iterations", ""},
+                          {"max_divergence", "1/s"},
+                          {"courant", ""}});
+  std::vector<core::TimeSeriesEntry> frames;
+  frames.push_back({0.0, write_frame(solver, cavity, out_dir, 0)});
+  Centerlines last = sample_centerlines(solver, cavity);
+  double last_probe_time = 0;
+  RunOutcome outcome;
+  outcome.status = "end_time";
+  int quiet_probes = 0;
+  double step_seconds = 0;
+  core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
+  StepStats stats;
+  for (std::size_t k = 1; k <= total_steps; ++k) {
+    const auto step_start = std::chrono::steady_clock::now();
+    try {
+      stats = solver.step();
+    } catch (const DivergenceError& e) {
+      outcome.status = "diverged";
+      outcome.message = e.what();
+    }
+    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start).count();
+    if (outcome.status == "diverged") break;
+    if (k % probe_every == 0 || k == total_steps) {
+      const Centerlines now = sample_centerlines(solver, cavity);
+      const double residual = residual_between(now, last, solver.time() - last_probe_time, cavity);
+      history.add_row({solver.time(), residual, solver.kinetic_energy(), static_cast<double>(stats.pressure_iterations),
+                       static_cast<double>(stats.velocity_iterations), stats.max_divergence, stats.courant});
+      last = now;
+      last_probe_time = solver.time();
+      progress.update(k, fmt::format("t {:.3f} s, residual {:.2e}", solver.time(), residual));
+      if (!(residual < blow_up_residual)) {
+        outcome.status = "diverged";
+        outcome.message = fmt::format("steady-state residual {:.3g} at t = {:.6g} s (blow-up limit {:g})", residual,
+                                      solver.time(), blow_up_residual);
+        break;
+      }
+      quiet_probes = (l.steady_tolerance > 0 && residual < l.steady_tolerance) ? quiet_probes + 1 : 0;
+      if (quiet_probes >= 3) {
+        outcome.status = "steady";
+        break;
+      }
+    }
+    if (k % frame_every == 0) {
+      frames.push_back({solver.time(), write_frame(solver, cavity, out_dir, static_cast<int>(frames.size()))});
+      write_frame_indexes(out_dir, frames);
+    }
+  }
+  if (outcome.status == "diverged") {
+    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame.", outcome.message,
+              solver.time());
+  } else {
+    progress.finish();
+  }
+  if (frames.back().time != solver.time() || outcome.status == "diverged")
+    frames.push_back({solver.time(), write_frame(solver, cavity, out_dir, static_cast<int>(frames.size()))});
+  write_frame_indexes(out_dir, frames);
+
+  const Centerlines final_lines = sample_centerlines(solver, cavity);
+  core::CsvTable vertical({{"y", ""}, {"u", ""}}), horizontal({{"x", ""}, {"v", ""}});
+  nlohmann::ordered_json vertical_json = nlohmann::ordered_json::array(), horizontal_json = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < final_lines.y.size(); ++k) {
+    vertical.add_row({final_lines.y[k], final_lines.u[k]});
+    horizontal.add_row({final_lines.x[k], final_lines.v[k]});
+    vertical_json.push_back({{"y", final_lines.y[k]}, {"u", final_lines.u[k]}});
+    horizontal_json.push_back({{"x", final_lines.x[k]}, {"v", final_lines.v[k]}});
+  }
+  core::write_csv(out_dir / "centerline_vertical.csv", vertical);
+  core::write_csv(out_dir / "centerline_horizontal.csv", horizontal);
+  core::write_csv(out_dir / "residual.csv", history);
+  write_field(solver, cavity, out_dir, "field.vtk", true);
+
+  outcome.steps = solver.steps();
+  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * step_seconds / static_cast<double>(solver.steps()) : 0.0;
+  const PhaseTimes& t = solver.phase_times();
+  nlohmann::ordered_json summary;
+  summary["case"] = c.name;
+  summary["kind"] = c.kind();
+  summary["scene"] = l.scene_type;
+  summary["rheosim_version"] = core::version;
+  summary["git_revision"] = core::git_revision;
+  summary["input_sha256"] = c.sha256;
+  summary["status"] = outcome.status;
+  if (!outcome.message.empty()) summary["message"] = outcome.message;
+  summary["nodes"] = solver.node_count();
+  summary["fluid_nodes"] = solver.fluid_node_count();
+  summary["spacing"] = l.spacing;
+  summary["time_step"] = l.time_step;
+  summary["steps"] = solver.steps();
+  summary["time"] = solver.time();
+  summary["threads"] = threads;
+  summary["ms_per_step"] = outcome.ms_per_step;
+  summary["phase_seconds"] = {{"neighbours", t.neighbours}, {"operators", t.operators}, {"rheology", t.rheology},
+                              {"pressure", t.pressure},     {"momentum", t.momentum},   {"advection", t.advection},
+                              {"reordering", t.reordering}};
+  summary["reynolds_number"] = reynolds;
+  summary["final_residual"] = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
+  summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  summary["centerlines"] = {{"vertical", vertical_json}, {"horizontal", horizontal_json}};
+  core::write_json(out_dir / "summary.json", summary);
+  write_plots(out_dir, fmt::format("{} ({} nodes, t = {:.3g} s)", c.name, solver.node_count(), solver.time()), log);
+  outcome.summary = out_dir / "summary.json";
+  log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step; summary: {}", outcome.status, outcome.steps,
+           solver.time(), outcome.ms_per_step, outcome.summary.string());
+  return outcome;
+}
+
+CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams& params, double end_time,
+                             double steady_tolerance, std::span<const double> probe_fractions) {
+  const Cavity cavity(scene, params.spacing);
+  Solver solver(params, cavity.walls(), cavity.initial_cloud());
+  std::vector<double> probes;
+  for (std::size_t k = 0; k + 1 < probe_fractions.size(); k += 2) {
+    const Vec2 p = cavity.point(probe_fractions[k], probe_fractions[k + 1]);
+    probes.insert(probes.end(), {p[0], p[1]});
+  }
+  const double lid = std::abs(scene.lid_velocity) > 0 ? std::abs(scene.lid_velocity) : 1.0;
+  const double convective_time = cavity.width() / lid;
+  const auto total_steps = static_cast<std::size_t>(std::llround(end_time / params.time_step));
+  const auto probe_every =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(0.25 * convective_time / params.time_step)));
+  CavityResult result;
+  result.nodes = solver.node_count();
+  std::vector<double> last = solver.sample_velocity(probes);
+  double last_time = 0, seconds = 0;
+  int quiet = 0;
+  for (std::size_t k = 1; k <= total_steps; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      solver.step();
+    } catch (const DivergenceError& e) {
+      result.diverged = true;
+      result.message = e.what();
+    }
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (result.diverged) break;
+    if (k % probe_every != 0) continue;
+    const std::vector<double> now = solver.sample_velocity(probes);
+    double change = 0;
+    for (std::size_t i = 0; i < now.size(); ++i) change = std::max(change, std::abs(now[i] - last[i]) / lid);
+    result.final_residual = change / ((solver.time() - last_time) / convective_time);
+    last = now;
+    last_time = solver.time();
+    if (!(result.final_residual < blow_up_residual)) {
+      result.diverged = true;
+      result.message = fmt::format("steady-state residual {:.3g} at t = {:.6g} s", result.final_residual, solver.time());
+      break;
+    }
+    quiet = (steady_tolerance > 0 && result.final_residual < steady_tolerance) ? quiet + 1 : 0;
+    if (quiet >= 3) break;
+  }
+  result.steps = solver.steps();
+  result.time = solver.time();
+  result.ms_per_step = result.steps > 0 ? 1e3 * seconds / static_cast<double>(result.steps) : 0.0;
+  result.probe_velocity = solver.sample_velocity(probes);
+  result.phases = solver.phase_times();
+  return result;
+}
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,637 @@
+#include "rheosim/ldd/solver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <utility>
+
+#include <Eigen/SparseLU>
+#include <fmt/format.h>
+
+namespace rheosim::ldd {
+
+// The lattice mode's PPE matrix never changes (operators are built once and it does not depend
+// on μ), so one sparse LU factorisation serves as an exact preconditioner for every step: the
+// matrix-free BiCGStab then converges in one or two iterations.
+struct SparseFactorisation {
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void require(bool ok, const char* field, double value, const char* range) {
+  if (!ok) throw std::invalid_argument(fmt::format("LDD solver: {} = {} is out of range, expected {}", field, value, range));
+}
+
+bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
+
+// Sparse LU of a stencil matrix; null when the factorisation fails.
+std::unique_ptr<SparseFactorisation> factorise(const StencilMatrix& a) {
+  const NeighbourList& nb = *a.pattern;
+  const std::size_t n = a.size();
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(n + nb.pair_count());
+  for (std::size_t i = 0; i < n; ++i) {
+    entries.emplace_back(static_cast<int>(i), static_cast<int>(i), a.diagonal[i]);
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
+      if (a.off_diagonal[k] != 0.0)
+        entries.emplace_back(static_cast<int>(i), static_cast<int>(nb.indices[k]), a.off_diagonal[k]);
+  }
+  Eigen::SparseMatrix<double> matrix(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  matrix.setFromTriplets(entries.begin(), entries.end());
+  auto f = std::make_unique<SparseFactorisation>();
+  f->lu.compute(matrix);
+  if (f->lu.info() != Eigen::Success) return nullptr;
+  return f;
+}
+
+std::function<void(std::span<const double>, std::span<double>)> lu_preconditioner(const SparseFactorisation* lu) {
+  return [lu](std::span<const double> r, std::span<double> z) {
+    const Eigen::Map<const Eigen::VectorXd> in(r.data(), static_cast<Eigen::Index>(r.size()));
+    Eigen::Map<Eigen::VectorXd>(z.data(), static_cast<Eigen::Index>(z.size())) = lu->lu.solve(in);
+  };
+}
+
+// Relative diagonal shift regularising the closed domain's singular pressure problem.
+constexpr double pressure_regularisation = 1e-6;
+
+}  // namespace
+
+void SolverParams::check() const {
+  require(density > 0, "density", density, "> 0 kg/m³");
+  if (!rheology) throw std::invalid_argument("LDD solver: no rheology law");
+  require(spacing > 0, "spacing", spacing, "> 0 m");
+  require(smoothing_ratio >= 1.2 && smoothing_ratio <= 3.0, "smoothing_ratio", smoothing_ratio, "[1.2, 3]");
+  require(time_step > 0, "time_step", time_step, "> 0 s");
+  require(pressure_tolerance > 0 && pressure_tolerance < 1, "pressure_tolerance", pressure_tolerance, "(0, 1)");
+  require(velocity_tolerance > 0 && velocity_tolerance < 1, "velocity_tolerance", velocity_tolerance, "(0, 1)");
+  require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
+  require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
+  require(pbd_stiffness > 0 && pbd_stiffness <= 1, "pbd_stiffness", pbd_stiffness, "(0, 1]");
+  require(pbd_max_shift > 0 && pbd_max_shift <= 0.5, "pbd_max_shift", pbd_max_shift, "(0, 0.5]");
+  require(pbd_min_distance >= 0 && pbd_min_distance < 1, "pbd_min_distance", pbd_min_distance, "[0, 1)");
+  require(wall_clearance > 0 && wall_clearance < 1, "wall_clearance", wall_clearance, "(0, 1)");
+  require(velocity_scale > 0, "velocity_scale", velocity_scale, "> 0 m/s");
+  require(length_scale > 0, "length_scale", length_scale, "> 0 m");
+  require(max_courant > 0, "max_courant", max_courant, "> 0");
+  require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
+}
+
+Solver::Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud)
+    : params_(std::move(params)),
+      walls_(std::move(walls)),
+      kinds_(std::move(cloud.kinds)),
+      normals_(std::move(cloud.normals)),
+      wall_velocities_(std::move(cloud.wall_velocities)),
+      positions_(std::move(cloud.positions)) {
+  params_.check();
+  const std::size_t n = kinds_.size();
+  if (positions_.size() != 2 * n || normals_.size() != 2 * n || wall_velocities_.size() != 2 * n)
+    throw std::invalid_argument("LDD solver: node cloud arrays have inconsistent sizes");
+  support_radius_ = params_.smoothing_ratio * params_.spacing;
+  velocity_.assign(2 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!is_fluid(kinds_[i])) {
+      velocity_[2 * i] = wall_velocities_[2 * i];
+      velocity_[2 * i + 1] = wall_velocities_[2 * i + 1];
+    }
+  previous_velocity_ = velocity_;
+  pressure_.assign(n, 0.0);
+  shear_rate_.assign(n, 0.0);
+  viscosity_.assign(n, params_.rheology->viscosity(0.0));
+  rebuild_neighbours();
+
+  // PBD rest density ρ₀: the kernel sum of the initial lattice's fluid nodes (median, so the
+  // few near-corner nodes do not matter).
+  std::vector<double> densities;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!is_fluid(kinds_[i])) continue;
+    double rho = weight(0.0, support_radius_);
+    for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1]; ++k)
+      rho += weight(neighbours_.distances[k], support_radius_);
+    densities.push_back(rho);
+  }
+  if (densities.empty()) throw std::invalid_argument("LDD solver: the cloud has no fluid nodes");
+  std::nth_element(densities.begin(), densities.begin() + static_cast<std::ptrdiff_t>(densities.size() / 2), densities.end());
+  rest_density_ = densities[densities.size() / 2];
+}
+
+Solver::~Solver() = default;
+Solver::Solver(Solver&&) noexcept = default;
+Solver& Solver::operator=(Solver&&) noexcept = default;
+
+std::size_t Solver::fluid_node_count() const {
+  return static_cast<std::size_t>(std::count(kinds_.begin(), kinds_.end(), NodeKind::fluid));
+}
+
+void Solver::rebuild_neighbours() {
+  neighbours_ = find_neighbours(positions_, 2, support_radius_ + params_.neighbour_skin * params_.spacing);
+}
+
+StepStats Solver::step() {
+  const std::size_t n = kinds_.size();
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  const double dt = params_.time_step, rho = params_.density;
+  const NeighbourList& nb = neighbours_;
+  StepStats stats;
+
+  // 1. Operators (eqs. 13–16) on the current cloud.
+  auto t0 = Clock::now();
+  if (!operators_valid_) {
+    operators_ = build_operators(positions_, 2, nb, OperatorSettings{support_radius_});
+    operators_valid_ = true;
+  }
+  const Operators& ops = operators_;
+  stats.guarded_nodes = ops.guarded_count();
+  times_.operators += seconds_since(t0);
+
+  // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇), ∇μ, ∇·u.
+  t0 = Clock::now();
+  velocity_gradient_.resize(4 * n);  // per node: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y
+  divergence_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double g[4] = {0, 0, 0, 0};
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      const double du = velocity_[2 * j] - velocity_[2 * i], dv = velocity_[2 * j + 1] - velocity_[2 * i + 1];
+      const double cx = ops.gradient[2 * k], cy = ops.gradient[2 * k + 1];
+      g[0] += cx * du;
+      g[1] += cy * du;
+      g[2] += cx * dv;
+      g[3] += cy * dv;
+    }
+    for (int d = 0; d < 4; ++d) velocity_gradient_[4 * i + static_cast<std::size_t>(d)] = g[d];
+    const double shear_xy = 0.5 * (g[1] + g[2]);
+    shear_rate_[i] = std::sqrt(2.0 * (g[0] * g[0] + g[3] * g[3] + 2.0 * shear_xy * shear_xy));  // eq. 5
+  }
+  params_.rheology->viscosity(shear_rate_, viscosity_);
+  viscosity_gradient_.resize(2 * n);
+  gradient(nb, ops, viscosity_, viscosity_gradient_);
+  // ∇·(μ(∇u)ᵀ): x row = ∂x(μ ∂u/∂x) + ∂y(μ ∂v/∂x), y row = ∂x(μ ∂u/∂y) + ∂y(μ ∂v/∂y).
+  transpose_stress_divergence_.assign(2 * n, 0.0);
+  stress_component_.resize(n);
+  stress_gradient_.resize(2 * n);
+  for (std::size_t c = 0; c < 4; ++c) {  // c: 0 μu_x, 1 μu_y, 2 μv_x, 3 μv_y
+    for (std::size_t i = 0; i < n; ++i) stress_component_[i] = viscosity_[i] * velocity_gradient_[4 * i + c];
+    gradient(nb, ops, stress_component_, stress_gradient_);
+    const std::size_t row = (c == 0 || c == 2) ? 0 : 1;        // ∂/∂x of u or v → x row
+    const std::size_t direction = (c == 0 || c == 1) ? 0 : 1;  // derivative of the u or v entry
+    for (std::size_t i = 0; i < n; ++i) transpose_stress_divergence_[2 * i + row] += stress_gradient_[2 * i + direction];
+  }
+  times_.rheology += seconds_since(t0);
+
+  // 3. Semi-implicit momentum (eq. 19) with the previous pressure, one solve per component:
+  //    ρ u* − δt μ⟨∇²u*⟩ = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + F_ext + 2E⟨∇μ⟩); no-slip Dirichlet rows.
+  t0 = Clock::now();
+  pressure_gradient_.resize(2 * n);
+  gradient(nb, ops, pressure_, pressure_gradient_);
+  momentum_matrix_.pattern = &nb;
+  momentum_matrix_.diagonal.resize(n);
+  momentum_matrix_.off_diagonal.resize(nb.pair_count());
+  rhs_.resize(n);
+  rhs_y_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    if (kinds_[i] != NodeKind::fluid) {  // no-slip Dirichlet row
+      for (std::size_t k = begin; k < end; ++k) momentum_matrix_.off_diagonal[k] = 0.0;
+      momentum_matrix_.diagonal[i] = 1.0;
+      rhs_[i] = wall_velocities_[2 * i];
+      rhs_y_[i] = wall_velocities_[2 * i + 1];
+      continue;
+    }
+    // Implicit ∇·(μ∇u) with the pair viscosity ½(μ_i + μ_j) on the eq. 15 coefficients.
+    double sum = 0;
+    for (std::size_t k = begin; k < end; ++k) {
+      const double coefficient = dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
+      momentum_matrix_.off_diagonal[k] = -coefficient;
+      sum += coefficient;
+    }
+    momentum_matrix_.diagonal[i] = rho + sum;
+    // Explicit ∇·(μ(∇u)ᵀ) (eq. 14 on each component): with ∇·u = 0 this is eq. 18's 2E∇μ − μ∇²u
+    // + ∇·(μ∇u), i.e. the explicit remainder of ∇·τ.
+    const double fx = transpose_stress_divergence_[2 * i], fy = transpose_stress_divergence_[2 * i + 1];
+    rhs_[i] = rho * velocity_[2 * i] + dt * (-pressure_gradient_[2 * i] + rho * params_.gravity[0] + fx);
+    rhs_y_[i] = rho * velocity_[2 * i + 1] + dt * (-pressure_gradient_[2 * i + 1] + rho * params_.gravity[1] + fy);
+  }
+  new_velocity_.resize(2 * n);
+  component_.resize(n);
+  const KrylovSettings velocity_settings{params_.velocity_tolerance, 1e-300, params_.max_iterations, {}};
+  // Jacobi: a sparse LU of an earlier step's momentum matrix as preconditioner was measured
+  // slower (μ(γ̇) changes too fast early in a run; each LU solve costs ~10 Jacobi iterations).
+  double velocity_residual = 0;
+  bool velocity_converged = true;
+  for (std::size_t d = 0; d < 2; ++d) {
+    for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[2 * i + d];
+    const auto result = bicgstab(momentum_matrix_, d == 0 ? rhs_ : rhs_y_, component_, velocity_settings, krylov_);
+    stats.velocity_iterations += result.iterations;
+    velocity_residual = std::max(velocity_residual, result.relative_residual);
+    velocity_converged = velocity_converged && result.converged;
+    for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
+  }
+  stats.velocity_residual = velocity_residual;
+  times_.momentum += seconds_since(t0);
+
+  // 4. Pressure Poisson equation (eq. 17) for the increment φ = p_n − p_{n−1}:
+  //    interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, walls n·⟨∇φ⟩ = ρ n·F_ext − n·⟨∇p_{n−1}⟩, corners Shepard;
+  //    then u_n = u* − δt/ρ ⟨∇φ⟩ on fluid nodes.
+  t0 = Clock::now();
+  divergence(nb, ops, new_velocity_, divergence_);
+  pressure_matrix_.pattern = &nb;
+  pressure_matrix_.diagonal.resize(n);
+  pressure_matrix_.off_diagonal.resize(nb.pair_count());
+  double max_divergence = 0;
+#pragma omp parallel for schedule(static) reduction(max : max_divergence)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    double sum = 0;
+    if (kinds_[i] == NodeKind::fluid) {
+      for (std::size_t k = begin; k < end; ++k) {
+        pressure_matrix_.off_diagonal[k] = ops.laplacian[k];
+        sum += ops.laplacian[k];
+      }
+      pressure_matrix_.diagonal[i] = -sum;
+      rhs_[i] = rho / dt * divergence_[i];
+      max_divergence = std::max(max_divergence, std::abs(divergence_[i]));
+    } else if (kinds_[i] == NodeKind::wall) {
+      const double nx = normals_[2 * i], ny = normals_[2 * i + 1];
+      for (std::size_t k = begin; k < end; ++k) {
+        const double c = nx * ops.gradient[2 * k] + ny * ops.gradient[2 * k + 1];
+        pressure_matrix_.off_diagonal[k] = c;
+        sum += c;
+      }
+      pressure_matrix_.diagonal[i] = -sum;
+      rhs_[i] = rho * (nx * params_.gravity[0] + ny * params_.gravity[1]) -
+                (nx * pressure_gradient_[2 * i] + ny * pressure_gradient_[2 * i + 1]);
+    } else {  // corner: Shepard average of the neighbours (eq. 12)
+      double wsum = 0;
+      for (std::size_t k = begin; k < end; ++k) wsum += ops.weights[k];
+      for (std::size_t k = begin; k < end; ++k) pressure_matrix_.off_diagonal[k] = wsum > 0 ? -ops.weights[k] / wsum : 0.0;
+      pressure_matrix_.diagonal[i] = 1.0;
+      rhs_[i] = 0.0;
+    }
+    // The closed domain's Neumann problem is singular (constants). A relative diagonal shift
+    // makes it regular without pinning a node (a pinned node acts as a point sink for the
+    // discrete compatibility mismatch and destabilises its neighbourhood); the constant part
+    // of φ, which no gradient sees, absorbs the mismatch.
+    pressure_matrix_.diagonal[i] *= 1.0 + pressure_regularisation;
+  }
+  stats.max_divergence = max_divergence;
+  increment_.assign(n, 0.0);
+  // Converged when the residual is small relative to the source, or when the divergence it
+  // leaves is below pressure_tolerance · U/L in the RMS sense (near steady state ‖b‖ → 0).
+  const double divergence_scale = rho / dt * params_.velocity_scale / params_.length_scale;
+  const KrylovSettings pressure_settings{params_.pressure_tolerance,
+                                         params_.pressure_tolerance * divergence_scale * std::sqrt(static_cast<double>(n)),
+                                         params_.max_iterations, {}};
+  KrylovSettings settings_with_preconditioner = pressure_settings;
+  if (params_.reordering == Reordering::lattice && params_.direct_pressure_preconditioner) {
+    if (!pressure_lu_) {
+      pressure_lu_ = factorise(pressure_matrix_);
+      if (!pressure_lu_) params_.direct_pressure_preconditioner = false;  // fall back to Jacobi
+    }
+    if (pressure_lu_) settings_with_preconditioner.preconditioner = lu_preconditioner(pressure_lu_.get());
+  }
+  const KrylovResult pressure_result =
+      bicgstab(pressure_matrix_, rhs_, increment_, settings_with_preconditioner, krylov_);
+  stats.pressure_iterations = pressure_result.iterations;
+  stats.pressure_residual = pressure_result.relative_residual;
+  gradient(nb, ops, increment_, pressure_gradient_);
+  std::vector<double> new_pressure(n);
+  double mean = 0;
+  for (std::size_t i = 0; i < n; ++i) mean += pressure_[i] + increment_[i];
+  mean /= static_cast<double>(n);
+  for (std::size_t i = 0; i < n; ++i) new_pressure[i] = pressure_[i] + increment_[i] - mean;  // p relative to its mean
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (kinds_[i] != NodeKind::fluid) continue;
+    new_velocity_[2 * i] -= dt / rho * pressure_gradient_[2 * i];
+    new_velocity_[2 * i + 1] -= dt / rho * pressure_gradient_[2 * i + 1];
+  }
+  times_.pressure += seconds_since(t0);
+
+  // 5. Divergence checks before anything is committed.
+  double max_speed_squared = 0;
+  bool finite = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double u = new_velocity_[2 * i], v = new_velocity_[2 * i + 1];
+    if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(new_pressure[i])) finite = false;
+    max_speed_squared = std::max(max_speed_squared, u * u + v * v);
+  }
+  stats.max_speed = std::sqrt(max_speed_squared);
+  stats.courant = stats.max_speed * dt / params_.spacing;
+  const double next_time = time_ + dt;
+  if (!finite)
+    throw DivergenceError(fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
+  if (stats.courant > params_.max_courant)
+    throw DivergenceError(fmt::format(
+        "Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = {:.4g} m/s): reduce "
+        "time.step",
+        stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed));
+  if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance))
+    throw DivergenceError(fmt::format(
+        "pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations (tolerance {:.3g})",
+        next_time, steps_ + 1, pressure_result.relative_residual, pressure_result.iterations, params_.pressure_tolerance));
+  if (!velocity_converged && !(velocity_residual < 1e3 * params_.velocity_tolerance))
+    throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
+                                      next_time, steps_ + 1, velocity_residual));
+
+  // 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler.
+  t0 = Clock::now();
+  pressure_ = std::move(new_pressure);
+  // ∇u_n on the pre-advection cloud, for carrying velocities along PBD shifts.
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double g[4] = {0, 0, 0, 0};
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      const double du = new_velocity_[2 * j] - new_velocity_[2 * i], dv = new_velocity_[2 * j + 1] - new_velocity_[2 * i + 1];
+      g[0] += ops.gradient[2 * k] * du;
+      g[1] += ops.gradient[2 * k + 1] * du;
+      g[2] += ops.gradient[2 * k] * dv;
+      g[3] += ops.gradient[2 * k + 1] * dv;
+    }
+    for (int d = 0; d < 4; ++d) velocity_gradient_[4 * i + static_cast<std::size_t>(d)] = g[d];
+  }
+  const double older_weight = first_step_ ? 0.0 : 0.5;
+  // Displacement of every node over the step (eq. 20); walls stay.
+  const auto displacement = [&](std::size_t j, std::size_t d) {
+    if (!is_fluid(kinds_[j])) return 0.0;
+    return ((1.0 + older_weight) * new_velocity_[2 * j + d] - older_weight * velocity_[2 * j + d]) * dt;
+  };
+  if (params_.reordering == Reordering::lattice) {
+    // Advect (eq. 20), then reorder every node back onto its lattice place, interpolating the
+    // velocity there from the advected cloud (eq. 12 with a first-order gradient correction):
+    //   u(X_i) = Σ_j W(|X_i − x'_j|) (u_j + ⟨∇u⟩_j·(X_i − x'_j)) / Σ_j W,  x'_j = X_j + d_j,
+    // over j ∈ {i} ∪ N(i). The node spacing is kept exactly and the operators stay valid.
+    component_.resize(2 * n);
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (!is_fluid(kinds_[i])) {
+        component_[2 * i] = new_velocity_[2 * i];
+        component_[2 * i + 1] = new_velocity_[2 * i + 1];
+        continue;
+      }
+      double wsum = 0, su = 0, sv = 0;
+      double u_min = std::numeric_limits<double>::infinity(), u_max = -u_min, v_min = u_min, v_max = -u_min;
+      const auto add = [&](std::size_t j) {
+        const double rx = positions_[2 * i] - (positions_[2 * j] + displacement(j, 0));
+        const double ry = positions_[2 * i + 1] - (positions_[2 * j + 1] + displacement(j, 1));
+        const double w = weight(std::hypot(rx, ry), support_radius_);
+        if (w <= 0) return;
+        const double c = params_.corrected_interpolation ? 1.0 : 0.0;
+        const double g[4] = {c * velocity_gradient_[4 * j], c * velocity_gradient_[4 * j + 1],
+                             c * velocity_gradient_[4 * j + 2], c * velocity_gradient_[4 * j + 3]};
+        wsum += w;
+        su += w * (new_velocity_[2 * j] + g[0] * rx + g[1] * ry);
+        sv += w * (new_velocity_[2 * j + 1] + g[2] * rx + g[3] * ry);
+        u_min = std::min(u_min, new_velocity_[2 * j]);
+        u_max = std::max(u_max, new_velocity_[2 * j]);
+        v_min = std::min(v_min, new_velocity_[2 * j + 1]);
+        v_max = std::max(v_max, new_velocity_[2 * j + 1]);
+      };
+      add(i);
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) add(nb.indices[k]);
+      // Clipped to the range of the contributing values (Bermejo & Staniforth 1992): the
+      // gradient correction is second order but not monotone, and at high Re its overshoots grow.
+      component_[2 * i] = std::clamp(su / wsum, u_min, u_max);
+      component_[2 * i + 1] = std::clamp(sv / wsum, v_min, v_max);
+    }
+    previous_velocity_.swap(velocity_);
+    velocity_.swap(component_);
+    first_step_ = false;
+    times_.advection += seconds_since(t0);
+  } else {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (!is_fluid(kinds_[i])) continue;
+      for (std::size_t d = 0; d < 2; ++d) positions_[2 * i + d] += displacement(i, d);
+      keep_inside(i, new_velocity_);
+    }
+    previous_velocity_.swap(velocity_);
+    velocity_.swap(new_velocity_);
+    first_step_ = false;
+    times_.advection += seconds_since(t0);
+
+    t0 = Clock::now();
+    rebuild_neighbours();
+    operators_valid_ = false;
+    times_.neighbours += seconds_since(t0);
+
+    // 7. PBD reordering.
+    t0 = Clock::now();
+    reorder(velocity_gradient_);
+    times_.reordering += seconds_since(t0);
+    double max_shift = 0;
+    for (std::size_t i = 0; i < n && !shift_.empty(); ++i)
+      max_shift = std::max(max_shift, std::hypot(shift_[2 * i], shift_[2 * i + 1]));
+    stats.max_pbd_shift = max_shift / params_.spacing;
+  }
+
+  time_ = next_time;
+  ++steps_;
+  return stats;
+}
+
+void Solver::keep_inside(std::size_t i, std::span<double> velocity) {
+  const double clearance = params_.wall_clearance * params_.spacing;
+  for (const Wall& w : walls_) {
+    const Vec2 normal = w.inward_normal();
+    const double distance = normal[0] * (positions_[2 * i] - w.start[0]) + normal[1] * (positions_[2 * i + 1] - w.start[1]);
+    if (distance >= clearance) continue;
+    positions_[2 * i] += (clearance - distance) * normal[0];
+    positions_[2 * i + 1] += (clearance - distance) * normal[1];
+    if (velocity.empty()) continue;
+    // A node held off the wall must not keep running into it: drop the velocity component
+    // towards the wall (relative to the wall's own velocity, which is tangential).
+    const double approach = normal[0] * (velocity[2 * i] - w.velocity[0]) + normal[1] * (velocity[2 * i + 1] - w.velocity[1]);
+    if (approach < 0) {
+      velocity[2 * i] -= approach * normal[0];
+      velocity[2 * i + 1] -= approach * normal[1];
+    }
+  }
+}
+
+void Solver::reorder(std::span<const double> grad_u) {
+  const std::size_t n = kinds_.size();
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  shift_.assign(2 * n, 0.0);
+  if (params_.pbd_iterations == 0) return;
+  const NeighbourList& nb = neighbours_;
+  const double h = support_radius_, rho0 = rest_density_;
+  const double max_shift = params_.pbd_max_shift * params_.spacing;
+  const double min_distance = params_.pbd_min_distance * params_.spacing;
+  std::vector<double> lambda(n, 0.0), step(2 * n, 0.0);
+  for (int iteration = 0; iteration < params_.pbd_iterations; ++iteration) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (!is_fluid(kinds_[i])) continue;
+      double density = weight(0.0, h), gx = 0, gy = 0, squares = 0;
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        const std::size_t j = nb.indices[k];
+        const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
+        const double r = std::hypot(dx, dy);
+        density += weight(r, h);
+        if (r <= 0) continue;
+        const double dw = weight_derivative(r, h) / r / rho0;  // ∇_i W_ij / ρ₀ = dw · (x_i − x_j)
+        gx += dw * dx;
+        gy += dw * dy;
+        squares += dw * dw * r * r;  // |∇_j C_i|²
+      }
+      const double constraint = density / rho0 - 1.0;
+      const double denominator = gx * gx + gy * gy + squares;
+      lambda[i] = denominator > 0 ? -constraint / denominator : 0.0;
+    }
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (!is_fluid(kinds_[i])) continue;
+      double sx = 0, sy = 0;
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        const std::size_t j = nb.indices[k];
+        const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
+        const double r = std::hypot(dx, dy);
+        if (r <= 0) continue;
+        const double dw = weight_derivative(r, h) / r / rho0;
+        sx += (lambda[i] + lambda[j]) * dw * dx;
+        sy += (lambda[i] + lambda[j]) * dw * dy;
+      }
+      sx *= params_.pbd_stiffness;
+      sy *= params_.pbd_stiffness;
+      // Minimum-distance constraint: nearly coincident nodes make the operators stiff.
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        const std::size_t j = nb.indices[k];
+        const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
+        const double r = std::hypot(dx, dy);
+        if (r >= min_distance || r <= 0) continue;
+        const double share = is_fluid(kinds_[j]) ? 0.5 : 1.0;
+        sx += share * (min_distance - r) * dx / r;
+        sy += share * (min_distance - r) * dy / r;
+      }
+      const double length = std::hypot(sx, sy);
+      if (length > max_shift) {
+        sx *= max_shift / length;
+        sy *= max_shift / length;
+      }
+      step[2 * i] = sx;
+      step[2 * i + 1] = sy;
+    }
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (!is_fluid(kinds_[i])) continue;
+      const double x0 = positions_[2 * i], y0 = positions_[2 * i + 1];
+      positions_[2 * i] += step[2 * i];
+      positions_[2 * i + 1] += step[2 * i + 1];
+      keep_inside(i, {});
+      shift_[2 * i] += positions_[2 * i] - x0;
+      shift_[2 * i + 1] += positions_[2 * i + 1] - y0;
+    }
+  }
+  // Carry the velocities to the shifted places (first-order Taylor, LDD §3.2 interpolation).
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (!is_fluid(kinds_[i])) continue;
+    const double sx = shift_[2 * i], sy = shift_[2 * i + 1];
+    const double* g = &grad_u[4 * i];
+    const double du = g[0] * sx + g[1] * sy, dv = g[2] * sx + g[3] * sy;
+    velocity_[2 * i] += du;
+    velocity_[2 * i + 1] += dv;
+    previous_velocity_[2 * i] += du;
+    previous_velocity_[2 * i + 1] += dv;
+  }
+}
+
+std::vector<double> Solver::sample_velocity(std::span<const double> points) const {
+  const std::size_t n = kinds_.size();
+  Operators rebuilt;
+  const Operators* ops = &operators_;
+  if (!operators_valid_) {
+    rebuilt = build_operators(positions_, 2, neighbours_, OperatorSettings{support_radius_});
+    ops = &rebuilt;
+  }
+  std::vector<double> grad(4 * n, 0.0), component(n), g(2 * n);
+  for (std::size_t d = 0; d < 2; ++d) {
+    for (std::size_t i = 0; i < n; ++i) component[i] = velocity_[2 * i + d];
+    gradient(neighbours_, *ops, component, g);
+    for (std::size_t i = 0; i < n; ++i) {
+      grad[4 * i + 2 * d] = g[2 * i];
+      grad[4 * i + 2 * d + 1] = g[2 * i + 1];
+    }
+  }
+  const std::size_t count = points.size() / 2;
+  std::vector<double> out(2 * count, std::numeric_limits<double>::quiet_NaN());
+  const double h = support_radius_;
+  // Bucket the nodes into cells of size h so each point scans 3×3 cells.
+  double lo[2] = {positions_[0], positions_[1]}, hi[2] = {positions_[0], positions_[1]};
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t d = 0; d < 2; ++d) {
+      lo[d] = std::min(lo[d], positions_[2 * i + d]);
+      hi[d] = std::max(hi[d], positions_[2 * i + d]);
+    }
+  const auto cells_along = [&](std::size_t d) { return static_cast<std::size_t>((hi[d] - lo[d]) / h) + 1; };
+  const std::size_t cx = cells_along(0), cy = cells_along(1);
+  const auto cell_of = [&](double v, std::size_t d, std::size_t cells) {
+    const double c = std::floor((v - lo[d]) / h);
+    return static_cast<std::ptrdiff_t>(std::clamp(c, -1.0, static_cast<double>(cells)));
+  };
+  std::vector<std::size_t> start(cx * cy + 1, 0), order(n);
+  for (std::size_t i = 0; i < n; ++i)
+    ++start[static_cast<std::size_t>(cell_of(positions_[2 * i], 0, cx) + cell_of(positions_[2 * i + 1], 1, cy) * static_cast<std::ptrdiff_t>(cx)) + 1];
+  for (std::size_t c = 0; c < cx * cy; ++c) start[c + 1] += start[c];
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < n; ++i)
+    order[fill[static_cast<std::size_t>(cell_of(positions_[2 * i], 0, cx) + cell_of(positions_[2 * i + 1], 1, cy) * static_cast<std::ptrdiff_t>(cx))]++] = i;
+  for (std::size_t p = 0; p < count; ++p) {
+    const double px = points[2 * p], py = points[2 * p + 1];
+    const std::ptrdiff_t ix = cell_of(px, 0, cx), iy = cell_of(py, 1, cy);
+    double wsum = 0, su = 0, sv = 0;
+    for (std::ptrdiff_t jy = iy - 1; jy <= iy + 1; ++jy)
+      for (std::ptrdiff_t jx = ix - 1; jx <= ix + 1; ++jx) {
+        if (jx < 0 || jy < 0 || jx >= static_cast<std::ptrdiff_t>(cx) || jy >= static_cast<std::ptrdiff_t>(cy)) continue;
+        const auto c = static_cast<std::size_t>(jx + jy * static_cast<std::ptrdiff_t>(cx));
+        for (std::size_t m = start[c]; m < start[c + 1]; ++m) {
+          const std::size_t j = order[m];
+          const double dx = px - positions_[2 * j], dy = py - positions_[2 * j + 1];
+          const double w = weight(std::hypot(dx, dy), h);
+          if (w <= 0) continue;
+          const double* gj = &grad[4 * j];
+          wsum += w;
+          su += w * (velocity_[2 * j] + gj[0] * dx + gj[1] * dy);
+          sv += w * (velocity_[2 * j + 1] + gj[2] * dx + gj[3] * dy);
+        }
+      }
+    if (wsum > 0) {
+      out[2 * p] = su / wsum;
+      out[2 * p + 1] = sv / wsum;
+    }
+  }
+  return out;
+}
+
+double Solver::kinetic_energy() const {
+  double sum = 0;
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (is_fluid(kinds_[i])) sum += velocity_[2 * i] * velocity_[2 * i] + velocity_[2 * i + 1] * velocity_[2 * i + 1];
+  return 0.5 * params_.density * sum * params_.spacing * params_.spacing;
+}
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,155 @@
+// LDD solver on small cavities: the node cloud of square and skewed cavities, hydrostatic rest
+// under gravity (PPE Neumann walls, LDD eq. 17), divergence detection that leaves the last good
+// state, bit-identical repeated runs, and a case file run end to end through run_case.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/ldd/domain.hpp"
+#include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/solver.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
+  const std::string text = "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+                           "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
+                           std::to_string(viscosity) +
+                           "}}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+  return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
+}
+
+core::CavityScene square(double lid) {
+  core::CavityScene s;
+  s.size = {1.0, 1.0};
+  s.lid_velocity = lid;
+  return s;
+}
+
+TEST(Cavity, SquareCloudHasWallsCornersAndALid) {
+  const Cavity cavity(square(2.0), 0.125);
+  const NodeCloud& cloud = cavity.initial_cloud();
+  ASSERT_EQ(cloud.size(), 81U);  // 9 × 9
+  int walls = 0, corners = 0, lid = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.kinds[i] == NodeKind::wall) ++walls;
+    if (cloud.kinds[i] == NodeKind::corner) ++corners;
+    if (cloud.wall_velocities[2 * i] == 2.0) {
+      ++lid;
+      EXPECT_DOUBLE_EQ(cloud.positions[2 * i + 1], 1.0);
+      EXPECT_DOUBLE_EQ(cloud.normals[2 * i + 1], -1.0);  // inward, downwards
+    }
+  }
+  EXPECT_EQ(walls, 28);
+  EXPECT_EQ(corners, 4);
+  EXPECT_EQ(lid, 7);  // the lid's end points are stationary corners
+}
+
+TEST(Cavity, SkewedWallsHaveInwardUnitNormals) {
+  core::CavityScene s = square(1.0);
+  s.skew_angle = std::numbers::pi / 3;
+  const Cavity cavity(s, 0.1);
+  EXPECT_NEAR(cavity.area(), std::sin(std::numbers::pi / 3), 1e-12);
+  const Vec2 centre = cavity.point(0.5, 0.5);
+  for (const Wall& w : cavity.walls()) {
+    const Vec2 n = w.inward_normal();
+    EXPECT_NEAR(std::hypot(n[0], n[1]), 1.0, 1e-12);
+    EXPECT_GT(n[0] * (centre[0] - w.start[0]) + n[1] * (centre[1] - w.start[1]), 0.0);
+  }
+  const Vec2 top_left = cavity.point(0, 1);
+  EXPECT_NEAR(top_left[0], 0.5, 1e-12);
+  EXPECT_NEAR(top_left[1], std::sqrt(3.0) / 2, 1e-12);
+}
+
+TEST(Solver, StaysAtRestUnderGravity) {
+  omp_set_num_threads(1);
+  const Cavity cavity(square(0.0), 1.0 / 16);
+  SolverParams p;
+  p.rheology = newtonian(0.01);
+  p.spacing = 1.0 / 16;
+  p.time_step = 0.01;
+  p.gravity = {0.0, -9.81};
+  Solver solver(p, cavity.walls(), cavity.initial_cloud());
+  for (int k = 0; k < 20; ++k) solver.step();
+  double max_speed = 0;
+  for (std::size_t i = 0; i < solver.node_count(); ++i)
+    max_speed = std::max(max_speed, std::hypot(solver.velocity()[2 * i], solver.velocity()[2 * i + 1]));
+  EXPECT_LT(max_speed, 3e-3 * 9.81 * solver.time());  // spurious currents < 0.3 % of g·t
+  // Hydrostatic pressure: p(bottom) − p(top) ≈ ρ g H.
+  const auto p_at = [&](std::size_t i, std::size_t j) { return solver.pressure()[j * 17 + i]; };
+  EXPECT_NEAR(p_at(8, 1) - p_at(8, 15), 9.81 * 14.0 / 16, 0.05 * 9.81);
+}
+
+TEST(Solver, DivergenceStopsWithTheLastGoodStateKept) {
+  omp_set_num_threads(1);
+  const Cavity cavity(square(1.0), 1.0 / 16);
+  SolverParams p;
+  p.rheology = newtonian(0.01);
+  p.spacing = 1.0 / 16;
+  p.time_step = 0.5;  // Courant number 8 at the lid
+  Solver solver(p, cavity.walls(), cavity.initial_cloud());
+  try {
+    solver.step();
+    FAIL() << "no DivergenceError";
+  } catch (const DivergenceError& e) {
+    EXPECT_NE(std::string(e.what()).find("Courant number"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(solver.steps(), 0U);
+  EXPECT_EQ(solver.time(), 0.0);
+  for (std::size_t i = 0; i < solver.node_count(); ++i) {
+    if (solver.kinds()[i] == NodeKind::fluid) {
+      EXPECT_EQ(solver.velocity()[2 * i], 0.0);
+    }
+  }
+}
+
+TEST(Solver, RepeatedRunsAreBitIdentical) {
+  omp_set_num_threads(2);
+  const auto run = [] {
+    const Cavity cavity(square(1.0), 1.0 / 12);
+    SolverParams p;
+    p.rheology = newtonian(0.01);
+    p.spacing = 1.0 / 12;
+    p.time_step = 0.01;
+    Solver solver(p, cavity.walls(), cavity.initial_cloud());
+    for (int k = 0; k < 2; ++k) solver.step();
+    return std::vector<double>(solver.velocity().begin(), solver.velocity().end());
+  };
+  const auto a = run(), b = run();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "entry " << i;
+}
+
+TEST(RunCase, WritesSummaryCenterlinesFramesAndResiduals) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: skewed_cavity, size: [1, 1], lid_velocity: 1, skew_angle: 60}\n"
+      "fluid: {density: 1, rheology: {model: power_law, consistency: 0.002, index: 1.5}}\ngravity: [0, 0]\n"
+      "resolution: {spacing: 0.0625}\ntime: {step: 0.01, end: 0.5}\nsolver: {threads: 1}\n";
+  const core::Case c = core::parse_case(text, "skewed.yaml");
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_test_ldd_run";
+  std::filesystem::remove_all(dir);
+  const RunOutcome outcome = run_case(c, dir, core::Log::null());
+  EXPECT_EQ(outcome.status, "end_time");
+  EXPECT_EQ(outcome.steps, 50U);
+  const auto summary = core::read_json(dir / "summary.json");
+  EXPECT_EQ(summary["nodes"].get<int>(), 17 * 17);
+  EXPECT_EQ(summary["input_sha256"].get<std::string>(), c.sha256);
+  EXPECT_EQ(summary["centerlines"]["vertical"].size(), 101U);
+  EXPECT_NEAR(summary["centerlines"]["vertical"].back()["u"].get<double>(), 1.0, 0.05);  // the lid
+  for (const char* f : {"centerline_vertical.csv", "centerline_horizontal.csv", "residual.csv", "field.vtk",
+                        "frames/nodes.vtk.series", "frames/field.vtk.series", "frames/field_0001.vtk", "nodes.pvd",
+                        "centerlines.gp"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rheosim::ldd
