@@ -233,13 +233,16 @@ std::vector<FitResult> fit_flow_curves(std::span<const std::string> model_names,
 }
 
 std::vector<ModelRanking> rank_by_aic(std::span<const FitResult> fits) {
-  const bool use_aicc = !fits.empty() && std::all_of(fits.begin(), fits.end(), [](const FitResult& f) {
-    return std::isfinite(f.aicc);
-  });
+  // AICc when at least two models have one: a model with n − k − 1 <= 0 (infinite AICc) cannot
+  // be judged from so few points and ranks last with weight 0 — plain AIC would reward it for
+  // interpolating the data. With fewer, AICc would crown the one model it can judge, however
+  // badly it fits; then plain AIC decides among the models with a residual degree of freedom.
+  const auto with_aicc = std::count_if(fits.begin(), fits.end(), [](const FitResult& f) { return std::isfinite(f.aicc); });
+  const bool use_aicc = with_aicc >= 2;
   std::vector<ModelRanking> out;
   double best = inf;
   for (std::size_t i = 0; i < fits.size(); ++i) {
-    const double c = use_aicc ? fits[i].aicc : fits[i].aic;
+    const double c = use_aicc ? fits[i].aicc : (fits[i].degrees_of_freedom >= 1 ? fits[i].aic : inf);
     out.push_back({fits[i].model_name, i, fits[i].aic, fits[i].aicc, c, 0});
     if (c < best) best = c;
   }

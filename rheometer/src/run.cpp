@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "rheosim/core/error.hpp"
@@ -13,6 +12,7 @@
 #include "rheosim/fluid/swirl.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/report.hpp"
+#include "rheosim/rheometer/run_analysis.hpp"
 
 namespace rheosim::rheometer {
 
@@ -37,30 +37,6 @@ core::Hdf5Dataset dataset(const std::string& path, std::vector<std::size_t> shap
   d.data = data;
   d.unit = unit;
   return d;
-}
-
-// One gnuplot script per run, kept beside the plot so users can restyle it.
-std::string torque_script(const std::vector<core::NamedFluid>& fluids) {
-  std::string s =
-      "# Torque vs rim shear rate; points: rheosim, lines: creeping-flow closed form.\n"
-      "# Regenerate: gnuplot torque.gp\n"
-      "set datafile separator ','\n"
-      "set key top left\n"
-      "set xlabel 'rim shear rate [1/s]'\nset ylabel 'torque [N m]'\nset grid\n"
-      "set format y '%.1e'\n"
-      "set title 'points: rheosim; dashed lines: creeping-flow closed form' font ',10'\n";
-  std::string plot;
-  for (std::size_t f = 0; f < fluids.size(); ++f) {
-    const std::string filter = fmt::format("(strcol(1) eq '{}' ? ", fluids[f].name);
-    plot += fmt::format("{}'torque.csv' using 2:{}$3 : NaN) with points pt 7 lc {} title '{}'", plot.empty() ? "" : ", ",
-                        filter, f + 1, fluids[f].name);
-    plot += fmt::format(", 'torque.csv' using 2:{}$6 : NaN) with lines lc {} dt 2 notitle", filter, f + 1);
-  }
-  for (const char* term : {"pngcairo size 900,600", "svg size 900,600"}) {
-    const std::string ext = std::string(term).starts_with("png") ? "png" : "svg";
-    s += fmt::format("set terminal {}\nset output 'torque.{}'\nplot {}\n", term, ext, plot);
-  }
-  return s;
 }
 
 }  // namespace
@@ -192,14 +168,14 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
   summary["points_failed"] = outcome.failed_points;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary["points"] = points;
+  // The same analysis and report as a sweep, with one flow curve per fluid (φ = 0).
+  add_flow_analysis(summary, {plate, r.fluids, r.particles});
   core::write_json(out_dir / "summary.json", summary);
 
-  core::write_atomically(out_dir / "torque.gp", [&](std::ostream& os) { os << torque_script(r.fluids); });
-  const std::string command = fmt::format("cd '{}' && gnuplot torque.gp > gnuplot.log 2>&1", out_dir.string());
-  if (std::system(command.c_str()) != 0)
-    log.warn("gnuplot failed or is missing (see {}); torque.gp is kept to plot by hand",
-             (out_dir / "gnuplot.log").string());
-  write_report(out_dir);
+  const ReportFiles report = write_report(out_dir);
+  if (!report.missing_plots.empty())
+    log.warn("gnuplot failed or is missing: {} plot(s) not drawn; the .gp scripts are kept in {} to plot by hand",
+             report.missing_plots.size(), out_dir.string());
   outcome.summary = out_dir / "summary.json";
   return outcome;
 }

@@ -2,6 +2,7 @@
 // exact data, warnings, yield-stress line, relative viscosity and validity flags.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -433,6 +434,29 @@ TEST(AnalysisRanking, WeightsSumToOneAndBestIsFirst) {
   EXPECT_NEAR(total, 1.0, 1e-14);
   EXPECT_EQ(fits[ranking[0].fit_index].model_name, "bingham");
   EXPECT_EQ(fit_flow_curves({}, rates, stress).size(), 7u);
+}
+
+TEST(AnalysisRanking, ModelsWithoutAFiniteAiccRankLastNotFirst) {
+  // Five points of a nearly Newtonian curve: Cross and Carreau (4 parameters, k = 5) have
+  // n − k − 1 < 0, so AICc is infinite. Plain AIC would crown them for interpolating the data.
+  const std::vector<double> rates{10, 25, 50, 75, 100};
+  std::vector<double> stress;
+  for (const double r : rates) stress.push_back(1e-3 * r * (1 + 1e-5 * r));
+  const auto fits = fit_flow_curves({}, rates, stress);
+  const auto ranking = rank_by_aic(fits);
+  ASSERT_EQ(ranking.size(), 7u);
+  // Herschel–Bulkley (k = 4) has n − k − 1 = 0: infinite too.
+  const auto judged = static_cast<std::size_t>(
+      std::count_if(fits.begin(), fits.end(), [](const FitResult& f) { return std::isfinite(f.aicc); }));
+  EXPECT_EQ(judged, 4u);
+  for (std::size_t i = 0; i < ranking.size(); ++i) {
+    const bool too_few_points = !std::isfinite(fits[ranking[i].fit_index].aicc);
+    if (too_few_points) {
+      EXPECT_GE(i, judged) << ranking[i].model_name << " ranked " << i;
+      EXPECT_EQ(ranking[i].weight, 0.0);
+    }
+  }
+  EXPECT_TRUE(std::isfinite(fits[ranking[0].fit_index].aicc));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -158,7 +158,9 @@ struct FitResult {
                                                      std::span<const double> shear_rate,
                                                      std::span<const double> stress, const FitOptions& options = {});
 
-// Model comparison by AICc (AIC when AICc is not finite for any): best first, with Akaike weights.
+// Model comparison by AICc, best first, with Akaike weights. A model whose AICc is infinite (too
+// few points: n − k − 1 <= 0) ranks last with Δ = ∞ and weight 0. When fewer than two models
+// have a finite AICc, plain AIC ranks the models with n − p >= 1 and the others rank last.
 struct ModelRanking {
   std::string model_name;
   std::size_t fit_index = 0;  // into the span passed in

@@ -4,8 +4,9 @@
 //   summary.json   every point: torque (with and without inertia), closed form, errors, Re
 //   torque.csv     the same table, one row per (fluid, shear rate)
 //   fields.h5      converged fields per point (ω, p, u_r, u_z, μ, γ̇ on the (r, z) grid)
-//   torque.gp      gnuplot script → torque.png, torque.svg
-//   report.html    readable summary (rheometer/report.hpp)
+//   report.html    the report with its plots (NAME.gp → NAME.png/.svg) and data CSVs
+//                  (rheometer/report.hpp); summary.json also holds the flow-curve analysis
+//                  of each fluid (rheometer/run_analysis.hpp)
 #include <filesystem>
 
 #include "rheosim/core/case.hpp"

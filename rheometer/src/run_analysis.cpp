@@ -1,0 +1,388 @@
+// The analysis of a run's points into summary.json (rheometer/run_analysis.hpp).
+#include "rheosim/rheometer/run_analysis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <string>
+
+#include "rheosim/rheometer/analysis.hpp"
+
+namespace rheosim::rheometer {
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+double number(const nlohmann::ordered_json& j, const char* key) {
+  if (!j.contains(key) || !j.at(key).is_number()) return nan;
+  return j.at(key).get<double>();
+}
+
+// NaN and infinities are written as null by core::write_json; keep them explicit here too.
+nlohmann::ordered_json finite_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json interval(const Interval& i) { return {finite_or_null(i.lower), finite_or_null(i.upper)}; }
+
+// A label without the characters that would need quoting in gnuplot filters or CSV cells.
+std::string clean_label(std::string s) {
+  for (char& ch : s)
+    if (ch == ',' || ch == '\'' || ch == '"') ch = ' ';
+  return s;
+}
+
+struct Series {
+  std::string fluid;
+  double volume_fraction = 0;
+  std::string label;
+  std::vector<std::size_t> point_indices;  // converged, positive torque, by rate
+};
+
+const core::NamedFluid& find_fluid(const RunAnalysisInputs& in, const std::string& name) {
+  for (const auto& f : in.fluids)
+    if (f.name == name) return f;
+  return in.fluids.front();
+}
+
+nlohmann::ordered_json fit_json(const FitResult& f, const Series& s) {
+  nlohmann::ordered_json j;
+  j["label"] = s.label;
+  j["fluid"] = s.fluid;
+  j["volume_fraction"] = s.volume_fraction;
+  j["model"] = f.model_name;
+  j["equation"] = std::string(f.model->equation());
+  j["converged"] = f.converged;
+  j["iterations"] = f.iterations;
+  j["stop_reason"] = f.stop_reason;
+  j["points"] = f.points;
+  j["degrees_of_freedom"] = f.degrees_of_freedom;
+  j["residual_std"] = finite_or_null(f.residual_std);
+  j["sum_of_squares"] = finite_or_null(f.sum_of_squares);
+  j["aic"] = finite_or_null(f.aic);
+  j["aicc"] = finite_or_null(f.aicc);
+  j["min_shear_rate"] = f.min_shear_rate;
+  j["max_shear_rate"] = f.max_shear_rate;
+  auto params = nlohmann::ordered_json::array();
+  const auto info = f.model->parameters();
+  for (std::size_t k = 0; k < f.params.size(); ++k) {
+    nlohmann::ordered_json p;
+    p["name"] = f.parameter_names[k];
+    p["symbol"] = std::string(info[k].symbol);
+    p["unit"] = f.units[k];
+    p["value"] = finite_or_null(f.params[k]);
+    p["std_error"] = finite_or_null(f.std_errors[k]);
+    p["ci95"] = interval(f.ci95[k]);
+    params.push_back(p);
+  }
+  j["parameters"] = params;
+  auto corr = nlohmann::ordered_json::array();
+  for (Eigen::Index r = 0; r < f.correlation.rows(); ++r) {
+    auto row = nlohmann::ordered_json::array();
+    for (Eigen::Index c = 0; c < f.correlation.cols(); ++c) row.push_back(finite_or_null(f.correlation(r, c)));
+    corr.push_back(row);
+  }
+  j["correlation"] = corr;
+  j["shear_rate"] = f.shear_rate;
+  j["residuals"] = nlohmann::ordered_json::array();
+  for (double r : f.residuals) j["residuals"].push_back(finite_or_null(r));
+  auto warnings = nlohmann::ordered_json::array();
+  for (const auto& w : f.warnings)
+    warnings.push_back({{"kind", std::string(to_string(w.kind))}, {"parameter", w.parameter}, {"message", w.message}});
+  j["warnings"] = warnings;
+  return j;
+}
+
+nlohmann::ordered_json yield_json(const YieldStressEstimate& e, const Series& s) {
+  nlohmann::ordered_json j;
+  j["label"] = s.label;
+  j["fluid"] = s.fluid;
+  j["volume_fraction"] = s.volume_fraction;
+  j["method"] = e.method;
+  j["value"] = finite_or_null(e.value);
+  j["std_error"] = finite_or_null(e.std_error);
+  j["ci95"] = interval(e.ci95);
+  j["significant"] = e.is_significant;
+  j["converged"] = e.converged;
+  j["warnings"] = e.warnings;
+  return j;
+}
+
+nlohmann::ordered_json correlation_json(const CorrelationComparison& c) {
+  nlohmann::ordered_json j;
+  j["name"] = c.name;
+  j["predicted"] = nlohmann::ordered_json::array();
+  for (double p : c.predicted) j["predicted"].push_back(finite_or_null(p));
+  j["sum_of_squares"] = finite_or_null(c.sum_of_squares);
+  j["max_packing"] = finite_or_null(c.max_packing);
+  j["max_packing_std_error"] = finite_or_null(c.max_packing_std_error);
+  j["max_packing_ci95"] = interval(c.max_packing_ci95);
+  j["intrinsic_viscosity"] = finite_or_null(c.intrinsic_viscosity);
+  j["degrees_of_freedom"] = c.degrees_of_freedom;
+  j["aic"] = finite_or_null(c.aic);
+  j["converged"] = c.converged;
+  j["warnings"] = c.warnings;
+  return j;
+}
+
+}  // namespace
+
+void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs& in) {
+  if (in.fluids.empty()) throw std::invalid_argument("add_flow_analysis: no fluids");
+  auto& points = summary["points"];
+  const bool is_sweep = std::any_of(points.begin(), points.end(),
+                                    [](const auto& p) { return p.contains("volume_fraction"); });
+  std::vector<std::string> fluid_names;
+  for (const auto& p : points) {
+    const std::string name = p.value("fluid", in.fluids.front().name);
+    if (std::find(fluid_names.begin(), fluid_names.end(), name) == fluid_names.end()) fluid_names.push_back(name);
+  }
+
+  // Group the points into flow curves, in order of first appearance.
+  std::vector<Series> series;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    const std::string fluid = p.value("fluid", in.fluids.front().name);
+    const double phi = p.contains("volume_fraction") ? p["volume_fraction"].get<double>() : 0.0;
+    auto it = std::find_if(series.begin(), series.end(),
+                           [&](const Series& s) { return s.fluid == fluid && s.volume_fraction == phi; });
+    if (it == series.end()) {
+      std::string label = fluid_names.size() > 1 ? fluid : std::string();
+      if (is_sweep) label += fmt::format("{}φ = {:g}", label.empty() ? "" : " ", phi);
+      if (label.empty()) label = fluid;
+      series.push_back({fluid, phi, clean_label(label), {}});
+      it = std::prev(series.end());
+    }
+    const double torque = number(p, "torque");
+    if (p.value("converged", false) && torque > 0 && std::isfinite(torque)) it->point_indices.push_back(i);
+  }
+
+  auto series_json = nlohmann::ordered_json::array();
+  auto fits_json = nlohmann::ordered_json::array();
+  auto yield_json_all = nlohmann::ordered_json::array();
+  // Per fluid: φ → (best fit of that φ) for the relative viscosity.
+  std::map<std::string, std::vector<std::pair<double, FitResult>>> best_fits;
+
+  for (auto& s : series) {
+    std::sort(s.point_indices.begin(), s.point_indices.end(), [&](std::size_t a, std::size_t b) {
+      return number(points[a], "shear_rate") < number(points[b], "shear_rate");
+    });
+    nlohmann::ordered_json sj;
+    sj["label"] = s.label;
+    sj["fluid"] = s.fluid;
+    sj["volume_fraction"] = s.volume_fraction;
+    sj["points"] = s.point_indices.size();
+    auto warnings = nlohmann::ordered_json::array();
+    const auto& fluid = find_fluid(in, s.fluid).properties;
+
+    std::vector<double> rates, torques, relative_errors;
+    bool all_errors = true;
+    for (std::size_t i : s.point_indices) {
+      rates.push_back(number(points[i], "shear_rate"));
+      torques.push_back(number(points[i], "torque"));
+      const double se = number(points[i], "torque_std_error");
+      all_errors = all_errors && se > 0;
+      relative_errors.push_back(se / torques.back());
+    }
+    if (!all_errors) relative_errors.clear();
+
+    if (rates.size() < 2) {
+      warnings.push_back(fmt::format("{}: {} finished point(s): the plate correction and the fits need at least 2",
+                                     s.label, rates.size()));
+      sj["warnings"] = warnings;
+      series_json.push_back(sj);
+      continue;
+    }
+
+    const RimStressCurve curve = rim_stress_curve(in.plate, rates, torques, relative_errors);
+    std::vector<bool> valid(rates.size(), true);
+    const double particle_density = in.particles ? in.particles->density : 0.0;
+    for (std::size_t k = 0; k < rates.size(); ++k) {
+      auto& p = points[s.point_indices[k]];
+      p["log_slope"] = finite_or_null(curve.log_slope[k]);
+      p["log_slope_std_error"] = finite_or_null(curve.log_slope_std_error[k]);
+      p["apparent_stress"] = curve.apparent_stress[k];
+      p["rim_stress"] = curve.corrected_stress[k];
+      p["apparent_viscosity"] = curve.apparent_viscosity[k];
+      p["viscosity"] = curve.corrected_viscosity[k];
+      // Validity at this point: the sample's density is the mixture's, its viscosity the measured one.
+      PointConditions cond;
+      cond.rim_shear_rate = rates[k];
+      cond.density = (1.0 - s.volume_fraction) * fluid.density + s.volume_fraction * particle_density;
+      cond.viscosity = curve.corrected_viscosity[k] > 0 ? curve.corrected_viscosity[k] : curve.apparent_viscosity[k];
+      cond.fluid_density = fluid.density;
+      cond.fluid_viscosity = fluid.rheology->viscosity(rates[k]);
+      if (s.volume_fraction > 0 && in.particles) {
+        cond.particle_diameter = in.particles->diameter;
+        cond.particle_density = in.particles->density;
+      }
+      if (cond.viscosity > 0) {
+        const PointValidity v = check_validity(in.plate, cond);
+        nlohmann::ordered_json vj;
+        vj["gap_reynolds"] = v.gap_reynolds;
+        vj["particle_reynolds"] = cond.particle_diameter > 0 ? nlohmann::ordered_json(v.particle_reynolds) : nullptr;
+        vj["stokes"] = cond.particle_diameter > 0 ? nlohmann::ordered_json(v.stokes) : nullptr;
+        vj["gap_to_diameter"] = finite_or_null(v.gap_to_diameter);
+        vj["gap_reynolds_ok"] = v.gap_reynolds_ok;
+        vj["particle_reynolds_ok"] = v.particle_reynolds_ok;
+        vj["stokes_ok"] = v.stokes_ok;
+        vj["gap_to_diameter_ok"] = v.gap_to_diameter_ok;
+        vj["valid"] = v.is_valid();
+        vj["messages"] = v.messages;
+        p["validity"] = vj;
+        valid[k] = v.is_valid();
+      }
+    }
+
+    // Fit only the points that pass the validity checks: a torque raised by secondary flow or
+    // particle inertia is not the material's flow curve (it reads as shear thickening or a yield
+    // stress). With fewer than 3 valid points every point is fitted, with a warning.
+    const auto valid_count = static_cast<std::size_t>(std::count(valid.begin(), valid.end(), true));
+    const bool fit_valid_only = valid_count >= 3 && valid_count < rates.size();
+    std::vector<double> fit_rates, fit_stress, fit_torques;
+    for (std::size_t k = 0; k < rates.size(); ++k) {
+      const bool used = !fit_valid_only || valid[k];
+      points[s.point_indices[k]]["used_in_fits"] = used;
+      if (!used) continue;
+      fit_rates.push_back(rates[k]);
+      fit_stress.push_back(curve.corrected_stress[k]);
+      fit_torques.push_back(torques[k]);
+    }
+    if (fit_valid_only)
+      warnings.push_back(fmt::format("{}: {} of {} points fail the validity checks (see the point table) and are left "
+                                     "out of the fits and yield-stress estimates",
+                                     s.label, rates.size() - valid_count, rates.size()));
+    else if (valid_count < rates.size())
+      warnings.push_back(fmt::format("{}: {} of {} points fail the validity checks; too few valid points remain, so all "
+                                     "are fitted: read the fits and yield stresses with that in mind",
+                                     s.label, rates.size() - valid_count, rates.size()));
+    sj["fitted_points"] = fit_rates.size();
+
+    // Every flow model on (γ̇_R, τ_R), ranked by AICc.
+    std::vector<FitResult> fits;
+    for (const auto& name : builtin_flow_models().names()) {
+      try {
+        fits.push_back(fit_flow_curve(name, fit_rates, fit_stress));
+      } catch (const std::exception& e) {
+        warnings.push_back(fmt::format("{}: the {} fit failed: {}", s.label, name, e.what()));
+      }
+    }
+    const auto ranking = rank_by_aic(fits);
+    std::vector<nlohmann::ordered_json> fit_entries;
+    for (const auto& f : fits) fit_entries.push_back(fit_json(f, s));
+    for (std::size_t r = 0; r < ranking.size(); ++r) {
+      auto& fj = fit_entries[ranking[r].fit_index];
+      fj["rank"] = r + 1;
+      fj["delta"] = finite_or_null(ranking[r].delta);
+      fj["akaike_weight"] = finite_or_null(ranking[r].weight);
+    }
+    for (auto& fj : fit_entries) fits_json.push_back(fj);
+    if (!ranking.empty()) {
+      const FitResult& best = fits[ranking.front().fit_index];
+      sj["best_model"] = best.model_name;
+      best_fits[s.fluid].emplace_back(s.volume_fraction, best);
+    }
+
+    // Yield stress, four ways kept apart (analysis.hpp §3).
+    for (const auto& [model, method] : {std::pair{"bingham", "bingham_intercept"},
+                                        std::pair{"casson", "casson_intercept"},
+                                        std::pair{"herschel_bulkley", "herschel_bulkley"}}) {
+      const auto it = std::find_if(fits.begin(), fits.end(), [&](const FitResult& f) { return f.model_name == model; });
+      if (it == fits.end()) continue;
+      auto yj = yield_json(yield_stress_from_fit(*it, method), s);
+      // How much the data support the model the estimate comes from (an intercept of a model
+      // with weight ~0 is a fitting artefact, not a material property).
+      const auto index = static_cast<std::size_t>(it - fits.begin());
+      for (const auto& r : ranking)
+        if (r.fit_index == index) yj["akaike_weight"] = finite_or_null(r.weight);
+      yield_json_all.push_back(yj);
+    }
+    const TorqueLineFit line = fit_torque_line(in.plate, fit_rates, fit_torques);
+    yield_json_all.push_back(yield_json(line.yield_stress, s));
+    sj["torque_line"] = {{"intercept", line.intercept},
+                         {"intercept_std_error", finite_or_null(line.intercept_std_error)},
+                         {"slope", line.slope},
+                         {"slope_std_error", finite_or_null(line.slope_std_error)},
+                         {"plastic_viscosity", line.plastic_viscosity},
+                         {"plastic_viscosity_ci95", interval(line.plastic_viscosity_ci95)},
+                         {"residuals", line.residuals}};
+    sj["warnings"] = warnings;
+    series_json.push_back(sj);
+  }
+
+  // η_r(φ) per fluid at the largest shear rate every φ of that fluid reached.
+  auto relative = nlohmann::ordered_json::array();
+  for (const auto& name : fluid_names) {
+    nlohmann::ordered_json rj;
+    rj["fluid"] = name;
+    auto warnings = nlohmann::ordered_json::array();
+    const auto found = best_fits.find(name);
+    if (found == best_fits.end()) {
+      warnings.push_back(name + ": no flow curve could be fitted, so there is no relative viscosity");
+      rj["warnings"] = warnings;
+      relative.push_back(rj);
+      continue;
+    }
+    const auto& by_phi = found->second;
+    double reference_rate = std::numeric_limits<double>::infinity();
+    for (const auto& [phi, fit] : by_phi) reference_rate = std::min(reference_rate, fit.max_shear_rate);
+    rj["reference_shear_rate"] = reference_rate;
+
+    // The liquid's viscosity: its measured flow curve (φ = 0) when there is one, so plate and
+    // inertia effects cancel in the ratio; else its rheology law.
+    const auto liquid_fit = std::find_if(by_phi.begin(), by_phi.end(), [](const auto& e) { return e.first == 0.0; });
+    FlowPrediction liquid;
+    if (liquid_fit != by_phi.end()) {
+      liquid = predict(liquid_fit->second, reference_rate);
+      rj["liquid_viscosity_source"] = "measured flow curve at φ = 0 (" + liquid_fit->second.model_name + " fit)";
+    } else {
+      liquid.shear_rate = reference_rate;
+      liquid.viscosity = find_fluid(in, name).properties.rheology->viscosity(reference_rate);
+      liquid.viscosity_std_error = 0;
+      rj["liquid_viscosity_source"] = "the liquid's rheology law (no φ = 0 points)";
+    }
+    rj["liquid_viscosity"] = liquid.viscosity;
+    rj["liquid_viscosity_std_error"] = finite_or_null(liquid.viscosity_std_error);
+
+    std::vector<RelativeViscosityPoint> rv;
+    auto rv_json = nlohmann::ordered_json::array();
+    for (const auto& [phi, fit] : by_phi) {
+      const FlowPrediction suspension = predict(fit, reference_rate);
+      RelativeViscosityPoint p = relative_viscosity(phi, suspension, liquid);
+      if (phi == 0.0 && liquid_fit != by_phi.end()) p = {0.0, 1.0, 0.0};  // the liquid against itself
+      rv.push_back(p);
+      rv_json.push_back({{"volume_fraction", phi},
+                         {"relative_viscosity", p.relative_viscosity},
+                         {"std_error", p.std_error},
+                         {"viscosity", suspension.viscosity},
+                         {"viscosity_std_error", finite_or_null(suspension.viscosity_std_error)},
+                         {"model", fit.model_name}});
+    }
+    rj["points"] = rv_json;
+    auto correlations = nlohmann::ordered_json::array();
+    try {
+      const RelativeViscosityAnalysis a = analyze_relative_viscosity(rv);
+      for (const auto* c : {&a.einstein, &a.batchelor, &a.krieger_dougherty, &a.maron_pierce})
+        correlations.push_back(correlation_json(*c));
+    } catch (const std::exception& e) {
+      warnings.push_back(fmt::format("{}: correlations not compared: {}", name, e.what()));
+    }
+    if (std::none_of(rv.begin(), rv.end(), [](const auto& p) { return p.volume_fraction > 0; }))
+      warnings.push_back(name + ": no finished point with φ > 0: η_r(φ) is the liquid alone and φ_m is not fitted");
+    rj["correlations"] = correlations;
+    rj["warnings"] = warnings;
+    relative.push_back(rj);
+  }
+
+  summary["series"] = series_json;
+  summary["fits"] = fits_json;
+  summary["yield_stress"] = yield_json_all;
+  summary["relative_viscosity"] = relative;
+}
+
+}  // namespace rheosim::rheometer

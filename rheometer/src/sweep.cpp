@@ -1,0 +1,487 @@
+// Resumable sweeps over fluids × φ × γ̇_R (rheometer/sweep.hpp).
+#include "rheosim/rheometer/sweep.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/progress.hpp"
+#include "rheosim/core/version.hpp"
+#include "rheosim/coupling/suspension_point.hpp"
+#include "rheosim/dem/contact.hpp"
+#include "rheosim/fluid/swirl.hpp"
+#include "rheosim/rheometer/plate.hpp"
+#include "rheosim/rheometer/report.hpp"
+#include "rheosim/rheometer/run_analysis.hpp"
+
+namespace rheosim::rheometer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
+  fluid::SwirlParams p;
+  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading};
+  p.density = fluid.density;
+  p.rheology = fluid.rheology;
+  p.inertia = inertia;
+  p.tolerance = r.solver.tolerance;
+  p.max_iterations = r.solver.max_iterations;
+  return p;
+}
+
+core::Hdf5Dataset field(const std::string& name, std::vector<std::size_t> shape, const std::vector<double>& data,
+                        const std::string& unit) {
+  core::Hdf5Dataset d;
+  d.path = "fields/" + name;
+  d.shape = std::move(shape);
+  d.data = data;
+  d.unit = unit;
+  return d;
+}
+
+const core::NamedFluid& fluid_named(const core::RheometerCase& r, const std::string& name) {
+  for (const auto& f : r.fluids)
+    if (f.name == name) return f;
+  throw std::invalid_argument(fmt::format("sweep point names fluid '{}', which the case does not list", name));
+}
+
+// The numbers of a PointResult as HDF5 attributes, by name (one list for store and load).
+struct NumberField {
+  const char* name;
+  double PointResult::*member;
+};
+constexpr NumberField number_fields[] = {
+    {"torque", &PointResult::torque},
+    {"torque_fluid", &PointResult::torque_fluid},
+    {"torque_contact", &PointResult::torque_contact},
+    {"torque_std_error", &PointResult::torque_std_error},
+    {"torque_creeping", &PointResult::torque_creeping},
+    {"torque_analytic", &PointResult::torque_analytic},
+    {"strain", &PointResult::strain},
+    {"wall_time", &PointResult::wall_time},
+    {"cost_dem", &PointResult::cost_dem},
+    {"cost_void_fraction", &PointResult::cost_void_fraction},
+    {"cost_forces", &PointResult::cost_forces},
+    {"cost_fluid", &PointResult::cost_fluid},
+};
+
+nlohmann::ordered_json finite_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+}
+
+std::string point_label(const SweepPoint& p, bool several_fluids) {
+  return fmt::format("{}φ {:g}, {:g} 1/s", several_fluids ? p.fluid + ", " : "", p.volume_fraction, p.rim_shear_rate);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Point runners
+
+PointRunner make_swirl_point_runner(const core::RheometerCase& rheometer) {
+  return [r = rheometer](const SweepPoint& point, const PointProgressCallback&) {
+    const auto& named = fluid_named(r, point.fluid);
+    const auto& fluid = named.properties;
+    const ParallelPlate plate = ParallelPlate::from(r.geometry);
+    const double rate = point.rim_shear_rate;
+    const double omega = plate.angular_velocity(rate);
+    const fluid::SwirlSolver creeping(swirl_params(r, fluid, false));
+    const fluid::SwirlResult stokes = creeping.solve(omega);
+    fluid::SwirlResult full = stokes;
+    if (r.solver.inertia) full = fluid::SwirlSolver(swirl_params(r, fluid, true)).solve(omega);
+
+    PointResult out;
+    out.method = r.solver.inertia ? "steady axisymmetric swirl solve with inertia" : "steady creeping swirl solve";
+    out.converged = stokes.converged && full.converged;
+    out.failure = !stokes.converged ? stokes.failure : full.failure;
+    out.torque = full.torque;
+    out.torque_fluid = full.torque;
+    out.torque_contact = 0.0;
+    out.torque_creeping = stokes.torque;
+    out.torque_analytic = closed_form_torque(plate, *fluid.rheology, rate).value_or(nan);
+    out.iterations = full.iterations + (r.solver.inertia ? stokes.iterations : 0);
+    out.wall_time = full.wall_time + (r.solver.inertia ? stokes.wall_time : 0.0);
+    const auto& grid = creeping.grid();
+    const std::size_t nr = grid.radial_cells(), nz = grid.axial_cells();
+    const auto& s = full.state;
+    out.fields.push_back(field("angular_velocity", {nr, nz}, s.angular_velocity, "rad/s"));
+    out.fields.push_back(field("viscosity", {nr, nz}, s.viscosity, "Pa s"));
+    out.fields.push_back(field("shear_rate", {nr, nz}, s.shear_rate, "1/s"));
+    out.fields.push_back(field("pressure", {nr, nz}, s.pressure, "Pa"));
+    out.fields.push_back(field("radial_velocity", {nr + 1, nz}, s.radial_velocity, "m/s"));
+    out.fields.push_back(field("axial_velocity", {nr, nz + 1}, s.axial_velocity, "m/s"));
+    return out;
+  };
+}
+
+PointRunner make_unavailable_suspension_runner() {
+  return [](const SweepPoint& point, const PointProgressCallback&) {
+    PointResult out;
+    out.method = "CFD-DEM suspension";
+    out.failure = fmt::format(
+        "φ = {:g} needs the CFD-DEM coupling (fluid + LIGGGHTS particles), which is not built yet in rheosim {}; "
+        "no torque was computed for this point",
+        point.volume_fraction, core::version);
+    return out;
+  };
+}
+
+PointRunners default_point_runners(const core::RheometerCase& rheometer) {
+  return {make_swirl_point_runner(rheometer), make_unavailable_suspension_runner()};
+}
+
+SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, double volume_fraction,
+                                                double rim_shear_rate, double max_strain) {
+  SuspensionCostEstimate e;
+  if (!r.particles) return e;
+  const auto& p = *r.particles;
+  const double pi = std::acos(-1.0);
+  const double gap_volume = pi * r.geometry.radius * r.geometry.radius * r.geometry.gap;
+  e.particles = volume_fraction * gap_volume / (pi * p.diameter * p.diameter * p.diameter / 6);
+  const coupling::SuspensionPointSettings defaults;
+  const double dem_step =
+      defaults.time_step_fraction *
+      dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus, p.poisson_ratio});
+  e.dem_steps = max_strain / (rim_shear_rate * dem_step);
+  constexpr double particle_steps_per_second = 1.5e7;  // one core, CD §4 scene (docs/performance.md)
+  constexpr double coupling_overhead = 1.2;            // void fraction + forces + fluid, measured 5–17 %
+  e.wall_time = e.particles * e.dem_steps / particle_steps_per_second * coupling_overhead;
+  return e;
+}
+
+PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
+                                           double budget_seconds) {
+  return [r = rheometer, work = std::move(work_dir), budget_seconds](const SweepPoint& point,
+                                                                     const PointProgressCallback& progress) {
+    PointResult out;
+    out.method = "CFD-DEM (transient 3D fluid + LIGGGHTS, Di Felice drag), steady over a strain window";
+    if (!r.particles) {
+      out.failure = fmt::format("φ = {:g} needs a particles: section (diameter, density, contact properties)",
+                                point.volume_fraction);
+      return out;
+    }
+    coupling::SuspensionPointSettings s;
+    const auto cost = estimate_suspension_cost(r, point.volume_fraction, point.rim_shear_rate, s.steady.max_strain);
+    if (cost.wall_time > budget_seconds) {
+      out.failure = fmt::format(
+          "CFD-DEM point not started: about {:.3g} particles × {:.3g} DEM steps (to strain {:g}) ≈ {:.3g} h on one "
+          "core, above the point budget of {:g} s; raise it with `rheosim run --point-budget SECONDS` or shrink the "
+          "disk (the cost scales with R²)",
+          cost.particles, cost.dem_steps, s.steady.max_strain, cost.wall_time / 3600, budget_seconds);
+      return out;
+    }
+    s.geometry = r.geometry;
+    s.fluid = fluid_named(r, point.fluid).properties;
+    s.particles = *r.particles;
+    s.particles.volume_fraction = point.volume_fraction;
+    s.rim_shear_rate = point.rim_shear_rate;
+    s.inertia = r.solver.inertia;
+    // The fluid grid is coupling::SuspensionPointSettings' default (8 × 8 × 2); its cells are
+    // barely wider than a particle in z, an open accuracy question (docs/coupling.md).
+    s.seed = 1 + point.index;
+    s.run_directory = work / fmt::format("point_{:04d}", point.index);
+    try {
+      fs::create_directories(s.run_directory);
+      const coupling::SuspensionPoint p = coupling::run_point(s);
+      out.converged = p.converged;
+      if (!p.converged)
+        out.failure = fmt::format("torque not steady within {:g} strain units (last window {:.4g} ± {:.2g} N·m)",
+                                  s.steady.max_strain, p.torque, p.torque_error);
+      out.torque = p.torque;
+      out.torque_fluid = p.torque_fluid;
+      out.torque_contact = p.torque_contact;
+      out.torque_std_error = p.torque_error;
+      out.strain = p.strain;
+      out.iterations = static_cast<int>(p.cost.steps);
+      out.wall_time = p.wall_time;
+      if (progress) progress({p.strain, p.strain});
+      std::vector<double> time, fluid, contact;
+      for (const auto& rec : p.series) {
+        time.push_back(rec.time);
+        fluid.push_back(rec.fluid_torque);
+        contact.push_back(rec.contact_torque);
+      }
+      out.fields.push_back(field("time", {time.size()}, time, "s"));
+      out.fields.push_back(field("torque_fluid", {fluid.size()}, fluid, "N m"));
+      out.fields.push_back(field("torque_contact", {contact.size()}, contact, "N m"));
+      out.cost_dem = p.cost.dem;
+      out.cost_void_fraction = p.cost.void_fraction;
+      out.cost_forces = p.cost.forces;
+      out.cost_fluid = p.cost.fluid;
+    } catch (const std::exception& e) {
+      out.failure = fmt::format("CFD-DEM point failed: {}", e.what());
+    }
+    return out;
+  };
+}
+
+std::vector<SweepPoint> sweep_points(const core::SweepCase& sweep) {
+  std::vector<SweepPoint> points;
+  for (const auto& f : sweep.rheometer.fluids)
+    for (double phi : sweep.volume_fractions)
+      for (double rate : sweep.rheometer.shear_rates) points.push_back({points.size(), f.name, phi, rate});
+  return points;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Point store
+
+PointStore::PointStore(fs::path run_dir, std::string input_sha256)
+    : directory_(std::move(run_dir) / "points"), input_sha256_(std::move(input_sha256)) {
+  fs::create_directories(directory_);
+  for (const auto& entry : fs::directory_iterator(directory_)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with(".") && name.find(".tmp-") != std::string::npos) {
+      fs::remove(entry.path());  // a write cut short by a kill: never renamed, never valid
+      continue;
+    }
+    if (entry.path().extension() != ".h5") continue;
+    std::string stored_sha;
+    for (const auto& a : core::read_hdf5_attributes(entry.path()))
+      if (a.name == "input_sha256") stored_sha = std::get<std::string>(a.value);
+    if (stored_sha != input_sha256_) {
+      core::ConfigError::Details d;
+      d.where = core::FileLocation{entry.path().string(), 0, 0};
+      d.key_path = "input_sha256";
+      d.problem = fmt::format("this folder holds sweep points of another input deck (sha256 {}, this deck {})",
+                              stored_sha.substr(0, 12), input_sha256_.substr(0, 12));
+      d.expected = "a folder holding no points, or points of this very deck (resume)";
+      d.hint = fmt::format("run into a new --out folder, or delete {} to start this deck afresh", directory_.string());
+      throw core::ConfigError(d);
+    }
+  }
+}
+
+fs::path PointStore::file(const SweepPoint& point) const {
+  return directory_ / fmt::format("point_{:04d}.h5", point.index);
+}
+
+void PointStore::store(const SweepPoint& point, const PointResult& result) const {
+  core::Hdf5Content content;
+  content.attributes = {{"input_sha256", input_sha256_},
+                        {"fluid", point.fluid},
+                        {"method", result.method},
+                        {"index", static_cast<double>(point.index)},
+                        {"volume_fraction", point.volume_fraction},
+                        {"shear_rate", point.rim_shear_rate},
+                        {"iterations", static_cast<double>(result.iterations)},
+                        {"converged", result.converged ? 1.0 : 0.0}};
+  for (const auto& f : number_fields) content.attributes.push_back({f.name, result.*(f.member)});
+  content.datasets = result.fields;
+  core::write_hdf5(file(point), content);
+}
+
+std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
+  const fs::path path = file(point);
+  if (!fs::exists(path)) return std::nullopt;
+  std::map<std::string, std::variant<double, std::string>> a;
+  for (auto& attribute : core::read_hdf5_attributes(path)) a[attribute.name] = attribute.value;
+  const auto number = [&](const std::string& name) {
+    const auto it = a.find(name);
+    if (it == a.end() || !std::holds_alternative<double>(it->second))
+      throw core::RunError(fmt::format("{}: attribute '{}' is missing; delete the file to recompute the point",
+                                       path.string(), name));
+    return std::get<double>(it->second);
+  };
+  const auto text = [&](const std::string& name) {
+    const auto it = a.find(name);
+    return it != a.end() && std::holds_alternative<std::string>(it->second) ? std::get<std::string>(it->second)
+                                                                             : std::string();
+  };
+  if (text("fluid") != point.fluid || number("volume_fraction") != point.volume_fraction ||
+      number("shear_rate") != point.rim_shear_rate)
+    throw core::RunError(fmt::format("{} holds fluid '{}', φ {}, {} 1/s, not point {} of this sweep; delete it",
+                                     path.string(), text("fluid"), number("volume_fraction"), number("shear_rate"),
+                                     point.index));
+  PointResult r;
+  r.converged = number("converged") != 0;
+  r.method = text("method");
+  r.iterations = static_cast<int>(number("iterations"));
+  for (const auto& f : number_fields) r.*(f.member) = number(f.name);
+  return r;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The sweep
+
+SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core::Log& log, const PointRunners& runners) {
+  const auto& sweep = std::get<core::SweepCase>(c.spec);
+  const auto& r = sweep.rheometer;
+  const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(out_dir);
+  const PointStore store(out_dir, c.sha256);
+  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+  const ParallelPlate plate = ParallelPlate::from(r.geometry);
+
+  const std::vector<SweepPoint> points = sweep_points(sweep);
+  const bool several_fluids = r.fluids.size() > 1;
+  std::vector<std::optional<PointResult>> results(points.size());
+  SweepOutcome outcome;
+  outcome.points = static_cast<int>(points.size());
+  for (const auto& p : points)
+    if ((results[p.index] = store.load(p))) ++outcome.reused_points;
+  if (outcome.reused_points > 0)
+    log.info("resuming: {} of {} points are stored in {}; computing the other {}", outcome.reused_points,
+             points.size(), store.directory().string(), points.size() - static_cast<std::size_t>(outcome.reused_points));
+
+  core::ProgressOptions progress_options;
+  progress_options.initial_done = static_cast<std::size_t>(outcome.reused_points);
+  core::Progress progress = core::Progress::for_stderr("sweep", points.size(), progress_options);
+  std::size_t done = static_cast<std::size_t>(outcome.reused_points);
+  std::set<std::string> failure_reasons;  // a message shared by many points is shown once
+  for (const auto& point : points) {
+    if (results[point.index]) continue;
+    const std::string label = point_label(point, several_fluids);
+    const bool is_suspension = point.volume_fraction > 0;
+    progress.update(done, fmt::format("{}: {}", label, is_suspension ? "starting" : "steady solve (no strain)"));
+    const PointProgressCallback report = [&](const PointProgress& pp) {
+      progress.update(done, std::isfinite(pp.target_strain)
+                                ? fmt::format("{}: strain {:.2f} of {:.2f}", label, pp.strain, pp.target_strain)
+                                : fmt::format("{}: strain {:.2f}", label, pp.strain));
+    };
+    PointResult result;
+    try {
+      const PointRunner& runner = is_suspension ? runners.suspension : runners.single_phase;
+      if (!runner) throw std::logic_error("no point runner for this kind of point");
+      result = runner(point, report);
+    } catch (const std::exception& e) {
+      result = PointResult{};
+      result.failure = e.what();
+    }
+    if (result.converged && !std::isfinite(result.torque)) {
+      result.converged = false;
+      result.failure = "the point runner returned no finite torque";
+    }
+    ++outcome.computed_points;
+    if (result.converged) {
+      store.store(point, result);  // at once: a kill after this line keeps the point
+      log.debug("{}: torque {:.6e} N m ({}, {} iterations)", label, result.torque, result.method, result.iterations);
+    } else if (failure_reasons.insert(result.failure).second) {
+      log.error("{} failed: {}", label, result.failure);
+    } else {
+      log.debug("{} failed: {}", label, result.failure);  // the same reason as an earlier point
+    }
+    result.fields.clear();  // stored; the summary needs only the numbers
+    results[point.index] = std::move(result);
+    progress.update(++done, label);
+  }
+  progress.finish();
+
+  // summary.json: the points in sweep order, then the analysis.
+  nlohmann::ordered_json json_points = nlohmann::ordered_json::array();
+  core::CsvTable table({{"volume_fraction", ""},
+                        {"shear_rate", "1/s"},
+                        {"torque", "N m"},
+                        {"torque_std_error", "N m"},
+                        {"torque_creeping", "N m"},
+                        {"torque_analytic", "N m"},
+                        {"rel_error", ""},
+                        {"gap_reynolds_number", ""},
+                        {"iterations", ""},
+                        {"wall_time", "s"},
+                        {"converged", ""}},
+                       core::CsvTable::Column{"fluid", ""});
+  core::Hdf5Content sweep_h5;
+  std::map<std::string, std::vector<double>> columns;
+  for (const auto& point : points) {
+    const PointResult& res = *results[point.index];
+    const auto& fluid = fluid_named(r, point.fluid).properties;
+    if (res.converged) {
+      const double rel_error = (res.torque - res.torque_analytic) / res.torque_analytic;
+      const double reynolds = plate.gap_reynolds_number(fluid.density, point.rim_shear_rate,
+                                                        fluid.rheology->viscosity(point.rim_shear_rate));
+      nlohmann::ordered_json p;
+      p["fluid"] = point.fluid;
+      p["volume_fraction"] = point.volume_fraction;
+      p["shear_rate"] = point.rim_shear_rate;
+      p["angular_velocity"] = plate.angular_velocity(point.rim_shear_rate);
+      p["torque"] = res.torque;
+      p["torque_fluid"] = finite_or_null(res.torque_fluid);
+      p["torque_contact"] = finite_or_null(res.torque_contact);
+      p["torque_std_error"] = finite_or_null(res.torque_std_error);
+      p["torque_creeping"] = finite_or_null(res.torque_creeping);
+      if (std::isfinite(res.torque_analytic)) {
+        p["torque_analytic"] = res.torque_analytic;
+        p["rel_error"] = rel_error;
+        p["creeping_rel_error"] = finite_or_null((res.torque_creeping - res.torque_analytic) / res.torque_analytic);
+      }
+      p["gap_reynolds_number"] = reynolds;
+      p["strain"] = finite_or_null(res.strain);
+      p["method"] = res.method;
+      p["iterations"] = res.iterations;
+      p["wall_time"] = res.wall_time;
+      if (std::isfinite(res.cost_dem)) {
+        const double overhead = res.cost_dem > 0 ? (res.cost_void_fraction + res.cost_forces) / res.cost_dem : 0.0;
+        p["cost"] = {{"dem", res.cost_dem}, {"void_fraction", res.cost_void_fraction}, {"forces", res.cost_forces},
+                     {"fluid", res.cost_fluid}, {"coupling_overhead", overhead}};
+      }
+      p["converged"] = true;
+      json_points.push_back(p);
+      table.add_row({point.volume_fraction, point.rim_shear_rate, res.torque, res.torque_std_error, res.torque_creeping,
+                     res.torque_analytic, rel_error, reynolds, static_cast<double>(res.iterations), res.wall_time, 1.0},
+                    point.fluid);
+    } else {
+      json_points.push_back({{"fluid", point.fluid},
+                             {"volume_fraction", point.volume_fraction},
+                             {"shear_rate", point.rim_shear_rate},
+                             {"converged", false},
+                             {"method", res.method},
+                             {"failure", res.failure}});
+      table.add_row({point.volume_fraction, point.rim_shear_rate, nan, nan, nan, nan, nan, nan,
+                     static_cast<double>(res.iterations), res.wall_time, 0.0},
+                    point.fluid);
+    }
+    columns["volume_fraction"].push_back(point.volume_fraction);
+    columns["shear_rate"].push_back(point.rim_shear_rate);
+    columns["converged"].push_back(res.converged ? 1.0 : 0.0);
+    for (const auto& f : number_fields) columns[f.name].push_back(res.*(f.member));
+    if (!res.converged) ++outcome.failed_points;
+  }
+
+  nlohmann::ordered_json summary;
+  summary["case"] = c.name;
+  summary["kind"] = c.kind();
+  summary["rheosim_version"] = core::version;
+  summary["git_revision"] = core::git_revision;
+  summary["input_sha256"] = c.sha256;
+  summary["radius"] = r.geometry.radius;
+  summary["gap"] = r.geometry.gap;
+  summary["grid"] = {{"radial_cells", r.solver.radial_cells},
+                     {"axial_cells", r.solver.axial_cells},
+                     {"radial_grading", r.solver.radial_grading}};
+  summary["inertia"] = r.solver.inertia;
+  summary["volume_fractions"] = sweep.volume_fractions;
+  summary["shear_rates"] = r.shear_rates;
+  summary["points_total"] = outcome.points;
+  summary["points_failed"] = outcome.failed_points;
+  summary["points_resumed"] = outcome.reused_points;
+  summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary["points"] = json_points;
+  add_flow_analysis(summary, {plate, r.fluids, r.particles});
+
+  for (auto& [name, values] : columns) {
+    core::Hdf5Dataset d;
+    d.path = "points/" + name;
+    d.shape = {values.size()};
+    d.data = values;
+    sweep_h5.datasets.push_back(d);
+  }
+  sweep_h5.attributes = {{"case", c.name}, {"input_sha256", c.sha256}};
+  core::write_hdf5(out_dir / "sweep.h5", sweep_h5);
+  core::write_csv(out_dir / "torque.csv", table);
+  core::write_json(out_dir / "summary.json", summary);
+  write_report(out_dir);
+  outcome.summary = out_dir / "summary.json";
+  return outcome;
+}
+
+}  // namespace rheosim::rheometer
