@@ -10,6 +10,8 @@
 #include "rheosim/rheometer/openfoam.hpp"
 #include "rheosim/rheometer/report.hpp"
 #include "rheosim/rheometer/run.hpp"
+#include "rheosim/rheometer/sweep.hpp"
+#include "run_ldd.hpp"
 
 namespace rheosim::app {
 
@@ -19,6 +21,33 @@ namespace {
 int bad_input(const core::Log& log, const std::exception& e) {
   log.error("{}", e.what());
   return exit_bad_input;
+}
+
+// A sweep runs (or resumes) into `out`: φ = 0 points by the steady swirl solve, φ > 0 points by
+// CFD-DEM, each within the point budget (rheometer/sweep.hpp).
+int run_sweep_case(const core::Case& c, const std::string& case_file, const std::filesystem::path& out,
+                   double point_budget, const core::Log& log) {
+  try {
+    const auto log_file = log.with_file(out / "log.txt");
+    log_file.info("rheosim {} (git {}): running sweep {} into {}", core::version, core::git_revision, case_file,
+                  out.string());
+    const auto& sweep = std::get<core::SweepCase>(c.spec);
+    auto runners = rheometer::default_point_runners(sweep.rheometer);
+    runners.suspension = rheometer::make_coupled_suspension_runner(sweep.rheometer, out / "dem", point_budget);
+    const auto outcome = rheometer::run_sweep(c, out, log_file, runners);
+    log_file.info("{} points: {} computed now, {} read back from an earlier run, {} failed; summary: {}; report: {}",
+                  outcome.points, outcome.computed_points, outcome.reused_points, outcome.failed_points,
+                  outcome.summary.string(), (out / "report.html").string());
+    if (outcome.failed_points > 0)
+      log_file.error("{} of {} sweep points have no result (listed in summary.json and the report)",
+                     outcome.failed_points, outcome.points);
+    return outcome.failed_points == 0 ? exit_success : exit_run_failure;
+  } catch (const core::ConfigError& e) {
+    return bad_input(log, e);
+  } catch (const std::exception& e) {
+    log.error("run failed: {}", e.what());
+    return exit_run_failure;
+  }
 }
 
 }  // namespace
@@ -36,7 +65,8 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
   return status;
 }
 
-int run(const std::string& case_file, const std::filesystem::path& out_dir, const core::Log& log) {
+int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget,
+        const core::Log& log) {
   core::Case c;
   try {
     c = core::load_case(case_file);
@@ -44,14 +74,16 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, cons
     return bad_input(log, e);
   }
   const std::filesystem::path out = out_dir.empty() ? std::filesystem::path("results") / c.name : out_dir;
+  if (std::holds_alternative<core::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
+  if (std::holds_alternative<core::LddCase>(c.spec)) return run_ldd(c, out, log);
   const auto* rheometer_case = std::get_if<core::RheometerCase>(&c.spec);
-  if (!rheometer_case || rheometer_case->particles) {
-    // Not built yet: say so plainly instead of writing anything that looks like a result.
-    const std::string what = c.kind() == "ldd" ? "the LDD solver" : c.kind() == "sweep" ? "sweeps" : "CFD-DEM suspensions";
-    log.error("'{}' is a valid {} case, but {} are not built yet in rheosim {}; nothing was run and nothing was "
-              "written to {}",
-              case_file, c.kind(), what, core::version, out.string());
-    return exit_run_failure;
+  if (rheometer_case && rheometer_case->particles) {
+    // A suspension at one φ runs as a two-fraction sweep: the liquid alone (φ = 0, the reference
+    // for the torque increase) and the suspension, with resume, analysis and report.
+    core::Case as_sweep = c;
+    const double phi = rheometer_case->particles->volume_fraction;
+    as_sweep.spec = core::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
+    return run_sweep_case(as_sweep, case_file, out, point_budget, log);
   }
   try {
     const auto log_file = log.with_file(out / "log.txt");
@@ -89,8 +121,11 @@ int export_openfoam(const std::string& case_file, const std::filesystem::path& d
 
 int report(const std::filesystem::path& run_dir, const core::Log& log) {
   try {
-    const auto html = rheometer::write_report(run_dir);
-    log.info("report written to {}", html.string());
+    const auto files = rheometer::write_report(run_dir);
+    log.info("report written to {} ({} plots)", files.html.string(), files.plots.size());
+    if (!files.missing_plots.empty())
+      log.warn("{} plot(s) not drawn (gnuplot missing or failed); their .gp scripts are in {}",
+               files.missing_plots.size(), run_dir.string());
     return exit_success;
   } catch (const core::ConfigError& e) {
     return bad_input(log, e);

@@ -42,10 +42,18 @@ int main(int argc, char** argv) {
   auto* run = cli.add_subcommand("run", "Validate a case, run it and write its results");
   run->add_option("case", run_case, "Case file (YAML)")->required()->check(CLI::ExistingFile);
   run->add_option("-o,--out", run_out, "Output folder (default: results/<case name>)");
+  double point_budget = 600;
+  run->add_option("--point-budget", point_budget,
+                  "Largest estimated wall time of one CFD-DEM point, in seconds (default 600); dearer points "
+                  "fail at once with their estimate")
+      ->check(CLI::PositiveNumber);
   run->footer(
       "Writes summary.json, CSV tables, HDF5 data, plots and report.html into the output folder.\n"
-      "Example:\n"
-      "  rheosim run cases/quickstart.yaml --out results/quickstart");
+      "A sweep (kind: sweep) stores each finished point at once; run it again with the same --out\n"
+      "after an interruption and only the missing points are computed.\n"
+      "Examples:\n"
+      "  rheosim run cases/quickstart.yaml --out results/quickstart\n"
+      "  rheosim run cases/suspension_seed.yaml --out results/seed");
 
   std::string report_dir;
   auto* report = cli.add_subcommand("report", "Write report.html for a finished run folder");
@@ -81,7 +89,7 @@ int main(int argc, char** argv) {
   const auto verbosity = quiet ? core::Verbosity::quiet : (verbose ? core::Verbosity::verbose : core::Verbosity::normal);
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
-  if (*run) return app::run(run_case, run_out, log);
+  if (*run) return app::run(run_case, run_out, point_budget, log);
   if (*foam) return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, log);
   return app::report(report_dir, log);
 }
