@@ -16,6 +16,10 @@ double seconds_since(Clock::time_point start) {
 }
 
 void check_settings(const CouplerSettings& s) {
+  if (!(std::isfinite(s.pressure_gradient_filter_steps) && s.pressure_gradient_filter_steps >= 0.0))
+    throw std::invalid_argument(fmt::format(
+        "coupling: pressure_gradient_filter_steps = {} is out of range, expected a finite value >= 0",
+        s.pressure_gradient_filter_steps));
   if (s.coupling_interval < 1)
     throw std::invalid_argument(
         fmt::format("coupling: coupling_interval = {} is out of range, expected an integer >= 1", s.coupling_interval));
@@ -48,6 +52,7 @@ Coupler::Coupler(CouplerSettings settings, dem::RheometerScene* scene, dem::Engi
       sampler_(fluid.grid()),
       exchange_(fluid.grid()) {
   for (const std::string& name : settings_.forces) models_.push_back(make_force_model(name));
+  sampler_.set_pressure_gradient_filter(settings_.pressure_gradient_filter_steps * settings_.fluid_time_step);
   // CFD δt = coupling interval × DEM δt (CD §4).
   const double dem_step = engine.time_step();
   const double expected = settings_.coupling_interval * dem_step;

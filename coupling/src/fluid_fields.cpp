@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <utility>
 
 namespace rheosim::coupling {
 
@@ -12,6 +14,12 @@ FluidCellFields::FluidCellFields(const fluid::CylindricalGrid& grid)
                              &grad_c_, &grad_mu_})
     f->resize(n);
   viscosity_.assign(n, 0.0);
+}
+
+void FluidCellFields::set_pressure_gradient_filter(double time_constant) {
+  if (!(std::isfinite(time_constant) && time_constant >= 0.0))
+    throw std::invalid_argument("FluidCellFields: the pressure-gradient filter time constant must be finite and >= 0 s");
+  filter_time_constant_ = time_constant;
 }
 
 void FluidCellFields::gradient(std::span<const double> f, CellVectorField& out) const {
@@ -122,7 +130,18 @@ void FluidCellFields::update(const fluid::TransientSolver& solver) {
         const std::size_t zi = (i * n_theta_ + j) * (n_z_ + 1) + k;
         velocity_.axial[c] = 0.5 * (uz[zi] + uz[zi + 1]);
       }
-  gradient(solver.pressure(), pressure_gradient_);
+  if (filter_time_constant_ > 0.0 && has_pressure_gradient_) {
+    gradient(solver.pressure(), grad_c_);
+    const double weight = -std::expm1(-(solver.time() - last_update_time_) / filter_time_constant_);
+    for (auto [filtered, raw] : {std::pair{&pressure_gradient_.radial, &grad_c_.radial},
+                                 std::pair{&pressure_gradient_.azimuthal, &grad_c_.azimuthal},
+                                 std::pair{&pressure_gradient_.axial, &grad_c_.axial}})
+      for (std::size_t c = 0; c < filtered->size(); ++c) (*filtered)[c] += weight * ((*raw)[c] - (*filtered)[c]);
+  } else {
+    gradient(solver.pressure(), pressure_gradient_);
+  }
+  has_pressure_gradient_ = true;
+  last_update_time_ = solver.time();
 
   const fluid::TransientParams& params = solver.params();
   vector_laplacian(velocity_, params.bottom_angular_velocity, params.top_angular_velocity, laplacian_);

@@ -45,6 +45,9 @@ struct CouplerSettings {
   std::string void_fraction = "divided";                  // centre | divided
   double void_fraction_floor = 0.3;                       // ε_min in (0, 1)
   std::vector<std::string> forces = seed_force_models();  // force model names (forces.hpp)
+  // Time constant of the ∇p filter in fluid steps (fluid_fields.hpp: the projection pressure's
+  // answer to ∂ε/∂t, fed back explicitly, is unstable for neutrally buoyant particles); 0 = off.
+  double pressure_gradient_filter_steps = 50.0;
   // ρ_p [kg/m³] for the drag-relaxation diagnostic (m/(β Δt)); 0: taken from the scene, else off.
   double particle_density = 0.0;
 };

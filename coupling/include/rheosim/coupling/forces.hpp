@@ -135,6 +135,8 @@ class FluidSampler {
   void sample(const fluid::TransientSolver& solver, const VoidFractionField& void_fraction,
               const ParticleView& particles, std::vector<ParticleSample>& samples);
   [[nodiscard]] const FluidCellFields& cell_fields() const { return fields_; }
+  // Time constant [s] of the ∇p filter (FluidCellFields::set_pressure_gradient_filter).
+  void set_pressure_gradient_filter(double time_constant) { fields_.set_pressure_gradient_filter(time_constant); }
 
  private:
   FluidCellFields fields_;
