@@ -114,7 +114,7 @@ void Coupler::update_forces() {
   }
   last_.drag_relaxation_steps = std::isfinite(relaxation) ? relaxation : 0.0;
   engine_->set_external_forces(dem_forces_);
-  exchange_.build(void_fraction_.map(), samples_, forces_);
+  exchange_.build(void_fraction_.map(), samples_, forces_, &sampler_.cell_fields().velocity());
   last_.balance = exchange_.balance(void_fraction_.map(), samples_, forces_);
   fluid_->set_momentum_source(exchange_.source());
   cost_.forces += seconds_since(start);

@@ -26,7 +26,14 @@ double MomentumExchange::basis_angle(std::size_t cell, const ParticleSample& par
 }
 
 void MomentumExchange::build(const ParticleCellMap& map, std::span<const ParticleSample> samples,
-                             std::span<const ParticleForce> forces) {
+                             std::span<const ParticleForce> forces, const CellVectorField* cell_velocity) {
+  if (cell_velocity && (cell_velocity->radial.size() != radial_.size() || cell_velocity->azimuthal.size() != radial_.size() ||
+                        cell_velocity->axial.size() != radial_.size()))
+    throw std::invalid_argument("MomentumExchange: the cell velocity field does not match the grid");
+  if (cell_velocity)
+    cell_velocity_ = *cell_velocity;
+  else
+    cell_velocity_ = {};
   if (map.particle_count() != samples.size() || samples.size() != forces.size())
     throw std::invalid_argument(fmt::format("MomentumExchange: {} mapped particles, {} samples, {} forces",
                                             map.particle_count(), samples.size(), forces.size()));
@@ -37,7 +44,10 @@ void MomentumExchange::build(const ParticleCellMap& map, std::span<const Particl
   for (std::size_t p = 0; p < samples.size(); ++p) {
     const double beta = forces[p].drag_coefficient;
     if (beta == 0.0) continue;
-    const Vector3& v = samples[p].velocity;
+    Vector3 v = samples[p].velocity;
+    // With ũ_c: explicit β(u_p − u_f(x_p)) + β ũ_c (header comment).
+    if (cell_velocity)
+      for (std::size_t d = 0; d < 3; ++d) v[d] -= samples[p].fluid_velocity[d];
     for (const VolumeShare& share : map.of(p)) {
       const std::size_t c = share.cell;
       const double w = share.volume / samples[p].volume;
@@ -49,6 +59,11 @@ void MomentumExchange::build(const ParticleCellMap& map, std::span<const Particl
       azimuthal_[c] += per_volume * (-v[0] * sn + v[1] * cs);
       axial_[c] += per_volume * v[2];
       drag_coefficient_[c] += per_volume;
+      if (cell_velocity) {
+        radial_[c] += per_volume * cell_velocity->radial[c];
+        azimuthal_[c] += per_volume * cell_velocity->azimuthal[c];
+        axial_[c] += per_volume * cell_velocity->axial[c];
+      }
     }
   }
 }
@@ -70,21 +85,29 @@ ExchangeBalance MomentumExchange::balance(const ParticleCellMap& map, std::span<
       out.viscous_on_particles[d] += f.viscous[d];
     }
     scale += std::hypot(f.drag[0], f.drag[1], f.drag[2]);
-    // The implicit part −K_c ũ_c V_c, at the velocity particle p sampled.
+    // The implicit part −K_c ũ_c V_c: at the velocity particle p sampled (plain split), or at the
+    // cell velocity of the build (added below, per cell).
+    if (!cell_velocity_.radial.empty()) continue;
     for (const VolumeShare& share : map.of(p)) {
       const double wb = share.volume / samples[p].volume * f.drag_coefficient;
       for (std::size_t d = 0; d < 3; ++d) out.drag_to_fluid[d] -= wb * samples[p].fluid_velocity[d];
     }
   }
-  // The explicit part, rebuilt from the solver's cylindrical arrays.
+  // The explicit part (minus K_c ũ_c with the cell velocities), rebuilt from the solver's
+  // cylindrical arrays.
+  const bool per_cell = !cell_velocity_.radial.empty();
   for (std::size_t c = 0; c < radial_.size(); ++c) {
     const double theta = cell_theta_[c];
     const double cs = std::cos(theta), sn = std::sin(theta);
+    const double k = per_cell ? drag_coefficient_[c] : 0.0;
+    const double fr = radial_[c] - (per_cell ? k * cell_velocity_.radial[c] : 0.0);
+    const double ft = azimuthal_[c] - (per_cell ? k * cell_velocity_.azimuthal[c] : 0.0);
+    const double fz = axial_[c] - (per_cell ? k * cell_velocity_.axial[c] : 0.0);
     if (!out.axial_only) {
-      out.drag_to_fluid[0] += (radial_[c] * cs - azimuthal_[c] * sn) * cell_volume_[c];
-      out.drag_to_fluid[1] += (radial_[c] * sn + azimuthal_[c] * cs) * cell_volume_[c];
+      out.drag_to_fluid[0] += (fr * cs - ft * sn) * cell_volume_[c];
+      out.drag_to_fluid[1] += (fr * sn + ft * cs) * cell_volume_[c];
     }
-    out.drag_to_fluid[2] += axial_[c] * cell_volume_[c];
+    out.drag_to_fluid[2] += fz * cell_volume_[c];
   }
   if (out.axial_only) out.drag_to_fluid[0] = out.drag_to_fluid[1] = 0.0;  // not representable
   double mismatch = 0.0;

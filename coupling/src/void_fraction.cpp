@@ -133,8 +133,16 @@ std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(std::string_
   return make_void_fraction_scheme(doc.root());
 }
 
-VoidFractionField::VoidFractionField(const fluid::CylindricalGrid& grid, double floor, int max_floor_passes)
-    : grid_(&grid), locator_(grid), floor_(floor), max_floor_passes_(max_floor_passes) {
+VoidFractionField::VoidFractionField(const fluid::CylindricalGrid& grid, double floor, int max_floor_passes,
+                                     double min_particle_volumes_per_cell)
+    : grid_(&grid),
+      locator_(grid),
+      floor_(floor),
+      max_floor_passes_(max_floor_passes),
+      min_particle_volumes_per_cell_(min_particle_volumes_per_cell) {
+  if (!(std::isfinite(min_particle_volumes_per_cell) && min_particle_volumes_per_cell >= 0.0))
+    throw std::invalid_argument(fmt::format("min_particle_volumes_per_cell = {} is out of range, expected >= 0",
+                                            min_particle_volumes_per_cell));
   if (!(floor > 0.0 && floor < 1.0))
     throw std::invalid_argument(fmt::format("void fraction floor = {} is out of range, expected (0, 1)", floor));
   if (max_floor_passes < 1)
@@ -159,6 +167,7 @@ const VoidFractionReport& VoidFractionField::update(const VoidFractionScheme& sc
   for (std::size_t c = 0; c < solid_volume_.size(); ++c) raw_min = std::min(raw_min, 1.0 - solid_volume_[c] / cell_volume_[c]);
   report_.min_void_fraction_raw = raw_min;
   report_.mapped_points = map_.mapped_points;
+  if (!particles.radii.empty()) merge_small_rings(report_.particle_volume / static_cast<double>(particles.size()));
   apply_floor();
   double carried = 0.0, eps_min = 1.0;
   for (std::size_t c = 0; c < solid_volume_.size(); ++c) {
@@ -172,6 +181,23 @@ const VoidFractionReport& VoidFractionField::update(const VoidFractionScheme& sc
   report_.relative_error =
       report_.particle_volume > 0.0 ? std::abs(carried - report_.particle_volume) / report_.particle_volume : 0.0;
   return report_;
+}
+
+void VoidFractionField::merge_small_rings(double mean_particle_volume) {
+  const std::size_t n_theta = grid_->azimuthal_cells(), n_z = grid_->axial_cells();
+  if (n_theta < 2) return;
+  for (std::size_t i = 0; i < grid_->radial_cells(); ++i) {
+    bool small = false;
+    for (std::size_t k = 0; k < n_z; ++k)
+      small = small || cell_volume_[locator_.cell_index(i, 0, k)] < min_particle_volumes_per_cell_ * mean_particle_volume;
+    if (!small) continue;
+    ++report_.merged_rings;
+    for (std::size_t k = 0; k < n_z; ++k) {
+      double ring = 0.0;
+      for (std::size_t j = 0; j < n_theta; ++j) ring += solid_volume_[locator_.cell_index(i, j, k)];
+      for (std::size_t j = 0; j < n_theta; ++j) solid_volume_[locator_.cell_index(i, j, k)] = ring / static_cast<double>(n_theta);
+    }
+  }
 }
 
 void VoidFractionField::apply_floor() {

@@ -161,3 +161,42 @@ TEST(VoidFraction, RejectsABadFloor) {
 
 }  // namespace
 }  // namespace rheosim::coupling
+
+namespace rheosim::coupling {
+namespace {
+
+// A ring whose wedges hold fewer than the threshold of particle volumes is averaged azimuthally
+// (void_fraction.hpp, "Rings near the axis"); larger rings and the total are untouched.
+TEST(VoidFraction, SmallAxisRingIsAveragedAroundTheAxis) {
+  const fluid::CylindricalGrid g = grid(8);
+  Particles p;
+  p.add(3e-4, 2e-4, 0.00125, 2e-4);  // in the axis ring (Δr = 1.67 mm), one wedge, layer k = 2
+  const double particle = sphere_volume_from_radius(2e-4);
+  const double wedge = g.cell_volume(0, 2);  // 16 particle volumes; the next ring holds 48
+  ASSERT_LT(wedge, 20 * particle);
+  ASSERT_GT(g.cell_volume(1, 2), 20 * particle);
+  const auto scheme = make_void_fraction_scheme("divided");
+
+  VoidFractionField merged(g, 0.3, 100, 20.0);
+  const VoidFractionReport& r = merged.update(*scheme, p.view());
+  EXPECT_EQ(r.merged_rings, 1u);
+  EXPECT_LT(r.relative_error, 1e-14);
+  double ring = 0.0;
+  for (std::size_t j = 0; j < 8; ++j) {
+    const std::size_t c = merged.locator().cell_index(0, j, 2);
+    EXPECT_NEAR(merged.solid_volume()[c], particle / 8, 1e-12 * particle);
+    ring += merged.solid_volume()[c];
+  }
+  EXPECT_NEAR(ring, particle, 1e-12 * particle);
+
+  VoidFractionField plain(g, 0.3, 100, 0.0);
+  EXPECT_EQ(plain.update(*scheme, p.view()).merged_rings, 0u);
+  // Without merging the particle's volume stays in the wedges its sub-points fall in.
+  const std::size_t home = plain.locator().locate({3e-4, 2e-4, 0.00125}).cell;
+  EXPECT_GT(plain.solid_volume()[home], 0.5 * particle);
+  EXPECT_EQ(plain.solid_volume()[plain.locator().cell_index(0, 5, 2)], 0.0);  // the far side of the axis
+  EXPECT_THROW(VoidFractionField(g, 0.3, 100, -1.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rheosim::coupling

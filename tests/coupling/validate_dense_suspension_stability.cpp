@@ -30,6 +30,7 @@ SuspensionPointSettings dense_point(const std::filesystem::path& folder, double 
   // Run to max_strain without an early stop: the test is about stability over that window.
   s.steady = {.strain_window = max_strain / 2, .relative_tolerance = 1e-9, .min_strain = max_strain,
               .max_strain = max_strain};
+  s.seed = 2;  // the placement of `rheosim run`'s second point (seed 1 + point index)
   s.run_directory = folder;
   return s;
 }

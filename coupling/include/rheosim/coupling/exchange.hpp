@@ -12,12 +12,21 @@
 // Cartesian sum — momentum balance to round-off through the solver's own arrays. For N_θ = 1 (a
 // cell spanning 2π) a Cartesian x–y sum has no meaning; the particle's own θ is used and only
 // the axial sum is comparable.
+// Per-cell consistency (build() with the cell velocities ũ_c): the particle feels β(u_f(x_p) − u_p)
+// with u_f interpolated at its centre, but the implicit part acts on the cell velocity, so with
+// f_c = Σ β u_p alone a particle moving with the fluid at x_p still pushed its cells by
+// β(u_f(x_p) − ũ_c). In a gap of two cell layers the particles sit in the inner halves of the
+// layers, so the layers were pulled toward the mid-gap velocity and the wall gradients
+// steepened. build() therefore puts β(u_p − u_f(x_p)) + β ũ_c in the explicit part: the source
+// f_c − K_c u^(n+1) equals −Σ f_d per cell whenever u^(n+1) = ũ_c (steady state), and stays
+// implicit in K for stability.
 // Balance: at the fluid velocity the particles sampled, the fluid's source Σ_c (f_c − K_c ũ_c) V_c
 // equals −Σ_p f_d,p to round-off; the implicit part then only adds K(ũ − u^(n+1)), which vanishes
 // when the cell velocity equals the sampled one.
 #include <span>
 #include <vector>
 
+#include "rheosim/coupling/fluid_fields.hpp"
 #include "rheosim/coupling/forces.hpp"
 #include "rheosim/coupling/void_fraction.hpp"
 #include "rheosim/fluid/transient.hpp"
@@ -38,8 +47,10 @@ class MomentumExchange {
   explicit MomentumExchange(const fluid::CylindricalGrid& grid);
 
   // Rebuilds f and K from this step's forces (same particle order as the map and samples).
+  // cell_velocity: the fluid's cell-centre velocity (FluidCellFields::velocity) for per-cell
+  // consistency (header comment); nullptr: the plain split f_c = Σ β u_p.
   void build(const ParticleCellMap& map, std::span<const ParticleSample> samples,
-             std::span<const ParticleForce> forces);
+             std::span<const ParticleForce> forces, const CellVectorField* cell_velocity = nullptr);
 
   // View of the arrays for TransientSolver::set_momentum_source (valid until the next build()).
   [[nodiscard]] fluid::MomentumSource source() const;
@@ -57,6 +68,7 @@ class MomentumExchange {
 
   const fluid::CylindricalGrid* grid_;
   std::vector<double> radial_, azimuthal_, axial_, drag_coefficient_, cell_volume_, cell_theta_;
+  CellVectorField cell_velocity_;  // ũ_c of the last build() (empty without)
 };
 
 }  // namespace rheosim::coupling
