@@ -129,6 +129,31 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
   return out;
 }
 
+// particles.hydrodynamics (see Hydrodynamics): model `none` or terms joined by '+'.
+Hydrodynamics read_hydrodynamics(const Section& s) {
+  Hydrodynamics out;
+  const std::vector<std::string> terms{"lubrication", "none", "single_particle", "stokes_drag", "stresslet"};
+  const std::string model = s.text({"model", "near-field terms, e.g. lubrication+stresslet", "-"});
+  std::size_t start = 0;
+  while (start <= model.size()) {
+    const std::size_t end = std::min(model.find('+', start), model.size());
+    const std::string term = model.substr(start, end - start);
+    if (std::find(terms.begin(), terms.end(), term) == terms.end())
+      s.fail("model", fmt::format("unknown near-field term '{}' in '{}'", term, model),
+             "none, or terms joined by '+' from: lubrication, single_particle, stokes_drag, stresslet",
+             "e.g. 'model: lubrication+stresslet'");
+    if (term == "lubrication") out.lubrication = true;
+    if (term == "stresslet" || term == "single_particle") out.single_particle = true;
+    if (term == "stokes_drag") out.stokes_drag = true;
+    start = end + 1;
+  }
+  out.roughness = s.number_or({"roughness", "roughness length δ/ā regularising the lubrication gap", "-"},
+                              out.roughness, Range::closed(1e-6, 0.1));
+  out.lubrication_cutoff = s.number_or({"lubrication_cutoff", "gap h_c/ā below which lubrication acts", "-"},
+                                       out.lubrication_cutoff, Range::open_closed(out.roughness, 1.0));
+  return out;
+}
+
 ParticleProperties read_particles(const Section& p, const PlateGeometry& geometry, bool with_volume_fraction) {
   ParticleProperties out;
   if (with_volume_fraction)
@@ -144,6 +169,8 @@ ParticleProperties read_particles(const Section& p, const PlateGeometry& geometr
            "a particle diameter smaller than the gap (H/d >= 10 for a continuum stress)");
   const KeyInfo distribution_key{"size_distribution", "spread of particle diameters (omit for equal spheres)", "-"};
   if (auto s = p.optional_section(distribution_key)) out.size_distribution = read_size_distribution(*s, out.diameter, geometry);
+  const KeyInfo hydrodynamics_key{"hydrodynamics", "near-field hydrodynamics (omit for drag only)", "-"};
+  if (auto s = p.optional_section(hydrodynamics_key)) out.hydrodynamics = read_hydrodynamics(*s);
   return out;
 }
 
@@ -160,6 +187,11 @@ RheometerCase read_rheometer(const Section& root, bool is_sweep) {
   require_increasing(root, "shear_rates", out.shear_rates);
   const KeyInfo particles_key{"particles", "suspended particles (omit for a single fluid)", "-"};
   if (auto p = root.optional_section(particles_key)) out.particles = read_particles(*p, out.geometry, !is_sweep);
+  const std::string model = root.choice_or({"model", "suspension model (auto | full_disk | shear_cell)", "-"}, "auto",
+                                           {"auto", "full_disk", "shear_cell"});
+  out.suspension_model = model == "full_disk"    ? RheometerCase::SuspensionModel::full_disk
+                         : model == "shear_cell" ? RheometerCase::SuspensionModel::shear_cell
+                                                 : RheometerCase::SuspensionModel::automatic;
   return out;
 }
 

@@ -28,6 +28,12 @@ std::string describe_rheometer(const RheometerCase& r) {
   out += fmt::format("  solver: {} × {} cells (r × z), radial grading {}, inertia {}\n", r.solver.radial_cells,
                      r.solver.axial_cells, r.solver.radial_grading, r.solver.inertia ? "on" : "off");
   out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
+  if (r.particles) {
+    using M = RheometerCase::SuspensionModel;
+    out += fmt::format("  suspension model: {}\n", r.suspension_model == M::full_disk    ? "full_disk"
+                                                     : r.suspension_model == M::shear_cell ? "shear_cell"
+                                                                                           : "auto");
+  }
   if (const auto& p = r.particles) {
     out += fmt::format(
         "  particles: diameter {} m, density {} kg/m³, E {} Pa, ν {}, restitution {}, friction {}, H/d {:.3g}\n",
@@ -45,6 +51,10 @@ std::string describe_rheometer(const RheometerCase& r) {
                            list({s->diameters.begin(), s->diameters.begin() + s->classes}),
                            list({s->volume_fractions.begin(), s->volume_fractions.begin() + s->classes}));
     }
+    if (const auto& h = p->hydrodynamics; h.any())
+      out += fmt::format("  near-field hydrodynamics:{}{}{}, roughness δ/ā {}, lubrication cutoff h/ā {}\n",
+                         h.lubrication ? " lubrication" : "", h.single_particle ? " stresslet" : "",
+                         h.stokes_drag ? " stokes_drag" : "", h.roughness, h.lubrication_cutoff);
   } else {
     out += "  particles: none (single phase)\n";
   }

@@ -119,6 +119,7 @@ class Engine::Impl {
 
   void store_external(std::span<const double> load);  // store_width values per local particle
   void clear_external(const char* caller);
+  void set_step_callback(StepForceCallback callback);
 
   // Throws EngineError if the instance failed earlier; function(argument) names the call.
   void require_usable(std::string_view function, std::string_view argument = {}) const;
@@ -139,7 +140,12 @@ class Engine::Impl {
   static void apply_external(void* self, LAMMPS_NS::bigint step, int nlocal, int* tags, double** x,
                              double** fexternal);
 
+  void call_step_callback(LAMMPS_NS::bigint step, int nlocal, double** load, double** fexternal);
+
   Params params_;
+  StepForceCallback step_callback_;
+  // Scratch for the step callback (reused every step).
+  std::vector<double> known_forces_, known_torques_, callback_forces_, callback_torques_;
   MPI_Comm comm_ = MPI_COMM_NULL;
   LAMMPS_NS::LAMMPS* lmp_ = nullptr;
   bool setup_needed_ = true;
@@ -413,9 +419,9 @@ void Engine::Impl::replace_stored(std::span<const double> load) {
 
 // fix external's callback, in post_force of every step (and in the setup of each run):
 // force into fexternal (which the fix adds to f), torque straight into atom->torque.
-void Engine::Impl::apply_external(void* self, LAMMPS_NS::bigint /*step*/, int nlocal, int* /*tags*/,
-                                  double** /*x*/, double** fexternal) {
-  const auto* impl = static_cast<const Impl*>(self);
+void Engine::Impl::apply_external(void* self, LAMMPS_NS::bigint step, int nlocal, int* /*tags*/, double** /*x*/,
+                                  double** fexternal) {
+  auto* impl = static_cast<Impl*>(self);
   LAMMPS_NS::Fix* store = impl->store_fix();
   double** load = store != nullptr ? store->array_atom : nullptr;
   double** torque = impl->lmp_->atom->torque;
@@ -424,6 +430,52 @@ void Engine::Impl::apply_external(void* self, LAMMPS_NS::bigint /*step*/, int nl
     if (load != nullptr && torque != nullptr)
       for (int k = 0; k < 3; ++k) torque[i][k] += load[i][3 + k];
   }
+  if (impl->step_callback_) impl->call_step_callback(step, nlocal, load, fexternal);
+}
+
+// Hands the current arrays to the step callback and adds what it returns. The torque array
+// already holds the stored external torque (added above); the force array f does not hold
+// fexternal yet (fix external adds it after this callback), so the known force is f + load.
+void Engine::Impl::call_step_callback(LAMMPS_NS::bigint step, int nlocal, double** load, double** fexternal) {
+  LAMMPS_NS::Atom* atom = lmp_->atom;
+  const auto n = static_cast<std::size_t>(nlocal);
+  if (atom->omega == nullptr || atom->radius == nullptr || atom->rmass == nullptr || atom->torque == nullptr)
+    throw core::RunError("dem::Engine step force callback: needs atom_style granular (omega, radius, rmass, torque)");
+  known_forces_.assign(3 * n, 0.0);
+  known_torques_.assign(3 * n, 0.0);
+  callback_forces_.assign(3 * n, 0.0);
+  callback_torques_.assign(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      known_forces_[3 * i + k] = atom->f[i][k] + (load != nullptr ? load[i][k] : 0.0);
+      known_torques_[3 * i + k] = atom->torque[i][k];
+    }
+  const auto view3 = [n](double** array) {
+    return n == 0 ? std::span<const double>() : std::span<const double>(array[0], 3 * n);
+  };
+  const StepState state{.step = step,
+                        .time = lmp_->update->get_cur_time(),
+                        .time_step = lmp_->update->dt,
+                        .positions = view3(atom->x),
+                        .velocities = view3(atom->v),
+                        .angular_velocities = view3(atom->omega),
+                        .radii = std::span<const double>(atom->radius, n),
+                        .masses = std::span<const double>(atom->rmass, n),
+                        .ids = std::span<const ParticleId>(atom->tag, n),
+                        .forces = known_forces_,
+                        .torques = known_torques_};
+  step_callback_(state, callback_forces_, callback_torques_);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = 0; k < 3; ++k) {
+      fexternal[i][k] += callback_forces_[3 * i + k];
+      atom->torque[i][k] += callback_torques_[3 * i + k];
+    }
+}
+
+void Engine::Impl::set_step_callback(StepForceCallback callback) {
+  require_usable("set_step_force_callback");
+  if (callback) ensure_external_fixes();
+  step_callback_ = std::move(callback);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -520,6 +572,8 @@ double Engine::fix_vector(std::string_view fix_id, int index) const {
 }
 
 void Engine::clear_external_forces() { impl_->clear_external("clear_external_forces"); }
+
+void Engine::set_step_force_callback(StepForceCallback callback) { impl_->set_step_callback(std::move(callback)); }
 
 bool Engine::has_failed() const { return impl_->failure.has_value(); }
 const std::optional<EngineError>& Engine::failure() const { return impl_->failure; }

@@ -1,5 +1,6 @@
 // Resumable sweeps over fluids × φ × γ̇_R (rheometer/sweep.hpp).
 #include "rheosim/rheometer/sweep.hpp"
+#include "rheosim/rheometer/shear_cell.hpp"
 
 #include <fmt/format.h>
 
@@ -160,6 +161,33 @@ SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, do
 
 PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
                                            double budget_seconds) {
+  using Model = core::RheometerCase::SuspensionModel;
+  PointRunner disk = make_full_disk_suspension_runner(rheometer, work_dir, budget_seconds);
+  PointRunner cell = make_shear_cell_suspension_runner(rheometer, work_dir);
+  return [r = rheometer, budget_seconds, disk = std::move(disk), cell = std::move(cell)](
+             const SweepPoint& point, const PointProgressCallback& progress) {
+    const ModelChoice choice = choose_suspension_model(r, point.volume_fraction, budget_seconds);
+    PointResult out;
+    if (choice.model == Model::full_disk) {
+      out = disk(point, progress);
+    } else if (choice.cell_study_seconds > budget_seconds) {  // like the disk: fail at once, say why
+      out.method = "periodic shear cell";
+      out.failure = fmt::format(
+          "CFD-DEM point not started: the shear-cell study of φ = {:g} is estimated at {:.3g} h on one core, above "
+          "the point budget of {:g} s (particles of d = {:g} m in a cell of max(8 d, 3 H)); raise it with `rheosim "
+          "run --point-budget SECONDS`",
+          point.volume_fraction, choice.cell_study_seconds / 3600.0, budget_seconds, r.particles->diameter);
+    } else {
+      out = cell(point, progress);
+    }
+    out.model = std::string(to_string(choice.model));
+    out.model_reason = out.model_reason.empty() ? choice.reason : choice.reason + "; " + out.model_reason;
+    return out;
+  };
+}
+
+PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
+                                             double budget_seconds) {
   return [r = rheometer, work = std::move(work_dir), budget_seconds](const SweepPoint& point,
                                                                      const PointProgressCallback& progress) {
     PointResult out;
@@ -270,6 +298,9 @@ void PointStore::store(const SweepPoint& point, const PointResult& result) const
   content.attributes = {{"input_sha256", input_sha256_},
                         {"fluid", point.fluid},
                         {"method", result.method},
+                        {"model", result.model},
+                        {"model_reason", result.model_reason},
+                        {"estimated_error", result.estimated_error},
                         {"index", static_cast<double>(point.index)},
                         {"volume_fraction", point.volume_fraction},
                         {"shear_rate", point.rim_shear_rate},
@@ -305,6 +336,10 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
   PointResult r;
   r.converged = number("converged") != 0;
   r.method = text("method");
+  r.model = text("model");  // absent in points stored before issue 10: empty / NaN
+  r.model_reason = text("model_reason");
+  if (const auto it = a.find("estimated_error"); it != a.end() && std::holds_alternative<double>(it->second))
+    r.estimated_error = std::get<double>(it->second);
   r.iterations = static_cast<int>(number("iterations"));
   for (const auto& f : number_fields) r.*(f.member) = number(f.name);
   return r;
@@ -362,6 +397,12 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
       result.failure = "the point runner returned no finite torque";
     }
     ++outcome.computed_points;
+    if (!result.model.empty())
+      log.info("{}: model {}{}: {}", label, result.model,
+               std::isfinite(result.estimated_error)
+                   ? fmt::format(" (estimated error {:.2g} %)", 100.0 * result.estimated_error)
+                   : std::string(),
+               result.model_reason);
     if (result.converged) {
       store.store(point, result);  // at once: a kill after this line keeps the point
       log.debug("{}: torque {:.6e} N m ({}, {} iterations)", label, result.torque, result.method, result.iterations);
@@ -417,6 +458,11 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
       p["gap_reynolds_number"] = reynolds;
       p["strain"] = finite_or_null(res.strain);
       p["method"] = res.method;
+      if (!res.model.empty()) {
+        p["model"] = res.model;
+        p["model_reason"] = res.model_reason;
+        p["estimated_error"] = finite_or_null(res.estimated_error);
+      }
       p["iterations"] = res.iterations;
       p["wall_time"] = res.wall_time;
       if (std::isfinite(res.cost_dem)) {
@@ -435,6 +481,8 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
                              {"shear_rate", point.rim_shear_rate},
                              {"converged", false},
                              {"method", res.method},
+                             {"model", res.model},
+                             {"model_reason", res.model_reason},
                              {"failure", res.failure}});
       table.add_row({point.volume_fraction, point.rim_shear_rate, nan, nan, nan, nan, nan, nan,
                      static_cast<double>(res.iterations), res.wall_time, 0.0},

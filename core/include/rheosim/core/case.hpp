@@ -46,6 +46,20 @@ struct SizeDistribution {
   std::array<double, max_classes> volume_fractions{};  // [-] discrete: share of the solid volume per class, sum 1
 };
 
+// particles.hydrodynamics: near-field hydrodynamics on every DEM step (issue 9;
+// docs/hydrodynamics.md). YAML: `hydrodynamics: {model: lubrication+stresslet, roughness:
+// 1.0e-3, lubrication_cutoff: 0.5}`; model is `none` or terms joined by '+': lubrication,
+// stresslet (= single_particle), stokes_drag. Absent: none (the seed's drag-only model).
+// Trivially copyable, like SizeDistribution (flags instead of a list of names).
+struct Hydrodynamics {
+  bool lubrication = false;       // pair and plate lubrication
+  bool single_particle = false;   // torque and stresslet in the ambient flow
+  bool stokes_drag = false;       // Stokes drag on the imposed ambient flow (cells without a fluid solver)
+  double roughness = 1.0e-3;      // δ/ā, in [1e-6, 0.1]
+  double lubrication_cutoff = 0.5;  // h_c/ā, in (roughness, 1]
+  [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag; }
+};
+
 struct ParticleProperties {  // particles: (CD §4 defaults)
   double volume_fraction = 0;     // φ [-], [0, 0.5]; a sweep sets it per point
   double diameter = 0;            // d [m], < gap; with a size distribution the representative
@@ -57,6 +71,7 @@ struct ParticleProperties {  // particles: (CD §4 defaults)
   double friction = 0.3;          // μ_c [-], Coulomb friction coefficient
   // Last, and not a std::optional (see SizeDistribution); type none (the default): monodisperse.
   SizeDistribution size_distribution{};
+  Hydrodynamics hydrodynamics{};  // after size_distribution, same reason
 };
 
 struct NamedFluid {
@@ -81,6 +96,11 @@ struct RheometerCase {  // kind: rheometer
   std::vector<double> shear_rates;                // γ̇_R = ΩR/H [1/s], increasing
   std::optional<ParticleProperties> particles;    // absent: single phase
   FluidSolverSettings solver;
+  // model: which scene computes a suspension point (issue 10): the full disk (CFD-DEM of the
+  // whole gap), the periodic shear cell (local flow curve integrated over the plate), or auto
+  // (the program picks the cheapest faithful one and logs why).
+  enum class SuspensionModel { automatic, full_disk, shear_cell };
+  SuspensionModel suspension_model = SuspensionModel::automatic;
 };
 
 struct SweepCase {  // kind: sweep — every (φ, γ̇_R) of volume_fractions × shear_rates

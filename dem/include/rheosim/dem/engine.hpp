@@ -44,6 +44,17 @@
 //   and which is 0 for particles inserted later. set_external_forces() creates both fixes on
 //   first use (ids rheosim_external and rheosim_external_store; the box must exist).
 //
+// Per-step force hook (issue 9: near-field hydrodynamics)
+//   set_step_force_callback(f) makes the same fix external callback call f on every DEM step
+//   (in post_force: positions x^(n+1), velocities at the half step v^(n+1/2) of velocity
+//   Verlet, contact forces of this step already summed) and in the setup of each run. f sees
+//   the current LIGGGHTS arrays (StepState) and writes force and torque spans (zeroed before
+//   the call), which are added on that step to the stored external forces of
+//   set_external_forces(). StepState::forces/torques hold every force known at that point
+//   (contacts, other fixes defined before ours, the stored external load), so an implicit
+//   model can predict v^(n+3/2) = v^(n+1/2) + δt (F_known + F_callback)/m. Exceptions thrown by
+//   f fail the run like a LIGGGHTS error (the Engine becomes unusable).
+//
 // Runs
 //   run(N) issues `run N` after any command, else `run N pre no post no`, which skips
 //   LIGGGHTS' setup and timing summary, as CFD-DEM couplings that run in short pieces do.
@@ -66,6 +77,7 @@
 // is the identity of its LIGGGHTS instance.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -98,6 +110,25 @@ class EngineError : public core::RunError {
  private:
   Details details_;
 };
+
+// What the per-step callback sees (views into LIGGGHTS' arrays, valid during the call only;
+// this rank's particles in LIGGGHTS' local order, interleaved xyz, SI).
+struct StepState {
+  std::int64_t step = 0;                          // LIGGGHTS step number
+  double time = 0.0;                              // simulated time [s]
+  double time_step = 0.0;                         // δt [s]
+  std::span<const double> positions;              // x^(n+1) [m], 3n
+  std::span<const double> velocities;             // v^(n+1/2) [m/s], 3n (full-step v during a run's setup)
+  std::span<const double> angular_velocities;     // [rad/s], 3n
+  std::span<const double> radii;                  // [m], n
+  std::span<const double> masses;                 // [kg], n
+  std::span<const ParticleId> ids;                // n
+  std::span<const double> forces;                 // known force on this step [N], 3n (see above)
+  std::span<const double> torques;                // known torque on this step [N·m], 3n
+  [[nodiscard]] std::size_t size() const { return radii.size(); }
+};
+// forces/torques: 3n each, zero on entry; what the callback adds on this step.
+using StepForceCallback = std::function<void(const StepState&, std::span<double> forces, std::span<double> torques)>;
 
 class Engine {
  public:
@@ -167,6 +198,9 @@ class Engine {
                            std::span<const double> torques = {});
   // Zero external force and torque on every particle.
   void clear_external_forces();
+  // Installs (or, with an empty function, removes) the per-step force callback (see "Per-step
+  // force hook" above). Creates the external-force fixes if needed (the box must exist).
+  void set_step_force_callback(StepForceCallback callback);
 
   // Global output of a LIGGGHTS fix, what an input script calls f_ID and f_ID[index + 1]:
   // e.g. the total force and torque on a mesh (mesh/surface/stress: vector elements 0–2 force,

@@ -78,6 +78,11 @@ struct PointResult {
   double cost_fluid = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;   // nonlinear iterations or time steps
   double wall_time = 0; // [s]
+  // Which scene computed it (issue 10): "swirl", "full_disk" or "shear_cell", why, and the
+  // model's estimated relative error of `torque` (NaN when not estimated).
+  std::string model;
+  std::string model_reason;
+  double estimated_error = std::numeric_limits<double>::quiet_NaN();
   std::vector<core::Hdf5Dataset> fields;  // stored with the point (paths relative, e.g. "fields/viscosity")
 };
 
@@ -104,8 +109,14 @@ struct PointRunners {
 // max_strain, at 1.5e7 particle-steps/s per core, docs/performance.md); a point whose estimate
 // exceeds `budget_seconds` fails at once with the estimate and what to change, instead of
 // running for hours.
+// With the case's `model:` (issue 10) this runner dispatches each point: model full_disk runs
+// the disk as above; shear_cell runs rheometer::make_shear_cell_suspension_runner
+// (shear_cell.hpp); auto asks choose_suspension_model() and records the reason.
 [[nodiscard]] PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
                                                          std::filesystem::path work_dir, double budget_seconds);
+// The full-disk CFD-DEM runner alone (what make_coupled_suspension_runner did before issue 10).
+[[nodiscard]] PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheometer,
+                                                           std::filesystem::path work_dir, double budget_seconds);
 
 // Estimated one-core wall time [s] of a CFD-DEM point run to `max_strain` (see above).
 struct SuspensionCostEstimate {

@@ -1,0 +1,367 @@
+// One coupled point in the periodic shear cell (see shear_cell_point.hpp for the model).
+#include "rheosim/coupling/shear_cell_point.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "rheosim/core/config.hpp"
+#include "rheosim/core/units.hpp"
+#include "rheosim/coupling/drag.hpp"
+#include "rheosim/coupling/void_fraction.hpp"
+#include "rheosim/dem/contact.hpp"
+#include "rheosim/fluid/grid.hpp"
+
+namespace rheosim::coupling {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void check_settings(const ShearCellPointSettings& s) {
+  const auto fail = [](std::string_view field, double value, std::string_view expected) {
+    throw std::invalid_argument(
+        fmt::format("ShearCellPointSettings::{} = {} is out of range, expected {}", field, value, expected));
+  };
+  if (!(std::isfinite(s.gap) && s.gap > 0.0)) fail("gap", s.gap, "> 0");
+  if (!(std::isfinite(s.shear_rate) && s.shear_rate > 0.0)) fail("shear_rate", s.shear_rate, "> 0");
+  if (!s.fluid.rheology) throw std::invalid_argument("ShearCellPointSettings::fluid.rheology is null");
+  if (!(s.fluid.density > 0.0)) fail("fluid.density", s.fluid.density, "> 0");
+  if (s.axial_cells < 1) fail("axial_cells", s.axial_cells, ">= 1");
+  if (s.coupling_interval < 1) fail("coupling_interval", s.coupling_interval, ">= 1");
+  if (!(s.void_fraction_floor > 0.0 && s.void_fraction_floor < 1.0))
+    fail("void_fraction_floor", s.void_fraction_floor, "(0, 1)");
+  if (s.near_field)
+    throw std::invalid_argument(fmt::format(
+        "ShearCellPointSettings::near_field = '{}': near-field models need the per-DEM-step callback of "
+        "dem::Engine (issue 9), which the shear cell does not call yet (see NEAR-FIELD PLUG-IN POINT in "
+        "coupling/src/shear_cell_point.cpp); run without hydrodynamics or with model: full_disk",
+        s.near_field->name()));
+}
+
+// The horizontally averaged fluid column: u_x, u_y at N_z layer centres, plates at z = 0 (rest)
+// and z = H (U along x).
+class FluidColumn {
+ public:
+  FluidColumn(const ShearCellPointSettings& s, double area)
+      : rho_(s.fluid.density), rheology_(s.fluid.rheology.get()), gap_(s.gap), n_(static_cast<std::size_t>(s.axial_cells)),
+        dz_(s.gap / s.axial_cells), volume_(area * dz_), plate_speed_(s.shear_rate * s.gap),
+        ux_(n_), uy_(n_, 0.0), eps_(n_, 1.0), source_x_(n_, 0.0), source_y_(n_, 0.0), implicit_(n_, 0.0),
+        face_mu_(n_ + 1), div_tau_x_(n_), div_tau_y_(n_), cell_mu_(n_) {
+    for (std::size_t k = 0; k < n_; ++k) ux_[k] = plate_speed_ * centre(k) / gap_;  // Couette start
+    update_viscosity();
+  }
+
+  [[nodiscard]] std::size_t layers() const { return n_; }
+  [[nodiscard]] double layer_height() const { return dz_; }
+  [[nodiscard]] double layer_volume() const { return volume_; }
+  [[nodiscard]] double centre(std::size_t k) const { return (static_cast<double>(k) + 0.5) * dz_; }
+  std::vector<double>& void_fraction() { return eps_; }
+
+  // u_f at height z: linear between layer centres and the plate values.
+  [[nodiscard]] Vector3 velocity_at(double z) const {
+    z = std::clamp(z, 0.0, gap_);
+    const double s = z / dz_ - 0.5;  // position in units of layers from the first centre
+    if (s <= 0.0) {
+      const double w = z / (0.5 * dz_);
+      return {w * ux_[0], w * uy_[0], 0.0};
+    }
+    if (s >= static_cast<double>(n_) - 1.0) {
+      const double w = (gap_ - z) / (0.5 * dz_);  // weight of the last centre
+      return {w * ux_[n_ - 1] + (1.0 - w) * plate_speed_, w * uy_[n_ - 1], 0.0};
+    }
+    const auto k = static_cast<std::size_t>(s);
+    const double w = s - static_cast<double>(k);
+    return {(1.0 - w) * ux_[k] + w * ux_[k + 1], (1.0 - w) * uy_[k] + w * uy_[k + 1], 0.0};
+  }
+  [[nodiscard]] double cell_viscosity(std::size_t k) const { return cell_mu_[k]; }
+  [[nodiscard]] double div_tau_x(std::size_t k) const { return div_tau_x_[k]; }
+  [[nodiscard]] double div_tau_y(std::size_t k) const { return div_tau_y_[k]; }
+
+  void clear_sources() {
+    std::fill(source_x_.begin(), source_x_.end(), 0.0);
+    std::fill(source_y_.begin(), source_y_.end(), 0.0);
+    std::fill(implicit_.begin(), implicit_.end(), 0.0);
+  }
+  // Drag reaction of one particle's share w: −w β (ũ − u_p) / V with ũ the velocity the particle
+  // sampled (CD eq. 29), made implicit as −K (u^{n+1} − u^n) − w β (ũ − u_p) / V, K = Σ w β / V:
+  // the same stabilising K as the disk's exchange, but the reaction is exactly minus the drag
+  // the particles get (at steady state, and to O(u^{n+1} − u^n) otherwise), so no momentum is
+  // made by sampling ũ at the particle and u at the layer centre (particles sit below the
+  // centre of the bottom layer and above that of the top one).
+  void add_reaction(std::size_t k, double weighted_beta, const Vector3& sampled_fluid_velocity,
+                    const Vector3& particle_velocity) {
+    source_x_[k] += weighted_beta * (particle_velocity[0] - sampled_fluid_velocity[0]) / volume_;
+    source_y_[k] += weighted_beta * (particle_velocity[1] - sampled_fluid_velocity[1]) / volume_;
+    implicit_[k] += weighted_beta / volume_;
+  }
+
+  // One implicit step of ρ ε ∂u/∂t = ε ∂z(μ ∂z u) + f − K u with μ lagged.
+  void advance(double dt) {
+    solve(ux_, source_x_, plate_speed_, dt);
+    solve(uy_, source_y_, 0.0, dt);
+    wall_top_ = face_mu_[n_] * (plate_speed_ - ux_[n_ - 1]) / (0.5 * dz_);
+    wall_bottom_ = face_mu_[0] * ux_[0] / (0.5 * dz_);
+    update_viscosity();
+  }
+  [[nodiscard]] double wall_stress_top() const { return wall_top_; }
+  [[nodiscard]] double wall_stress_bottom() const { return wall_bottom_; }
+
+ private:
+  // Face spacing: Δz inside, Δz/2 to a plate.
+  [[nodiscard]] double face_spacing(std::size_t face) const { return (face == 0 || face == n_) ? 0.5 * dz_ : dz_; }
+
+  void update_viscosity() {
+    std::vector<double> rate(n_ + 1);
+    for (std::size_t f = 0; f <= n_; ++f) {
+      const double below_x = f == 0 ? 0.0 : ux_[f - 1], below_y = f == 0 ? 0.0 : uy_[f - 1];
+      const double above_x = f == n_ ? plate_speed_ : ux_[f], above_y = f == n_ ? 0.0 : uy_[f];
+      rate[f] = std::hypot(above_x - below_x, above_y - below_y) / face_spacing(f);
+      face_mu_[f] = rheology_->viscosity(rate[f]);
+    }
+    for (std::size_t k = 0; k < n_; ++k) {
+      cell_mu_[k] = rheology_->viscosity(0.5 * (rate[k] + rate[k + 1]));
+      const auto flux = [&](const std::vector<double>& u, double top, std::size_t f) {
+        const double below = f == 0 ? 0.0 : u[f - 1];
+        const double above = f == n_ ? top : u[f];
+        return face_mu_[f] * (above - below) / face_spacing(f);
+      };
+      div_tau_x_[k] = (flux(ux_, plate_speed_, k + 1) - flux(ux_, plate_speed_, k)) / dz_;
+      div_tau_y_[k] = (flux(uy_, 0.0, k + 1) - flux(uy_, 0.0, k)) / dz_;
+    }
+  }
+
+  // Thomas algorithm on a_k u_{k-1} + b_k u_k + c_k u_{k+1} = d_k.
+  void solve(std::vector<double>& u, const std::vector<double>& source, double top_value, double dt) {
+    std::vector<double> lower(n_), diag(n_), upper(n_), rhs(n_);
+    for (std::size_t k = 0; k < n_; ++k) {
+      const double g_below = eps_[k] * face_mu_[k] / (face_spacing(k) * dz_);
+      const double g_above = eps_[k] * face_mu_[k + 1] / (face_spacing(k + 1) * dz_);
+      const double inertia = rho_ * eps_[k] / dt;
+      diag[k] = inertia + g_below + g_above + implicit_[k];
+      lower[k] = k == 0 ? 0.0 : -g_below;
+      upper[k] = k + 1 == n_ ? 0.0 : -g_above;
+      rhs[k] = (inertia + implicit_[k]) * u[k] + source[k] + (k + 1 == n_ ? g_above * top_value : 0.0);  // bottom: 0
+    }
+    for (std::size_t k = 1; k < n_; ++k) {
+      const double m = lower[k] / diag[k - 1];
+      diag[k] -= m * upper[k - 1];
+      rhs[k] -= m * rhs[k - 1];
+    }
+    u[n_ - 1] = rhs[n_ - 1] / diag[n_ - 1];
+    for (std::size_t k = n_ - 1; k-- > 0;) u[k] = (rhs[k] - upper[k] * u[k + 1]) / diag[k];
+  }
+
+  double rho_;
+  const core::Rheology* rheology_;
+  double gap_;
+  std::size_t n_;
+  double dz_, volume_, plate_speed_;
+  std::vector<double> ux_, uy_, eps_, source_x_, source_y_, implicit_, face_mu_, div_tau_x_, div_tau_y_, cell_mu_;
+  double wall_top_ = 0.0, wall_bottom_ = 0.0;
+};
+
+struct WindowMeans {
+  double fluid_top = 0.0, contact_top = 0.0, bottom = 0.0;
+};
+
+WindowMeans window_means(const std::vector<ShearCellStepRecord>& series, double from_time) {
+  WindowMeans m;
+  std::size_t n = 0;
+  for (const auto& r : series)
+    if (r.time >= from_time) {
+      m.fluid_top += r.fluid_top;
+      m.contact_top += r.contact_top;
+      m.bottom += r.fluid_bottom + r.contact_bottom;
+      ++n;
+    }
+  if (n > 0) {
+    m.fluid_top /= static_cast<double>(n);
+    m.contact_top /= static_cast<double>(n);
+    m.bottom /= static_cast<double>(n);
+  }
+  return m;
+}
+
+}  // namespace
+
+double couette_stress(const core::FluidProperties& fluid, double shear_rate) {
+  return fluid.rheology->stress(shear_rate);
+}
+
+NearFieldScene make_near_field_scene(const dem::ShearCellScene& scene) {
+  NearFieldScene s;
+  const double u = scene.plate_velocity();
+  s.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
+  s.plates.push_back({.z = scene.params().gap, .faces_up = false,
+                      .velocity_at = [u](const Vector3&) { return Vector3{u, 0.0, 0.0}; }});
+  s.periodic = {true, true, false};
+  const auto low = scene.box_low();
+  const auto high = scene.box_high();
+  s.box_low = {low[0], low[1], low[2]};
+  s.box_high = {high[0], high[1], high[2]};
+  return s;
+}
+
+ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
+  check_settings(settings);
+  const auto start = Clock::now();
+  const auto& q = settings.particles;
+  const double area = settings.cell_length * settings.cell_width;
+  const std::size_t count = q.volume_fraction > 0.0
+                                ? dem::shear_cell_particle_count(settings.gap, settings.cell_length,
+                                                                 settings.cell_width, q.diameter, q.volume_fraction)
+                                : 0;
+
+  ShearCellPoint out;
+  out.shear_rate = settings.shear_rate;
+  out.cell_length = settings.cell_length;
+  out.cell_width = settings.cell_width;
+
+  std::unique_ptr<dem::ShearCellScene> scene;
+  if (count > 0) {
+    const double g = core::units::standard_gravity;
+    std::optional<std::array<double, 3>> gravity;
+    if (settings.gravity) gravity = std::array<double, 3>{0.0, 0.0, -(1.0 - settings.fluid.density / q.density) * g};
+    scene = std::make_unique<dem::ShearCellScene>(dem::ShearCellScene::Params{
+        .gap = settings.gap, .cell_length = settings.cell_length, .cell_width = settings.cell_width,
+        .particles = q, .shear_rate = settings.shear_rate, .time_step_fraction = settings.time_step_fraction,
+        .time_step = settings.dem_time_step, .gravity = gravity, .seed = settings.seed,
+        .run_directory = settings.run_directory, .stress_sample_interval = settings.coupling_interval});
+    out.dem_time_step = scene->time_step();
+    out.particles = scene->total_particle_count();
+    out.volume_fraction = scene->volume_fraction();
+    // NEAR-FIELD PLUG-IN POINT (issue 9): once dem::Engine offers its per-step callback, build
+    //   const NearFieldScene near_scene = make_near_field_scene(*scene);
+    // here, and register a callback that, on every DEM step, fills a ParticleSnapshot from the
+    // engine's views, calls settings.near_field->evaluate(snapshot, near_scene, ambient, result)
+    // with `ambient` = the column's velocity_at(z) and velocity gradient (∂u_x/∂z at z), and
+    // adds result.forces / result.torques to the coupling forces set below. The plates'
+    // near-field forces (result.plate_forces[1] for the top plate, x component) then add to the
+    // wall stress of each step (record.contact_top / contact_bottom), and the DEM step must
+    // respect settings.near_field->stable_time_step(). check_settings() rejects a non-null
+    // near_field until then.
+  } else {
+    // The column alone runs at the step the particles would have (as run_point does at φ = 0).
+    const double rayleigh = q.diameter > 0.0 && q.density > 0.0 && q.youngs_modulus > 0.0
+                                ? dem::rayleigh_time({.radius = 0.5 * q.diameter, .density = q.density,
+                                                      .youngs_modulus = q.youngs_modulus,
+                                                      .poisson_ratio = q.poisson_ratio})
+                                : 1e-7 / 0.3;
+    out.dem_time_step = settings.dem_time_step ? *settings.dem_time_step : settings.time_step_fraction * rayleigh;
+  }
+  const double dt = settings.coupling_interval * out.dem_time_step;
+  out.fluid_time_step = dt;
+
+  FluidColumn column(settings, area);
+  // One-cell-wide cylindrical grid of N_z layers around the cell's centre: the void-fraction
+  // schemes' sub-points and plate mirroring are reused as they are; only the z index matters.
+  const double half_diagonal = 0.5 * std::hypot(settings.cell_length, settings.cell_width);
+  const fluid::CylindricalGrid grid({.radius = half_diagonal + 2.0 * std::max(q.diameter, settings.gap),
+                                     .gap = settings.gap, .radial_cells = 1, .azimuthal_cells = 1,
+                                     .axial_cells = settings.axial_cells});
+  const CellLocator locator(grid);
+  const auto scheme = make_void_fraction_scheme(settings.void_fraction);
+  const auto drag_document = core::Document::from_string(fmt::format("model: {}\n", settings.drag), "drag");
+  const auto drag = make_drag_model(drag_document.root());
+
+  SteadyStateDetector detector(settings.steady, settings.shear_rate);
+  ParticleCellMap map;
+  std::vector<double> shifted, velocities, radii, forces, solid(column.layers());
+  double time = 0.0;
+  while (!detector.done()) {
+    ShearCellStepRecord record;
+    column.clear_sources();
+    if (scene) {
+      auto t0 = Clock::now();
+      scene->advance(settings.coupling_interval);
+      out.cost.dem += seconds_since(t0);
+      const auto& sample = scene->stress_series().back();
+      record.contact_top = sample.top_shear;
+      record.contact_bottom = sample.bottom_shear;
+
+      // Void fraction of each layer.
+      t0 = Clock::now();
+      auto& engine = scene->engine();
+      const auto x = engine.positions();
+      shifted.assign(x.begin(), x.end());
+      for (std::size_t i = 0; i < shifted.size(); i += 3) {
+        shifted[i] -= 0.5 * settings.cell_length;
+        shifted[i + 1] -= 0.5 * settings.cell_width;
+      }
+      velocities.assign(engine.velocities().begin(), engine.velocities().end());
+      radii.assign(engine.radii().begin(), engine.radii().end());
+      const ParticleView view{.positions = shifted, .velocities = velocities, .radii = radii};
+      scheme->split(locator, view, map);
+      std::fill(solid.begin(), solid.end(), 0.0);
+      for (const auto& share : map.shares) solid[share.cell] += share.volume;
+      auto& eps = column.void_fraction();
+      for (std::size_t k = 0; k < column.layers(); ++k) {
+        eps[k] = std::max(settings.void_fraction_floor, 1.0 - solid[k] / column.layer_volume());
+        out.min_void_fraction = std::min(out.min_void_fraction, eps[k]);
+      }
+      out.cost.void_fraction += seconds_since(t0);
+
+      // Forces on the particles from the column as it is now; reaction to the column.
+      t0 = Clock::now();
+      const std::size_t n = view.size();
+      forces.assign(3 * n, 0.0);
+      for (std::size_t p = 0; p < n; ++p) {
+        const double vp = sphere_volume_from_radius(radii[p]);
+        double eps_p = 0.0, mu_p = 0.0, div_x = 0.0, div_y = 0.0;
+        for (const auto& share : map.of(p)) {
+          const double w = share.volume / vp;
+          eps_p += w * eps[share.cell];
+          mu_p += w * column.cell_viscosity(share.cell);
+          div_x += w * column.div_tau_x(share.cell);
+          div_y += w * column.div_tau_y(share.cell);
+        }
+        const Vector3 up = view.velocity(p);
+        const DragInput input{.fluid_velocity = column.velocity_at(shifted[3 * p + 2]), .particle_velocity = up,
+                              .void_fraction = eps_p, .diameter = 2.0 * radii[p],
+                              .fluid_density = settings.fluid.density, .fluid_viscosity = mu_p};
+        const double beta = drag->exchange_coefficient(input);
+        for (int c = 0; c < 3; ++c) forces[3 * p + c] = beta * (input.fluid_velocity[c] - up[c]);
+        if (settings.viscous_force) {
+          forces[3 * p] += vp * div_x;
+          forces[3 * p + 1] += vp * div_y;
+        }
+        for (const auto& share : map.of(p))
+          column.add_reaction(share.cell, beta * share.volume / vp, input.fluid_velocity, up);
+      }
+      engine.set_external_forces(forces);
+      out.cost.forces += seconds_since(t0);
+    }
+
+    const auto t0 = Clock::now();
+    column.advance(dt);
+    out.cost.fluid += seconds_since(t0);
+    ++out.cost.steps;
+    time += dt;
+    record.time = time;
+    record.fluid_top = column.wall_stress_top();
+    record.fluid_bottom = column.wall_stress_bottom();
+    out.series.push_back(record);
+    detector.add(time, record.fluid_top + record.contact_top);
+  }
+
+  const auto estimate = detector.estimate();
+  out.stress = estimate.mean;
+  out.stress_error = estimate.standard_error;
+  out.converged = estimate.steady;
+  out.strain = detector.strain();
+  const auto means = window_means(out.series, time - settings.steady.strain_window / settings.shear_rate);
+  out.stress_fluid = means.fluid_top;
+  out.stress_contact = means.contact_top;
+  out.bottom_stress = means.bottom;
+  out.wall_time = seconds_since(start);
+  return out;
+}
+
+}  // namespace rheosim::coupling

@@ -1,0 +1,400 @@
+// dem::ShearCellScene on LIGGGHTS 3.8 (see shear_cell_scene.hpp for the scene and its choices).
+#include "rheosim/dem/shear_cell_scene.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "portable_random.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/units.hpp"
+#include "rheosim/dem/contact.hpp"
+
+namespace rheosim::dem {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* top_mesh_id = "rheosim_cell_top";
+constexpr const char* bottom_mesh_id = "rheosim_cell_bottom";
+constexpr const char* stress_average_id = "rheosim_cell_stress";
+constexpr int particle_type = 1;
+constexpr int plate_type = 2;
+constexpr int material_types = 2;
+
+[[noreturn]] void out_of_range(std::string_view field, double value, std::string_view expected) {
+  throw std::invalid_argument(
+      fmt::format("ShearCellScene::Params::{} = {} is out of range, expected {}", field, value, expected));
+}
+
+void check_params(const ShearCellScene::Params& p) {
+  const auto& q = p.particles;
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(q.diameter)) out_of_range("particles.diameter", q.diameter, "a finite value > 0");
+  if (!(positive(p.gap) && p.gap > q.diameter)) out_of_range("gap", p.gap, fmt::format("> d = {} m", q.diameter));
+  if (!(positive(p.cell_length) && p.cell_length >= 2.0 * q.diameter))
+    out_of_range("cell_length", p.cell_length, fmt::format(">= 2 d = {} m", 2.0 * q.diameter));
+  if (!(positive(p.cell_width) && p.cell_width >= 2.0 * q.diameter))
+    out_of_range("cell_width", p.cell_width, fmt::format(">= 2 d = {} m", 2.0 * q.diameter));
+  if (q.size_distribution.type != core::SizeDistribution::Type::none)
+    throw std::invalid_argument(
+        "ShearCellScene::Params::particles.size_distribution: the shear cell takes monodisperse particles only; "
+        "use model: full_disk for a size distribution");
+  if (!(q.volume_fraction >= 0.0 && q.volume_fraction <= 0.45))
+    out_of_range("particles.volume_fraction", q.volume_fraction, "[0, 0.45]");
+  if (!positive(q.density)) out_of_range("particles.density", q.density, "a finite value > 0");
+  if (!positive(q.youngs_modulus)) out_of_range("particles.youngs_modulus", q.youngs_modulus, "a finite value > 0");
+  if (!(q.poisson_ratio >= 0.0 && q.poisson_ratio <= 0.5))
+    out_of_range("particles.poisson_ratio", q.poisson_ratio, "[0, 0.5]");
+  if (!(q.restitution > 0.0 && q.restitution <= 1.0)) out_of_range("particles.restitution", q.restitution, "(0, 1]");
+  if (!(std::isfinite(q.friction) && q.friction >= 0.0))
+    out_of_range("particles.friction", q.friction, "a finite value >= 0");
+  if (!std::isfinite(p.shear_rate)) out_of_range("shear_rate", p.shear_rate, "a finite value");
+  if (!(p.time_step_fraction > 0.0 && p.time_step_fraction <= 1.0))
+    out_of_range("time_step_fraction", p.time_step_fraction, "(0, 1]");
+  if (p.time_step && !positive(*p.time_step)) out_of_range("time_step", *p.time_step, "a finite value > 0");
+  if (p.gravity)
+    for (const double a : *p.gravity)
+      if (!std::isfinite(a)) out_of_range("gravity", a, "finite components");
+  if (p.run_directory.empty())
+    throw std::invalid_argument("ShearCellScene::Params::run_directory is empty, expected the folder for LIGGGHTS' files");
+  if (p.run_directory.string().find_first_of(" \t\r\n\"'") != std::string::npos)
+    throw std::invalid_argument(fmt::format(
+        "ShearCellScene::Params::run_directory = '{}' contains whitespace or quotes, which LIGGGHTS' input cannot "
+        "take in file names; choose another folder",
+        p.run_directory.string()));
+  if (!(std::isfinite(p.initial_speed) && p.initial_speed >= 0.0))
+    out_of_range("initial_speed", p.initial_speed, "a finite value >= 0");
+  if (p.stress_sample_interval < 1)
+    out_of_range("stress_sample_interval", static_cast<double>(p.stress_sample_interval), ">= 1");
+  if (!(p.neighbor_skin_fraction > 0.0 && p.neighbor_skin_fraction <= 1.0))
+    out_of_range("neighbor_skin_fraction", p.neighbor_skin_fraction, "(0, 1]");
+  if (p.positions) {
+    const auto& x = *p.positions;
+    if (x.size() % 3 != 0)
+      throw std::invalid_argument(
+          fmt::format("ShearCellScene::Params::positions has {} values, expected 3 per particle", x.size()));
+    const double r = 0.5 * q.diameter;
+    for (std::size_t i = 0; i < x.size() / 3; ++i) {
+      const double px = x[3 * i], py = x[3 * i + 1], pz = x[3 * i + 2];
+      if (!(px >= 0.0 && px < p.cell_length && py >= 0.0 && py < p.cell_width && pz >= r && pz <= p.gap - r))
+        throw std::invalid_argument(fmt::format(
+            "ShearCellScene::Params::positions: particle {} at ({}, {}, {}) m is not inside the cell (x in [0, {}), "
+            "y in [0, {}), z in [{}, {}])",
+            i, px, py, pz, p.cell_length, p.cell_width, r, p.gap - r));
+    }
+  }
+}
+
+ShearCellScene::Params checked(ShearCellScene::Params p) {
+  check_params(p);
+  return p;
+}
+
+MPI_Comm communicator_of(const ShearCellScene::Params& p) {
+  return p.communicator_fortran_handle ? MPI_Comm_f2c(*p.communicator_fortran_handle) : MPI_COMM_WORLD;
+}
+
+// Jittered layered lattice, periodic in x and y. Layers are at least d apart in z and sites at
+// least d apart in the plane, and each site moves by at most half the slack, so no two spheres
+// (nor a sphere and a periodic image) overlap. A random subset of the sites gets a particle.
+// Deterministic in the seed, so every MPI rank computes the same placement.
+std::vector<double> place_in_cell(const ShearCellScene::Params& p) {
+  const auto& q = p.particles;
+  const double d = q.diameter;
+  const double r = 0.5 * d;
+  const std::size_t count =
+      shear_cell_particle_count(p.gap, p.cell_length, p.cell_width, d, q.volume_fraction);
+  const int layers = 1 + static_cast<int>(std::floor((p.gap - d) / d * (1.0 - 1e-12)));
+  const double layer_spacing = layers > 1 ? (p.gap - d) / (layers - 1) : 0.0;
+  const double z_slack = layers > 1 ? 0.5 * (layer_spacing - d) : 0.5 * (p.gap - d);
+  // In-plane: a hexagonal lattice, n_x sites per row (spacing a_x >= d) and an even number of
+  // rows n_y (spacing a_y >= d √3/2), odd rows shifted by a_x/2, so it is periodic in x and y.
+  const int nx = std::max(2, static_cast<int>(std::floor(p.cell_length / d + 1e-9)));
+  int ny = static_cast<int>(std::floor(p.cell_width / (0.5 * std::sqrt(3.0) * d) + 1e-9));
+  ny = std::max(2, ny - ny % 2);
+  const double ax = p.cell_length / nx;
+  const double ay = p.cell_width / ny;
+  // Closest lattice neighbours; each site moves by at most half the slack (|shift| <= jitter).
+  const double nearest = std::min({ax, std::hypot(0.5 * ax, ay), 2.0 * ay});
+  const double jitter = std::max(0.0, 0.5 * (nearest - d)) * 0.999;
+  const std::size_t capacity = static_cast<std::size_t>(layers) * static_cast<std::size_t>(nx) *
+                               static_cast<std::size_t>(ny);
+  if (count > capacity)
+    throw std::invalid_argument(fmt::format(
+        "ShearCellScene::Params::particles.volume_fraction = {} needs {} particles, but the layered placement of "
+        "this cell holds {} ({} layers of {} × {} hexagonal sites), i.e. φ <= {:.3f}; lower φ or change the gap",
+        q.volume_fraction, count, capacity, layers, nx, ny,
+        static_cast<double>(capacity) * core::units::sphere_volume(d) / (p.cell_length * p.cell_width * p.gap)));
+
+  detail::PortableRandom random(p.seed);
+  std::vector<std::size_t> sites(capacity);
+  std::iota(sites.begin(), sites.end(), std::size_t{0});
+  for (std::size_t i = 0; i < count; ++i) std::swap(sites[i], sites[i + random.below(capacity - i)]);
+  sites.resize(count);
+  std::sort(sites.begin(), sites.end());
+
+  std::vector<double> centres;
+  centres.reserve(3 * count);
+  for (const std::size_t s : sites) {
+    const auto layer = static_cast<int>(s / (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny)));
+    const std::size_t in_layer = s % (static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+    const auto ix = static_cast<int>(in_layer % static_cast<std::size_t>(nx));
+    const auto iy = static_cast<int>(in_layer / static_cast<std::size_t>(nx));
+    const double row_shift = (iy % 2 == 1) ? 0.5 : 0.0;
+    const double layer_shift = (layer % 2 == 1) ? 0.25 : 0.0;  // stagger alternate layers
+    const double angle = 2.0 * core::units::pi * random.uniform();
+    const double reach = jitter * random.uniform();
+    double x = (ix + 0.25 + row_shift + layer_shift) * ax + reach * std::cos(angle);
+    double y = (iy + 0.5) * ay + reach * std::sin(angle);
+    x -= std::floor(x / p.cell_length) * p.cell_length;
+    y -= std::floor(y / p.cell_width) * p.cell_width;
+    const double z0 = layers > 1 ? r + layer * layer_spacing : 0.5 * p.gap;
+    const double z = std::clamp(z0 + random.symmetric() * z_slack * 0.999, r, p.gap - r);
+    centres.insert(centres.end(), {x, y, z});
+  }
+  return centres;
+}
+
+// A flat rectangle [0, L_x] × [0, L_y] at height z, cells of about 4 d, two triangles each.
+void write_plate_stl(std::ostream& out, const ShearCellScene::Params& p, double z, std::string_view name) {
+  const auto cells_along = [&](double length) {
+    return std::max(1, static_cast<int>(std::lround(length / (4.0 * p.particles.diameter))));
+  };
+  const int nx = cells_along(p.cell_length);
+  const int ny = cells_along(p.cell_width);
+  const double hx = p.cell_length / nx;
+  const double hy = p.cell_width / ny;
+  fmt::print(out, "solid {}\n", name);
+  const auto facet = [&](double x0, double y0, double x1, double y1, double x2, double y2) {
+    fmt::print(out, "facet normal 0 0 1\n outer loop\n");
+    for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y1}, std::pair{x2, y2}})
+      fmt::print(out, "  vertex {:.17g} {:.17g} {:.17g}\n", x, y, z);
+    fmt::print(out, " endloop\nendfacet\n");
+  };
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) {
+      // Nodes on the far edges are written as L exactly, not i·h, so the plate covers the box.
+      const double x0 = i * hx, x1 = (i + 1 == nx) ? p.cell_length : (i + 1) * hx;
+      const double y0 = j * hy, y1 = (j + 1 == ny) ? p.cell_width : (j + 1) * hy;
+      facet(x0, y0, x1, y0, x1, y1);
+      facet(x0, y0, x1, y1, x0, y1);
+    }
+  fmt::print(out, "endsolid {}\n", name);
+}
+
+std::string repeated(double value, int times) {
+  std::string s;
+  for (int i = 0; i < times; ++i) s += fmt::format(" {:.17g}", value);
+  return s;
+}
+
+}  // namespace
+
+std::size_t shear_cell_particle_count(double gap, double cell_length, double cell_width, double diameter,
+                                      double volume_fraction) {
+  return static_cast<std::size_t>(
+      std::llround(volume_fraction * cell_length * cell_width * gap / core::units::sphere_volume(diameter)));
+}
+
+class ShearCellScene::Impl {
+ public:
+  explicit Impl(Params p);
+  void advance(std::int64_t steps);
+
+  Params params;
+  Engine engine;
+  std::vector<double> centres;
+  std::vector<WallStressSample> series;
+  double time_step = 0.0;
+  double rayleigh_time = 0.0;
+
+  [[nodiscard]] double margin() const { return params.particles.diameter; }
+  [[nodiscard]] double area() const { return params.cell_length * params.cell_width; }
+
+ private:
+  void write_files();
+  void set_up_liggghts();
+};
+
+ShearCellScene::Impl::Impl(Params p)
+    : params(checked(std::move(p))),
+      engine(Engine::Params{.run_directory = params.run_directory,
+                            .communicator_fortran_handle = params.communicator_fortran_handle}) {
+  const auto& q = params.particles;
+  rayleigh_time = dem::rayleigh_time({.radius = 0.5 * q.diameter, .density = q.density,
+                                      .youngs_modulus = q.youngs_modulus, .poisson_ratio = q.poisson_ratio});
+  time_step = params.time_step ? *params.time_step : params.time_step_fraction * rayleigh_time;
+  centres = params.positions ? *params.positions : place_in_cell(params);
+  write_files();
+  set_up_liggghts();
+}
+
+void ShearCellScene::Impl::write_files() {
+  const MPI_Comm comm = communicator_of(params);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank == 0) {
+    core::write_atomically(params.run_directory / "top_plate.stl",
+                           [&](std::ostream& out) { write_plate_stl(out, params, params.gap, "top_plate"); });
+    core::write_atomically(params.run_directory / "bottom_plate.stl",
+                           [&](std::ostream& out) { write_plate_stl(out, params, 0.0, "bottom_plate"); });
+    const auto& q = params.particles;
+    const std::size_t n = centres.size() / 3;
+    detail::PortableRandom random(params.seed ^ 0x9e3779b97f4a7c15ULL);
+    core::write_atomically(params.run_directory / "particles.data", [&](std::ostream& out) {
+      fmt::print(out, "LIGGGHTS data file written by rheosim: periodic shear cell L_x = {} m, L_y = {} m, H = {} m\n\n",
+                 params.cell_length, params.cell_width, params.gap);
+      fmt::print(out, "{} atoms\n{} atom types\n\n", n, material_types);
+      fmt::print(out, "0 {:.17g} xlo xhi\n0 {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n", params.cell_length,
+                 params.cell_width, -margin(), params.gap + margin());
+      if (n == 0) return;
+      fmt::print(out, "\nAtoms\n\n");  // atom-ID atom-type diameter density x y z (atom_style granular)
+      for (std::size_t i = 0; i < n; ++i)
+        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, q.diameter, q.density,
+                   centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
+      fmt::print(out, "\nVelocities\n\n");  // atom-ID vx vy vz ωx ωy ωz
+      for (std::size_t i = 0; i < n; ++i) {
+        std::array<double, 3> v{params.start_in_shear_profile ? params.shear_rate * centres[3 * i + 2] : 0.0, 0.0,
+                                0.0};
+        if (params.initial_speed > 0.0) {
+          std::array<double, 3> dir{};
+          double norm = 0.0;
+          do {
+            for (auto& c : dir) c = random.normal();
+            norm = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+          } while (norm < 1e-12);
+          for (int k = 0; k < 3; ++k) v[k] += params.initial_speed * dir[k] / norm;
+        }
+        // Spin of the undisturbed shear flow, ω_y = γ̇/2, when starting in the profile.
+        const double spin = params.start_in_shear_profile ? 0.5 * params.shear_rate : 0.0;
+        fmt::print(out, "{} {:.17g} {:.17g} {:.17g} 0 {:.17g} 0\n", i + 1, v[0], v[1], v[2], spin);
+      }
+    });
+  }
+  MPI_Barrier(comm);
+}
+
+void ShearCellScene::Impl::set_up_liggghts() {
+  const auto& q = params.particles;
+  const std::string top_file = (params.run_directory / "top_plate.stl").string();
+  const std::string bottom_file = (params.run_directory / "bottom_plate.stl").string();
+  const std::string data_file = (params.run_directory / "particles.data").string();
+  engine.commands({
+      "atom_style granular",
+      "atom_modify map array",
+      "boundary p p f",
+      "newton off",
+      "communicate single vel yes",
+      "units si",
+  });
+  engine.command(fmt::format("read_data {}", data_file));
+  engine.commands({
+      fmt::format("neighbor {:.17g} bin", params.neighbor_skin_fraction * q.diameter),
+      "neigh_modify delay 0",
+      // LIGGGHTS checks E in SI units against [5e6, 1e9] Pa unless told otherwise: softened
+      // particles (contact-stiffness scaling) need soft_particles, the CD §4 ones hard_particles.
+      q.youngs_modulus < 5e6 ? "soft_particles yes" : "hard_particles yes",
+      fmt::format("fix rheosim_m1 all property/global youngsModulus peratomtype{}",
+                  repeated(q.youngs_modulus, material_types)),
+      fmt::format("fix rheosim_m2 all property/global poissonsRatio peratomtype{}",
+                  repeated(q.poisson_ratio, material_types)),
+      fmt::format("fix rheosim_m3 all property/global coefficientRestitution peratomtypepair {}{}", material_types,
+                  repeated(q.restitution, material_types * material_types)),
+      fmt::format("fix rheosim_m4 all property/global coefficientFriction peratomtypepair {}{}", material_types,
+                  repeated(q.friction, material_types * material_types)),
+      "pair_style gran model hertz tangential history",
+      "pair_coeff * *",
+      fmt::format("timestep {:.17g}", time_step),
+      // Top plate: a conveyor surface at U along x (see the header), stress module on.
+      fmt::format("fix {} all mesh/surface/stress file {} type {} surface_vel {:.17g} 0 0 stress on", top_mesh_id,
+                  top_file, plate_type, params.shear_rate * params.gap),
+      fmt::format("fix {} all mesh/surface/stress file {} type {} stress on", bottom_mesh_id, bottom_file, plate_type),
+      fmt::format("fix rheosim_cell_walls all wall/gran model hertz tangential history mesh n_meshes 2 meshes {} {}",
+                  top_mesh_id, bottom_mesh_id),
+  });
+  if (params.gravity) {
+    const auto& a = *params.gravity;
+    const double magnitude = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    if (magnitude > 0.0)
+      engine.command(fmt::format("fix rheosim_gravity all gravity {:.17g} vector {:.17g} {:.17g} {:.17g}", magnitude,
+                                 a[0] / magnitude, a[1] / magnitude, a[2] / magnitude));
+  }
+  const auto n = params.stress_sample_interval;
+  engine.commands({
+      "fix rheosim_integrate all nve/sphere",
+      fmt::format("fix {} all ave/time 1 {} {} f_{}[1] f_{}[3] f_{}[1] f_{}[3]", stress_average_id, n, n, top_mesh_id,
+                  top_mesh_id, bottom_mesh_id, bottom_mesh_id),
+      "thermo_style custom step atoms ke",
+      "thermo 0",
+  });
+}
+
+void ShearCellScene::Impl::advance(std::int64_t steps) {
+  if (steps < 0) throw std::invalid_argument(fmt::format("ShearCellScene::advance: steps = {}, expected >= 0", steps));
+  const std::int64_t block = params.stress_sample_interval;
+  const double a = area();
+  while (steps > 0) {
+    const std::int64_t now = engine.step();
+    const std::int64_t block_end = (now / block + 1) * block;
+    const std::int64_t chunk = std::min(steps, block_end - now);
+    engine.run(chunk);
+    steps -= chunk;
+    if (engine.step() == block_end)
+      series.push_back({.step = block_end,
+                        .time = engine.time(),
+                        .top_shear = -engine.fix_vector(stress_average_id, 0) / a,
+                        .top_normal = engine.fix_vector(stress_average_id, 1) / a,
+                        .bottom_shear = engine.fix_vector(stress_average_id, 2) / a,
+                        .bottom_normal = -engine.fix_vector(stress_average_id, 3) / a});
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+
+ShearCellScene::ShearCellScene(Params params) : impl_(std::make_unique<Impl>(std::move(params))) {}
+ShearCellScene::~ShearCellScene() = default;
+
+void ShearCellScene::advance(std::int64_t steps) { impl_->advance(steps); }
+std::span<const WallStressSample> ShearCellScene::stress_series() const { return impl_->series; }
+double ShearCellScene::mean_top_shear_stress(std::size_t samples) const {
+  const auto& s = impl_->series;
+  const std::size_t n = std::min(samples, s.size());
+  if (n == 0) return 0.0;
+  double sum = 0.0;
+  for (std::size_t i = s.size() - n; i < s.size(); ++i) sum += s[i].top_shear;
+  return sum / static_cast<double>(n);
+}
+double ShearCellScene::shear_rate() const { return impl_->params.shear_rate; }
+double ShearCellScene::plate_velocity() const { return impl_->params.shear_rate * impl_->params.gap; }
+double ShearCellScene::plate_area() const { return impl_->area(); }
+double ShearCellScene::time_step() const { return impl_->time_step; }
+double ShearCellScene::rayleigh_time() const { return impl_->rayleigh_time; }
+std::int64_t ShearCellScene::total_particle_count() const { return impl_->engine.total_particle_count(); }
+double ShearCellScene::volume_fraction() const {
+  const auto& p = impl_->params;
+  return static_cast<double>(impl_->centres.size() / 3) * core::units::sphere_volume(p.particles.diameter) /
+         (p.cell_length * p.cell_width * p.gap);
+}
+std::array<double, 3> ShearCellScene::box_low() const { return {0.0, 0.0, -impl_->margin()}; }
+std::array<double, 3> ShearCellScene::box_high() const {
+  const auto& p = impl_->params;
+  return {p.cell_length, p.cell_width, p.gap + impl_->margin()};
+}
+const std::vector<double>& ShearCellScene::initial_positions() const { return impl_->centres; }
+const ShearCellScene::Params& ShearCellScene::params() const { return impl_->params; }
+Engine& ShearCellScene::engine() { return impl_->engine; }
+const Engine& ShearCellScene::engine() const { return impl_->engine; }
+
+}  // namespace rheosim::dem

@@ -1,0 +1,338 @@
+// coupling::NearFieldModel (issue 9): the term registry and settings checks, the single-particle
+// torque and stresslet against Stokes' closed forms, the implicit update of the stiff squeeze
+// against the quasi-static two-sphere trajectory (at a δt far beyond the explicit limit), the
+// periodic cell-list neighbour search against brute force, and the plate bookkeeping.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "coupling_test_support.hpp"
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/config.hpp"
+#include "rheosim/core/error.hpp"
+#include "rheosim/coupling/near_field.hpp"
+
+namespace rheosim::coupling {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+using testing::newtonian;
+
+std::unique_ptr<const NearFieldModel> model(std::vector<std::string> names, double mu = 1.0) {
+  NearFieldSettings s;
+  s.models = std::move(names);
+  return make_near_field_model(s, newtonian(mu));
+}
+
+AmbientFlow simple_shear(double rate) {
+  return [rate](const Vector3& x) {
+    AmbientSample s;
+    s.velocity = {rate * x[2], 0.0, 0.0};
+    s.velocity_gradient[2] = rate;  // ∂u_x/∂z
+    return s;
+  };
+}
+
+TEST(NearFieldRegistry, ListsTheTermsAndRejectsUnknownNames) {
+  const auto names = near_field_model_names();
+  const std::vector<std::string> expected{"lubrication", "none", "single_particle", "stokes_drag", "stresslet"};
+  EXPECT_EQ(names, expected);
+  try {
+    (void)model({"lubrication", "stresslett"});
+    FAIL() << "unknown name accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stresslett"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("lubrication, none, single_particle, stokes_drag, stresslet"),
+              std::string::npos);
+  }
+  EXPECT_EQ(model({"lubrication", "stresslet"})->name(), "lubrication+stresslet");
+  EXPECT_EQ(model({})->name(), "none");
+}
+
+TEST(NearFieldRegistry, ChecksRanges) {
+  NearFieldSettings s;
+  s.roughness = 0.0;
+  EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
+  s.roughness = 1e-3;
+  s.lubrication_cutoff = 2.0;
+  EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
+  s.lubrication_cutoff = 0.5;
+  EXPECT_THROW((void)make_near_field_model(s, nullptr), std::invalid_argument);
+}
+
+std::string case_with_hydrodynamics(const std::string& block) {
+  return "kind: rheometer\n"
+         "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
+         "fluid:\n  density: 1000\n  rheology: {model: newtonian, viscosity: 1.0}\n"
+         "shear_rates: [10]\n"
+         "particles:\n  volume_fraction: 0.1\n  diameter: 2.0e-4\n  density: 1000\n" +
+         block;
+}
+
+TEST(NearFieldCaseKeys, ParsesTheHydrodynamicsBlock) {
+  const auto c = core::parse_case(
+      case_with_hydrodynamics(
+          "  hydrodynamics: {model: lubrication+stresslet, roughness: 2.0e-3, lubrication_cutoff: 0.4}\n"),
+      "case.yaml");
+  const auto& p = *std::get<core::RheometerCase>(c.spec).particles;
+  EXPECT_TRUE(p.hydrodynamics.lubrication);
+  EXPECT_TRUE(p.hydrodynamics.single_particle);
+  EXPECT_FALSE(p.hydrodynamics.stokes_drag);
+  const NearFieldSettings s = near_field_settings(p.hydrodynamics);
+  EXPECT_EQ(s.models, (std::vector<std::string>{"lubrication", "stresslet"}));
+  EXPECT_DOUBLE_EQ(s.roughness, 2e-3);
+  EXPECT_DOUBLE_EQ(s.lubrication_cutoff, 0.4);
+  EXPECT_EQ(make_near_field_model(s, newtonian(1.0))->name(), "lubrication+stresslet");
+  EXPECT_NE(core::describe(c).find("near-field hydrodynamics: lubrication stresslet"), std::string::npos);
+  // Absent: drag only.
+  const auto plain = core::parse_case(case_with_hydrodynamics(""), "case.yaml");
+  EXPECT_FALSE(std::get<core::RheometerCase>(plain.spec).particles->hydrodynamics.any());
+  EXPECT_TRUE(near_field_settings(std::get<core::RheometerCase>(plain.spec).particles->hydrodynamics).models.empty());
+}
+
+TEST(NearFieldCaseKeys, RejectsUnknownTermsAndOutOfRangeValues) {
+  const auto error_of = [](const std::string& block) -> std::string {
+    try {
+      (void)core::parse_case(case_with_hydrodynamics(block), "case.yaml");
+    } catch (const core::ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string unknown = error_of("  hydrodynamics: {model: lubrication+stresslett}\n");
+  EXPECT_NE(unknown.find("stresslett"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("case.yaml:"), std::string::npos) << unknown;
+  EXPECT_NE(error_of("  hydrodynamics: {model: lubrication, roughness: 0.5}\n").find("roughness"), std::string::npos);
+  EXPECT_NE(error_of("  hydrodynamics: {model: lubrication, lubrication_cutoff: 1.5}\n").find("lubrication_cutoff"),
+            std::string::npos);
+  EXPECT_NE(error_of("  hydrodynamics: {model: lubrication, cutoff: 0.5}\n").find("cutoff"), std::string::npos);
+}
+
+TEST(NearField, NoneAddsNothing) {
+  const auto m = model({"none"});
+  const std::vector<double> x{0, 0, 0, 2.0001e-4, 0, 0}, v{0, 0, 1, 0, 0, -1}, w(6, 0.0), r{1e-4, 1e-4};
+  NearFieldResult res;
+  res.reset(2, 0);
+  m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, {}, simple_shear(1.0), res);
+  for (double f : res.forces) EXPECT_EQ(f, 0.0);
+  EXPECT_EQ(res.lubricated_pairs, 0U);
+}
+
+// Single sphere at rest in simple shear u = γ̇ z e_x: torque 8πμa³ ω∞ with ω∞ = (0, γ̇/2, 0),
+// stresslet (20/3)πμa³E∞ with E∞_xz = γ̇/2; μ of a power-law matrix at the ambient γ̇.
+TEST(NearField, SingleSphereTorqueAndStressletAreStokes) {
+  const auto doc = core::Document::from_string("model: power_law\nconsistency: 2.0\nindex: 0.5\n", "rheology");
+  NearFieldSettings s;
+  s.models = {"stresslet"};
+  const auto m = make_near_field_model(s, core::make_rheology(doc.root()));
+  const double a = 1e-4, rate = 40.0;
+  const double mu = 2.0 * std::pow(rate, -0.5);
+  const std::vector<double> x{0, 0, 3e-4}, v(3, 0.0), w(3, 0.0), r{a};
+  NearFieldResult res;
+  res.reset(1, 0);
+  m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, {}, simple_shear(rate), res);
+  EXPECT_NEAR(res.torques[1], 8.0 * pi * mu * a * a * a * rate / 2.0, 1e-12 * mu * a * a * a * rate);
+  EXPECT_EQ(res.torques[0], 0.0);
+  EXPECT_EQ(res.forces[0], 0.0);  // no drag in `stresslet`
+  const double s_xz = 20.0 / 3.0 * pi * mu * a * a * a * rate / 2.0;
+  EXPECT_NEAR(res.stresslet_sum[4], s_xz, 1e-12 * s_xz);
+  EXPECT_NEAR(res.particle_stress[4], s_xz, 1e-12 * s_xz);
+  for (int c : {0, 1, 2, 3, 5}) EXPECT_EQ(res.stresslet_sum[static_cast<std::size_t>(c)], 0.0);
+}
+
+TEST(NearField, StokesDragOnAmbientFlow) {
+  const auto m = model({"stokes_drag"}, 0.5);
+  const double a = 2e-4, rate = 3.0;
+  const std::vector<double> x{0, 0, 1e-3}, v{0.001, 0.0, 0.002}, w(3, 0.0), r{a};
+  NearFieldResult res;
+  res.reset(1, 0);
+  m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, {}, simple_shear(rate), res);
+  const double k = 6.0 * pi * 0.5 * a;
+  EXPECT_NEAR(res.forces[0], k * (rate * 1e-3 - 0.001), 1e-15);
+  EXPECT_NEAR(res.forces[2], -k * 0.002, 1e-15);
+}
+
+// A free sphere with implicit drag + torque relaxes onto the ambient flow even though
+// δt ≫ m/(6πμa) (the explicit relaxation would diverge): U → γ̇ z, Ω → γ̇/2.
+TEST(NearField, ImplicitSingleParticleRelaxesOntoTheFlow) {
+  const auto m = model({"stokes_drag", "stresslet"}, 1.0);
+  const double a = 1e-4, rho = 1000.0, rate = 100.0;
+  const double mass = 4.0 / 3.0 * pi * a * a * a * rho;
+  const double dt = 20.0 * mass / (6.0 * pi * a);  // 20 × the drag relaxation time
+  std::vector<double> x{0, 0, 2e-4}, v(3, 0.0), w(3, 0.0), r{a}, masses{mass}, zero(3, 0.0);
+  NearFieldResult res;
+  for (int step = 0; step < 5; ++step) {
+    res.reset(1, 0);
+    m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r, .masses = masses,
+                 .other_forces = zero, .other_torques = zero, .time_step = dt},
+                {}, simple_shear(rate), res);
+    const double inertia = 0.4 * mass * a * a;
+    for (std::size_t k = 0; k < 3; ++k) {
+      v[k] += dt * res.forces[k] / mass;
+      w[k] += dt * res.torques[k] / inertia;
+    }
+    EXPECT_LT(std::abs(v[0]), 1.01 * rate * x[2]);  // no overshoot
+  }
+  EXPECT_NEAR(v[0], rate * x[2], 1e-3 * rate * x[2]);
+  EXPECT_NEAR(w[1], rate / 2.0, 1e-3 * rate);
+  EXPECT_EQ(m->stable_time_step({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, rho) <
+                dt / 20.0,
+            true);
+}
+
+// Two equal spheres pressed together by ±F in quiescent fluid: the quasi-static gap obeys
+// dh/dt = −F / (6πμa X^A(ξ)), ξ = (h + δ)/a (leading terms). The implicit update follows it at
+// δt = 200 × the explicit stability limit at the final gap.
+TEST(NearField, ImplicitSqueezeFollowsQuasiStaticTrajectory) {
+  const double a = 1e-4, rho = 1000.0, mu = 1.0, force = 1e-7, roughness = 1e-3;
+  const auto m = model({"lubrication"}, mu);
+  const double mass = 4.0 / 3.0 * pi * a * a * a * rho;
+  const double h0 = 0.2 * a;
+  const auto closing_speed = [&](double h) {
+    const double xi = (h + roughness * a) / a;
+    return force / (6.0 * pi * mu * a * (0.25 / xi + 9.0 / 40.0 * std::log(1.0 / xi)));
+  };
+  // Leading term alone: h + δ = (h0 + δ) e^(−t/τ), τ = 6πμa²/(4F); 2.2 τ reaches h ≈ 0.02 a.
+  const double t_end = 2.2 * 6.0 * pi * mu * a * a / (4.0 * force);
+  // Reference: RK4 on dh/dt = −closing_speed(h).
+  double h_ref = h0;
+  const int ref_steps = 200000;
+  const double dtr = t_end / ref_steps;
+  for (int i = 0; i < ref_steps; ++i) {
+    const double k1 = -closing_speed(h_ref), k2 = -closing_speed(h_ref + 0.5 * dtr * k1);
+    const double k3 = -closing_speed(h_ref + 0.5 * dtr * k2), k4 = -closing_speed(h_ref + dtr * k3);
+    h_ref += dtr / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  ASSERT_GT(h_ref, 0.0);
+  ASSERT_LT(h_ref, 0.05 * a);  // the test reaches the stiff regime
+
+  std::vector<double> x{0, 0, 0, 2 * a + h0, 0, 0}, v(6, 0.0), w(6, 0.0), r{a, a}, masses{mass, mass};
+  const std::vector<double> other{force, 0, 0, -force, 0, 0}, zero(6, 0.0);
+  const std::vector<double> x_end{0, 0, 0, 2 * a + h_ref, 0, 0};
+  const ParticleSnapshot at_end{.positions = x_end, .velocities = v, .angular_velocities = w, .radii = r};
+  const double explicit_limit = m->stable_time_step(at_end, rho);
+  const int steps = 400;
+  const double dt = t_end / steps;
+  EXPECT_GT(dt, 100.0 * explicit_limit);
+  NearFieldResult res;
+  int max_iterations = 0;
+  for (int step = 0; step < steps; ++step) {
+    res.reset(2, 0);
+    m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r, .masses = masses,
+                 .other_forces = other, .other_torques = zero, .time_step = dt},
+                {}, {}, res);
+    max_iterations = std::max(max_iterations, res.solver_iterations);
+    for (std::size_t k = 0; k < 6; ++k) {
+      v[k] += dt * (other[k] + res.forces[k]) / mass;
+      x[k] += dt * v[k];
+    }
+  }
+  const double h = x[3] - x[0] - 2 * a;
+  EXPECT_NEAR(h / h_ref, 1.0, 0.01) << "h = " << h << ", reference " << h_ref;
+  EXPECT_LT(max_iterations, 50);
+  // Symmetric: the pair's centre does not move.
+  EXPECT_NEAR(x[0] + x[3], 2 * a + h0, 1e-12 * a);
+}
+
+// Brute-force minimum-image count of gaps below the cutoff, against the cell list.
+TEST(NearField, PeriodicCellListFindsEveryPair) {
+  const double a = 1e-4, length = 2e-3;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, length);
+  std::vector<double> x;
+  while (x.size() < 3 * 300) {
+    const std::array<double, 3> c{u(rng), u(rng), u(rng)};
+    bool overlap = false;
+    for (std::size_t j = 0; j < x.size() / 3 && !overlap; ++j) {
+      double d2 = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        double d = c[static_cast<std::size_t>(k)] - x[3 * j + static_cast<std::size_t>(k)];
+        d -= length * std::round(d / length);
+        d2 += d * d;
+      }
+      overlap = d2 < 4 * a * a;
+    }
+    if (!overlap) x.insert(x.end(), c.begin(), c.end());
+  }
+  const std::size_t n = x.size() / 3;
+  const std::vector<double> v(3 * n, 0.0), r(n, a);
+  NearFieldScene scene;
+  scene.periodic = {true, true, true};
+  scene.box_high = {length, length, length};
+  std::size_t expected = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      double d2 = 0.0;
+      for (std::size_t k = 0; k < 3; ++k) {
+        double d = x[3 * j + k] - x[3 * i + k];
+        d -= length * std::round(d / length);
+        d2 += d * d;
+      }
+      if (std::sqrt(d2) - 2 * a < 0.5 * a) ++expected;
+    }
+  ASSERT_GT(expected, 10U);
+  NearFieldResult res;
+  res.reset(n, 0);
+  model({"lubrication"})->evaluate({.positions = x, .velocities = v, .angular_velocities = v, .radii = r}, scene, {},
+                                   res);
+  EXPECT_EQ(res.lubricated_pairs, expected);
+}
+
+// A pair approaching across the periodic boundary feels the squeeze; the repulsive
+// lubrication force acts like a compressed contact: negative xx virial −(x_j − x_i) F_j,x.
+TEST(NearField, PeriodicPairSqueezesAcrossTheBoundary) {
+  const double a = 1e-4, length = 1e-3, h = 1e-6;
+  const std::vector<double> x{a + h / 2, 5e-4, 5e-4, length - a - h / 2, 5e-4, 5e-4};
+  const std::vector<double> v{-1e-3, 0, 0, 1e-3, 0, 0}, w(6, 0.0), r{a, a};
+  NearFieldScene scene;
+  scene.periodic = {true, true, false};
+  scene.box_high = {length, length, 0.0};
+  NearFieldResult res;
+  res.reset(2, 0);
+  model({"lubrication"})->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, scene, {},
+                                   res);
+  EXPECT_EQ(res.lubricated_pairs, 1U);
+  EXPECT_GT(res.forces[0], 0.0);  // particle 0 moves −x towards its neighbour's image: pushed back +x
+  EXPECT_NEAR(res.forces[0], -res.forces[3], 1e-15);
+  EXPECT_LT(res.lubrication_virial[0], 0.0);
+}
+
+// Sphere just under a top plate that slides in +x: the plate drags it along (+x force on the
+// particle), the plate gets the opposite force, and the moment about the origin follows.
+TEST(NearField, PlateLubricationForceAndMoment) {
+  const double a = 1e-4, H = 1e-3, h = 2e-6, U = 0.05;
+  NearFieldScene scene;
+  scene.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
+  scene.plates.push_back({.z = H, .faces_up = false, .velocity_at = [U](const Vector3&) { return Vector3{U, 0, 0}; }});
+  const std::vector<double> x{3e-4, -2e-4, H - a - h}, v(3, 0.0), w(3, 0.0), r{a};
+  NearFieldResult res;
+  res.reset(1, 2);
+  model({"lubrication"})->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, scene, {},
+                                   res);
+  EXPECT_EQ(res.lubricated_walls, 1U);
+  const double xi = (h + 1e-3 * a) / a;
+  const double expected = 6.0 * pi * a * (8.0 / 15.0) * std::log(1.0 / xi) * U;
+  EXPECT_NEAR(res.forces[0], expected, 1e-12 * expected);
+  EXPECT_NEAR(res.plate_forces[1][0], -expected, 1e-12 * expected);
+  EXPECT_EQ(res.plate_forces[0][0], 0.0);
+  // Moment about the origin of −F e_x at (x, y, H): (0, −H F, y F).
+  EXPECT_NEAR(res.plate_moments[1][1], -H * expected, 1e-12 * H * expected);
+  EXPECT_NEAR(res.plate_moments[1][2], -2e-4 * expected, 1e-12 * 2e-4 * expected);
+  // The force on the sphere acts at its top (+z side) along +x: torque a e_z × F e_x = +a F e_y.
+  EXPECT_GT(res.torques[1], 0.0);
+  // Virial: −(x_p − x_w) ⊗ F_p, x_p − x_w = −(a + h) e_z: xz component (a + h) F / 2 · 2 sym.
+  EXPECT_NEAR(res.lubrication_virial[4], 0.5 * (a + h) * expected, 1e-9 * a * expected);
+}
+
+}  // namespace
+}  // namespace rheosim::coupling
