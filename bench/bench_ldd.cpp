@@ -6,6 +6,8 @@
 //
 //   build-ldd/bin/bench_ldd            # full table (several minutes)
 //   build-ldd/bin/bench_ldd --quick    # timings only, fewer steps
+//   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
+//                                       # code path as `rheosim run`, without the other modules)
 //
 // Timings exclude the first step (which builds the operators and factorises the pressure matrix;
 // reported separately as "setup").
@@ -18,7 +20,10 @@
 #include <string>
 #include <vector>
 
+#include <filesystem>
+
 #include "rheosim/core/case.hpp"
+#include "rheosim/core/log.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/solver.hpp"
@@ -113,6 +118,12 @@ void convergence() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 4 && std::string(argv[1]) == "run") {
+    const core::Case c = core::load_case(argv[2]);
+    const auto log = core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
+    const auto outcome = ldd::run_case(c, argv[3], log);
+    return outcome.status == "diverged" ? 1 : 0;
+  }
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
   const int steps = quick ? 20 : 200;
   const std::vector<Scenario> scenarios{

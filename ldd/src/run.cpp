@@ -20,6 +20,9 @@
 #include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd {
+
+RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log);
+
 namespace {
 
 constexpr int probe_count = 101;      // points per centre line
@@ -174,9 +177,7 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
 RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
   const auto& l = std::get<core::LddCase>(c.spec);
   const auto* scene = std::get_if<core::CavityScene>(&l.scene);
-  if (!scene)
-    throw core::RunError(fmt::format("the LDD '{}' scene is not built yet (only cavity and skewed_cavity); nothing was run",
-                                     l.scene_type));
+  if (!scene) return run_free_surface_case(c, out_dir, log);
   const auto wall_start = std::chrono::steady_clock::now();
   if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
   const int threads = omp_get_max_threads();

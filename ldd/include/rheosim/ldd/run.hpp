@@ -1,6 +1,7 @@
 #pragma once
-// Runs one `kind: ldd` case into a folder (DESIGN §3). Cavity scenes (cavity, skewed_cavity) are
-// built; the free-surface scenes (dam_break, slump, column) are not yet (issue 7 part 1).
+// Runs one `kind: ldd` case into a folder (DESIGN §3): cavity scenes (cavity, skewed_cavity) with
+// the lattice Solver, free-surface scenes (dam_break, slump, column) with the FreeSurfaceSolver
+// (outputs listed further down).
 //
 // Files written to out_dir:
 //   case.yaml                       the exact input
@@ -27,6 +28,7 @@
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd {
@@ -39,8 +41,8 @@ struct RunOutcome {
   double ms_per_step = 0;
 };
 
-// Throws core::RunError for scenes that are not built yet; never throws for divergence (see
-// RunOutcome::status).
+// Throws core::RunError for a scene in a dimension it is not built for (dam_break and column are
+// 2D); never throws for divergence (see RunOutcome::status: also "settled" for a slump).
 RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log);
 
 // A cavity run without files, for validation tests and benchmarks: steps until end_time or until
@@ -57,5 +59,45 @@ struct CavityResult {
 };
 [[nodiscard]] CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams& params, double end_time,
                                            double steady_tolerance, std::span<const double> probe_fractions);
+
+// ---------------------------------------------------------------- free-surface scenes (issue 8)
+// run_case() runs dam_break, slump and column scenes with the FreeSurfaceSolver and writes
+//   summary.json   nodes, steps, ms_per_step, status, volume_drift, front: [{t, x}] (dam break),
+//                  spread: [{t, diameter, height}] (slump), table1 (dam break), phase timings
+//   front.csv / spread.csv / column.csv   the probe history with kinetic energy and volume drift
+//   table1.csv, table1.txt                dam break: mass front at LDD Table 1's times next to the
+//                                         experiment and the seed's LDD column for this Δ and δt
+//   frames/nodes_NNNN.vtk (+ .vtk.series, nodes.pvd)   the cloud with velocity, pressure, γ̇, μ, kind
+// Mass front: largest x of a non-splash fluid node + Δ/2, from the gate (x = 0). Spread: twice the
+// largest distance of a non-splash fluid node from the axis + Δ; height: largest z + Δ/2. A slump
+// stops early when, after the mould has cleared the fluid, the kinetic energy has decayed to
+// slump_energy_decay × its peak.
+inline constexpr double slump_energy_decay = 1e-3;
+
+// LDD Table 1 (seed §4.3): mass front [m] at six times, experiment (Komatina & Jovanović 1997)
+// and LDD for Δ = 1 mm / 2 mm and δt = 1e-3 / 1e-4 s.
+struct DamBreakReference {
+  static constexpr double times[6] = {0.09, 0.23, 0.38, 0.56, 0.74, 1.14};
+  static constexpr double experiment[6] = {0.103, 0.198, 0.297, 0.399, 0.499, 0.596};
+  static constexpr double ldd_1mm_dt1e3[6] = {0.030, 0.185, 0.328, 0.427, 0.508, 0.705};
+  static constexpr double ldd_1mm_dt1e4[6] = {0.048, 0.190, 0.304, 0.414, 0.484, 0.628};
+  static constexpr double ldd_2mm_dt1e3[6] = {0.043, 0.195, 0.314, 0.396, 0.467, 0.621};
+  static constexpr double ldd_2mm_dt1e4[6] = {0.044, 0.191, 0.308, 0.407, 0.486, 0.625};
+};
+
+FreeSurfaceParams free_surface_params(const core::LddCase& l);
+
+struct DamBreakResult {
+  std::size_t nodes = 0, fluid_nodes = 0, steps = 0;
+  double ms_per_step = 0, volume_drift = 0;  // drift: max |V/V₀ − 1| over the run
+  bool diverged = false;
+  std::string message;
+  std::vector<double> times, front;      // every step [s], [m]
+  std::vector<double> front_at_table1;   // interpolated at DamBreakReference::times
+  PhaseTimes phases;
+};
+// A dam-break run without files (tests, benchmarks), to end_time.
+[[nodiscard]] DamBreakResult simulate_dam_break(const core::DamBreakScene& scene, const FreeSurfaceParams& params,
+                                                double end_time);
 
 }  // namespace rheosim::ldd

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# LDD §4.3 dam break at the seed's four (Δ, δt) pairs, assembled into LDD Table 1's layout with
+# the error of each run against the experiment (docs/ldd.md, docs/performance.md LDD sections).
+#
+#   bench/ldd_dam_break_table1.sh [BUILD_DIR] [OUT_DIR] [PAIRS...]
+#   PAIRS default: "0.002:1e-3 0.002:1e-4 0.001:1e-3 0.001:1e-4" (Δ in m : δt in s)
+#
+# Each run goes through ldd::run_case (bench_ldd run, the same code as `rheosim run`). Costs on
+# the 2-core machine: Δ = 2 mm, δt = 1e-3 about 1 h; the δt = 1e-4 and Δ = 1 mm runs are 10× and
+# 40× that — hours to days; run them on a quiet machine.
+set -euo pipefail
+build=${1:-build-ldd}
+out=${2:-results/ldd_table1}
+shift $(( $# > 2 ? 2 : $# )) || true
+pairs=${*:-"0.002:1e-3 0.002:1e-4 0.001:1e-3 0.001:1e-4"}
+here=$(cd "$(dirname "$0")/.." && pwd)
+mkdir -p "$out"
+for pair in $pairs; do
+  dx=${pair%%:*}; dt=${pair##*:}
+  name="dx${dx}_dt${dt}"
+  sed -e "s/spacing: 0.002/spacing: ${dx}/" -e "s/step: 1.0e-3/step: ${dt}/" \
+      "$here/cases/ldd_dam_break_bingham.yaml" > "$out/$name.yaml"
+  if [ ! -f "$out/$name/summary.json" ]; then
+    "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true
+  fi
+done
+python3 - "$out" $pairs <<'PY'
+import csv, json, os, sys
+out, pairs = sys.argv[1], sys.argv[2:]
+times = [0.09, 0.23, 0.38, 0.56, 0.74, 1.14]
+exp = [0.103, 0.198, 0.297, 0.399, 0.499, 0.596]
+cols = []
+for p in pairs:
+    dx, dt = p.split(':')
+    f = os.path.join(out, f"dx{dx}_dt{dt}", "table1.csv")
+    rows = list(csv.reader(open(f)))[1:] if os.path.exists(f) else []
+    cols.append((f"Δ={float(dx)*1e3:g} mm δt={dt}", [float(r[2]) for r in rows] if rows else [float('nan')] * 6))
+print("| Time (s) | Exp. Data | " + " | ".join(c[0] for c in cols) + " |")
+print("| --- | --- | " + " | ".join("---" for _ in cols) + " |")
+for q, t in enumerate(times):
+    print(f"| {t:.2f} | {exp[q]:.3f} | " + " | ".join(f"{c[1][q]:.3f}" for c in cols) + " |")
+err = []
+for _, v in cols:
+    d = [abs(a - b) for a, b in zip(v, exp) if a == a]
+    err.append(f"{(sum(x*x for x in d)/len(d))**0.5:.3f} / {max(d):.3f}" if d else "-")
+print("| RMS / max error (m) | | " + " | ".join(err) + " |")
+PY

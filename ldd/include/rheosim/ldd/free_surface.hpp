@@ -1,0 +1,220 @@
+#pragma once
+// The LDD time step for free-surface flows in 2D and 3D (LDD §3.2, issue 8): dam break, slump
+// test, resting columns. Nodes are Lagrangian; solid walls are fixed (or moving, a lifted mould)
+// wall nodes one layer thick, and every fluid node is classified each step as interior, free
+// surface (p = p_atm = 0, LDD eq. 17 third line) or splash (too few neighbours to build operators).
+//
+// One call to FreeSurfaceSolver::step():
+//   1. operators (eqs. 13–16) on the current cloud; free-surface detection (see below);
+//   2. ∇u (eq. 14), E (eq. 4), γ̇ = √(2E:E) (eq. 5), μ(γ̇);
+//   3. semi-implicit momentum (eq. 19) with the previous pressure and gravity:
+//        ρ u* − δt ∇·(μ∇u*) = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + ρ g)
+//      with the pair viscosity ½(μ_i + μ_j) on eq. 15's coefficients. Departure: eq. 18's
+//      explicit 2E∇μ (and the cavity solver's explicit ∇·(μ(∇u)ᵀ)) is left out by default (it is
+//      unstable for δt μ_max/(ρΔ²) ≫ 1, see transpose_stress); wall nodes Dirichlet (no slip at the wall's velocity), splash
+//      nodes ballistic (u* = u + δt g, no coupling);
+//   4. PPE (eq. 17) for the increment φ = p_n − p_{n−1}: interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, wall
+//      nodes n·⟨∇φ⟩ = ρ n·g − n·⟨∇p_{n−1}⟩, corner wall nodes Shepard (eq. 12), free-surface and
+//      splash nodes φ = −p_{n−1} (so p_n = 0), wall nodes without fluid neighbours φ = −p_{n−1};
+//      then u_n = u* − δt/ρ ⟨∇φ⟩ on interior and surface nodes;
+//   5. divergence checks (NaN, Courant number, failed solves): DivergenceError, state unchanged;
+//   6. advection (eq. 20), moving walls move, fluid nodes are kept wall_clearance·Δ off the walls;
+//   7. PBD (Macklin & Müller 2013) that keeps the volume: Jacobi sweeps of the kernel-density
+//      constraint C_i = ρ_i/ρ₀ − 1 (ρ_i = W(0) + Σ_j W_ij over fluid and wall neighbours) —
+//      two-sided for interior nodes, one-sided (only C_i > 0, i.e. push apart) for surface nodes
+//      whose kernel sum is truncated by the void — with each shift capped; velocities follow the
+//      shift to first order, u += ⟨∇u⟩·δx.
+//
+// Free-surface criterion (documented in docs/ldd.md, tested in tests/ldd/test_free_surface.cpp):
+// over the neighbours within the search radius R = (h/Δ + skin)·Δ, a fluid node is on the surface
+// when any of
+//   * empty cone: a probe direction (every 10° in 2D, 64 on the sphere in 3D) has no neighbour,
+//     fluid or wall, within surface_cone_angle (35° in 2D, 50° in 3D) of it, directions into a
+//     nearby wall counting as covered — a void beside the node;
+//   * centroid: |c_i| > surface_offset·Δ, c_i = Σ_fluid x_ij / n_i (n_i counting wall neighbours
+//     too) with the components along nearby wall normals removed (a wall is not a free surface);
+//   * count: n_i < surface_count·n₀ (fluid + wall neighbours; n₀ the initial median),
+// and a splash node when it has fewer than dimension + 1 neighbours within h. A full
+// neighbourhood, including one cut by a wall (the wall nodes stand in for the missing fluid),
+// passes all three; a flat surface fails the first two (|c_i| ≈ 0.6 Δ on a square lattice).
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "rheosim/core/rheology.hpp"
+#include "rheosim/ldd/krylov.hpp"
+#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/ldd/operators.hpp"
+#include "rheosim/ldd/solver.hpp"
+
+namespace rheosim::ldd {
+
+// A rigid boundary as the fluid sees it, in 2D or 3D. Used to keep fluid nodes off the walls
+// (the wall nodes carry the boundary conditions).
+class Boundary {
+ public:
+  virtual ~Boundary() = default;
+  // Signed distance of x from the boundary at time t [m], positive on the fluid side, and the
+  // unit normal pointing into the fluid. Returns false when the boundary does not constrain x
+  // (outside a mould's height range, say).
+  virtual bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const = 0;
+  // Velocity of the boundary at time t [m/s] (dimension entries).
+  virtual void velocity(double t, std::span<double> v) const = 0;
+  // Free slip: its wall nodes take the fluid's tangential velocity (a greased mould) instead of
+  // the no-slip condition.
+  [[nodiscard]] virtual bool slip() const { return false; }
+
+ protected:
+  Boundary() = default;
+  Boundary(const Boundary&) = default;
+  Boundary& operator=(const Boundary&) = default;
+};
+
+// A fixed plane (a line in 2D): the fluid is on the side its normal points to.
+class PlaneBoundary final : public Boundary {
+ public:
+  PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal);
+  bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const override;
+  void velocity(double t, std::span<double> v) const override;
+
+ private:
+  std::vector<double> point_, normal_;
+};
+
+// The inside of a truncated cone about the z axis (3D), bottom radius at z = z0 + v t, lifted at
+// speed v until the bottom reaches lift_height (then it stops): the Abrams mould (LDD §4.4).
+// Free slip: with no slip the lifted mould carried the Bingham concrete up with it (the coarse
+// slump grew to 0.41 m high); an oiled mould lets it slide.
+class ConeMouldBoundary final : public Boundary {
+ public:
+  ConeMouldBoundary(double bottom_radius, double top_radius, double height, double z0, double lift_velocity,
+                    double lift_height);
+  bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const override;
+  void velocity(double t, std::span<double> v) const override;
+  [[nodiscard]] bool slip() const override { return true; }
+  [[nodiscard]] double bottom(double t) const;  // z of the mould's bottom edge at time t
+
+ private:
+  double bottom_radius_, top_radius_, height_, z0_, lift_velocity_, lift_height_;
+};
+
+// Per-node state of a free-surface cloud (fluid kinds change each step).
+enum class FreeNode : std::uint8_t { interior = 0, surface = 1, splash = 2, wall = 3, corner = 4, idle_wall = 5 };
+
+// The initial cloud: positions interleaved with stride dimension.
+struct FreeSurfaceCloud {
+  int dimension = 2;
+  std::vector<double> positions;
+  std::vector<std::uint8_t> is_wall;    // 1: wall node (fixed or moving with its boundary)
+  std::vector<std::uint8_t> is_corner;  // 1: wall node where walls meet (no unique normal)
+  std::vector<double> normals;          // inward unit normal per node (0 for fluid nodes)
+  std::vector<int> boundary;            // index into the boundaries of the wall node, −1 for fluid
+  [[nodiscard]] std::size_t size() const { return is_wall.size(); }
+  void add(std::span<const double> x, bool wall, bool corner, std::span<const double> normal, int boundary_index);
+};
+
+struct FreeSurfaceParams {
+  int dimension = 2;
+  double density = 1.0;                            // ρ [kg/m³]
+  std::shared_ptr<const core::Rheology> rheology;  // μ(γ̇)
+  std::vector<double> gravity;                     // g [m/s²], dimension entries
+  double spacing = 0;                              // Δ [m]
+  double smoothing_ratio = 1.6;                    // h/Δ
+  double time_step = 0;                            // δt [s]
+  double pressure_tolerance = 1e-6;                // BiCGStab relative residual, PPE
+  double velocity_tolerance = 1e-6;                // BiCGStab relative residual, eq. 19
+  int max_iterations = 2000;
+  double surface_offset = 0.3;                     // |c_i|/Δ above which a node is on the surface
+  double surface_count = 0.7;                      // n_i/n₀ below which a node is on the surface
+  double surface_cone_angle = 35;                  // [°] half-angle of the empty-cone test
+  double neighbour_skin = 0.3;                     // search radius = h + skin·Δ (also the detection radius)
+  int pbd_iterations = 3;                          // PBD sweeps per step (0: none)
+  double pbd_stiffness = 0.5;                      // fraction of the PBD correction applied per sweep
+  double pbd_max_shift = 0.05;                     // per sweep, units of Δ
+  double wall_clearance = 0.5;                     // fluid nodes stay this far (units of Δ) off boundaries
+  double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
+  bool hydrostatic_start = true;
+  bool direct_preconditioner = true;              // 2D: sparse LU (refactorised each step) as BiCGStab
+                                                   // preconditioner; 3D always Jacobi (LU fill: >90 s/step at 85k nodes)
+  bool transpose_stress = false;                   // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)                   // initial p = ρ|g|·depth below the top fluid node
+
+  void check() const;  // throws std::invalid_argument naming the field and its range
+};
+
+struct FreeSurfaceStats {
+  int pressure_iterations = 0;
+  double pressure_residual = 0;
+  int velocity_iterations = 0;
+  double velocity_residual = 0;
+  double max_speed = 0, courant = 0;
+  std::size_t surface_nodes = 0, splash_nodes = 0;
+  std::size_t positivity_guarded = 0;  // nodes whose Laplacian dropped the offset correction
+  double max_pbd_shift = 0;  // units of Δ
+};
+
+class FreeSurfaceSolver {
+ public:
+  FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries,
+                    FreeSurfaceCloud cloud);
+
+  // One time step; throws DivergenceError (state of the last good step kept) on divergence.
+  FreeSurfaceStats step();
+
+  [[nodiscard]] int dimension() const { return dim_; }
+  [[nodiscard]] double time() const { return time_; }
+  [[nodiscard]] std::size_t steps() const { return steps_; }
+  [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
+  [[nodiscard]] std::size_t fluid_node_count() const;
+  [[nodiscard]] const FreeSurfaceParams& params() const { return params_; }
+  [[nodiscard]] std::span<const double> positions() const { return positions_; }
+  [[nodiscard]] std::span<const double> velocity() const { return velocity_; }
+  [[nodiscard]] std::span<const double> pressure() const { return pressure_; }
+  [[nodiscard]] std::span<const double> shear_rate() const { return shear_rate_; }
+  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }
+  [[nodiscard]] std::span<const FreeNode> kinds() const { return kinds_; }
+  [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
+  [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= FreeNode::splash; }
+
+  // Re-runs the free-surface detection on the current cloud (kinds() then holds the result).
+  void classify();
+  // Fluid volume [m^d]: Σ Δ^d ρ₀/ρ_i over interior nodes + Δ^d per surface/splash node (a node's
+  // share of space from its kernel density; surface kernel sums are truncated by the void).
+  [[nodiscard]] double fluid_volume() const;
+  // Kinetic energy Σ ½ ρ |u|² Δ^d over fluid nodes [J, or J/m in 2D].
+  [[nodiscard]] double kinetic_energy() const;
+  // ρ₀ (kernel sum of a full neighbourhood) and n₀ (neighbour count within the search radius).
+  [[nodiscard]] double rest_density() const { return rest_density_; }
+  [[nodiscard]] double rest_count() const { return rest_count_; }
+
+ private:
+  void rebuild_neighbours();
+  void keep_laplacian_positive();
+  void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
+  void reorder(std::span<const double> velocity_gradient);
+  [[nodiscard]] double kernel_density(std::size_t node) const;
+
+  FreeSurfaceParams params_;
+  int dim_;
+  std::vector<std::shared_ptr<const Boundary>> boundaries_;
+  std::vector<FreeNode> kinds_;
+  std::vector<std::uint8_t> corner_;
+  std::vector<int> boundary_of_;
+  std::vector<double> normals_, probe_directions_;
+  std::vector<double> positions_, velocity_, previous_velocity_, pressure_, shear_rate_, viscosity_;
+  double support_radius_ = 0, search_radius_ = 0, rest_density_ = 0, rest_count_ = 0;
+  double time_ = 0;
+  std::size_t steps_ = 0, laplacian_guarded_ = 0;
+  bool first_step_ = true;
+  NeighbourList neighbours_;
+  Operators operators_;
+  PhaseTimes times_;
+  KrylovWorkspace krylov_;
+  StencilMatrix pressure_matrix_, momentum_matrix_;
+  std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, increment_gradient_;
+  std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
+  std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
+};
+
+}  // namespace rheosim::ldd

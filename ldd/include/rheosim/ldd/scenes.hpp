@@ -1,0 +1,33 @@
+#pragma once
+// Initial clouds and boundaries of the free-surface scenes (DESIGN §3 `dam_break`, `slump`,
+// `column`; LDD §4.3–4.4).
+//
+// Conventions. Fluid nodes start at the centres of Δ-cells filling the fluid region; walls are one
+// layer of wall nodes Δ/2 outside the fluid region (so the first fluid layer is a lattice step
+// from them) and a Boundary through that layer, which keeps fluid nodes at least Δ/2 inside —
+// i.e. inside the physical region. Extents are reported from node positions ± Δ/2.
+//
+//   column     2D, open-top box of the given width, filled to the given height (hydrostatics).
+//   dam_break  2D: reservoir [length L, height H] from x = −L to the gate at x = 0, removed at
+//              t = 0; channel floor to x = channel_length − L, closed by walls at both ends.
+//   slump      3D: the Abrams cone (bottom diameter D₀ on the floor z = 0, top d₀ at H₀) filled,
+//              the mould lifted at lift_velocity from t = 0; floor disc radius D₀/2 + 1.2 H₀.
+#include <memory>
+#include <vector>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/ldd/free_surface.hpp"
+
+namespace rheosim::ldd {
+
+struct FreeSurfaceScene {
+  FreeSurfaceCloud cloud;
+  std::vector<std::shared_ptr<const Boundary>> boundaries;
+};
+
+// Throws std::invalid_argument when the spacing leaves fewer than 4 cells across the fluid.
+[[nodiscard]] FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing);
+[[nodiscard]] FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacing);
+[[nodiscard]] FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing);
+
+}  // namespace rheosim::ldd

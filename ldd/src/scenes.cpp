@@ -1,0 +1,107 @@
+#include "rheosim/ldd/scenes.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace rheosim::ldd {
+namespace {
+
+int cells_along(double length, double spacing, const char* what) {
+  const auto cells = static_cast<int>(std::lround(length / spacing));
+  if (cells < 4)
+    throw std::invalid_argument(
+        fmt::format("LDD scene: spacing {} m leaves {} cells along the {} ({} m); need at least 4", spacing, cells, what, length));
+  return cells;
+}
+
+// An open-top 2D box: floor over cells [0, cells_x) (x from x0), side walls `wall_rows` high.
+// Fluid fills columns [fluid_begin, fluid_end) up to fluid_rows rows.
+FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, int fluid_end, int fluid_rows, double dx) {
+  FreeSurfaceScene s;
+  s.cloud.dimension = 2;
+  const double xl = x0 - 0.5 * dx, xr = x0 + (cells_x + 0.5) * dx, yb = -0.5 * dx;
+  s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{0.0, yb}, std::vector<double>{0.0, 1.0}));
+  s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{xl, 0.0}, std::vector<double>{1.0, 0.0}));
+  s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{xr, 0.0}, std::vector<double>{-1.0, 0.0}));
+  const double diagonal = std::numbers::sqrt2 / 2;
+  s.cloud.add(std::vector<double>{xl, yb}, true, true, std::vector<double>{diagonal, diagonal}, 0);
+  for (int i = 0; i < cells_x; ++i)
+    s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, yb}, true, false, std::vector<double>{0.0, 1.0}, 0);
+  s.cloud.add(std::vector<double>{xr, yb}, true, true, std::vector<double>{-diagonal, diagonal}, 0);
+  for (int j = 0; j < wall_rows; ++j) {
+    s.cloud.add(std::vector<double>{xl, (j + 0.5) * dx}, true, false, std::vector<double>{1.0, 0.0}, 1);
+    s.cloud.add(std::vector<double>{xr, (j + 0.5) * dx}, true, false, std::vector<double>{-1.0, 0.0}, 2);
+  }
+  const std::vector<double> none{0.0, 0.0};
+  for (int j = 0; j < fluid_rows; ++j)
+    for (int i = fluid_begin; i < fluid_end; ++i)
+      s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, (j + 0.5) * dx}, false, false, none, -1);
+  return s;
+}
+
+}  // namespace
+
+FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing) {
+  const int nx = cells_along(scene.size[0], spacing, "column width");
+  const int ny = cells_along(scene.size[1], spacing, "column height");
+  return box_2d(0.0, nx, ny + 4, 0, nx, ny, spacing);
+}
+
+FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacing) {
+  const int reservoir = cells_along(scene.reservoir[0], spacing, "reservoir length");
+  const int rows = cells_along(scene.reservoir[1], spacing, "reservoir height");
+  const int channel = cells_along(scene.channel_length, spacing, "channel length");
+  const double x0 = -reservoir * spacing;  // the gate is at x = 0
+  return box_2d(x0, channel, rows + 4, 0, reservoir, rows, spacing);
+}
+
+FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing) {
+  const double dx = spacing, height = scene.cone_height;
+  const double rb = 0.5 * scene.cone_bottom_diameter, rt = 0.5 * scene.cone_top_diameter;
+  cells_along(scene.cone_top_diameter, spacing, "cone top diameter");
+  FreeSurfaceScene s;
+  s.cloud.dimension = 3;
+  // Floor z = 0 (wall nodes at z = −Δ/2) and the mould: its wall nodes lie Δ/2 outside the
+  // physical cone, so that the fluid nodes (kept Δ/2 inside it) fill the cone's own volume.
+  const double slope = (rb - rt) / height;
+  const double offset = 0.5 * dx * std::sqrt(1.0 + slope * slope);  // radial offset for a Δ/2 normal offset
+  s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{0.0, 0.0, -0.5 * dx},
+                                                         std::vector<double>{0.0, 0.0, 1.0}));
+  s.boundaries.push_back(std::make_shared<ConeMouldBoundary>(rb + offset, rt + offset, height, 0.0, scene.lift_velocity,
+                                                             1.5 * height));
+  const double floor_radius = rb + 1.2 * height;
+  const int m = static_cast<int>(std::ceil(floor_radius / dx));
+  for (int i = -m; i < m; ++i)
+    for (int j = -m; j < m; ++j) {
+      const double x = (i + 0.5) * dx, y = (j + 0.5) * dx;
+      if (std::hypot(x, y) <= floor_radius)
+        s.cloud.add(std::vector<double>{x, y, -0.5 * dx}, true, false, std::vector<double>{0.0, 0.0, 1.0}, 0);
+    }
+  // Mould rings every Δ from Δ/2 to H₀ + Δ, each with nodes about Δ apart.
+  const double cosine = 1.0 / std::sqrt(1.0 + slope * slope);
+  for (int k = 0; (k + 0.5) * dx <= height + dx; ++k) {
+    const double z = (k + 0.5) * dx;
+    const double r = rb + offset - slope * z;
+    const int count = std::max(6, static_cast<int>(std::lround(2 * std::numbers::pi * r / dx)));
+    for (int q = 0; q < count; ++q) {
+      const double angle = 2 * std::numbers::pi * (q + 0.5 * (k % 2)) / count;
+      const double c = std::cos(angle), sn = std::sin(angle);
+      s.cloud.add(std::vector<double>{r * c, r * sn, z}, true, false,
+                  std::vector<double>{-c * cosine, -sn * cosine, -slope * cosine}, 1);
+    }
+  }
+  const int mr = static_cast<int>(std::ceil(rb / dx));
+  const std::vector<double> none{0.0, 0.0, 0.0};
+  for (int k = 0; (k + 0.5) * dx < height; ++k)
+    for (int i = -mr; i < mr; ++i)
+      for (int j = -mr; j < mr; ++j) {
+        const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, z = (k + 0.5) * dx;
+        if (std::hypot(x, y) <= rb - slope * z) s.cloud.add(std::vector<double>{x, y, z}, false, false, none, -1);
+      }
+  return s;
+}
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,203 @@
+// Free-surface LDD (issue 8): the surface criterion on lattice and jittered columns (no false
+// surface nodes inside or along the walls), hydrostatic pressure ρgh from a p = 0 start (LDD
+// eq. 17 with p = p_atm on the surface), the volume kept by the PBD, splash nodes that fall
+// ballistically without upsetting the PPE, and the Abrams mould geometry.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/log.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/ldd/scenes.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
+  const std::string text = "kind: ldd\ndimension: 2\nscene: {type: column, size: [1, 1]}\n"
+                           "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
+                           std::to_string(viscosity) +
+                           "}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+  return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
+}
+
+FreeSurfaceParams column_params(double spacing, double dt, double viscosity) {
+  FreeSurfaceParams p;
+  p.dimension = 2;
+  p.density = 1000;
+  p.rheology = newtonian(viscosity);
+  p.gravity = {0.0, -9.81};
+  p.spacing = spacing;
+  p.time_step = dt;
+  return p;
+}
+
+core::ColumnScene column(double width, double height) {
+  core::ColumnScene c;
+  c.size = {width, height};
+  return c;
+}
+
+// Highest fluid node's y.
+double top_row(const FreeSurfaceSolver& s) {
+  double top = -1e300;
+  for (std::size_t i = 0; i < s.node_count(); ++i)
+    if (s.is_fluid(i)) top = std::max(top, s.positions()[2 * i + 1]);
+  return top;
+}
+
+TEST(FreeSurface, LatticeColumnHasOnlyItsTopRowOnTheSurface) {
+  const double dx = 0.01;
+  FreeSurfaceSolver s(column_params(dx, 1e-3, 1.0), column_scene(column(0.2, 0.3), dx).boundaries,
+                      column_scene(column(0.2, 0.3), dx).cloud);
+  const double top = top_row(s);
+  std::size_t surface = 0, fluid = 0;
+  for (std::size_t i = 0; i < s.node_count(); ++i) {
+    if (!s.is_fluid(i)) continue;
+    ++fluid;
+    const bool in_top_row = s.positions()[2 * i + 1] > top - 0.5 * dx;
+    EXPECT_EQ(s.kinds()[i] == FreeNode::surface, in_top_row)
+        << "node at (" << s.positions()[2 * i] << ", " << s.positions()[2 * i + 1] << ")";
+    surface += s.kinds()[i] == FreeNode::surface ? 1 : 0;
+  }
+  EXPECT_EQ(fluid, 20U * 30U);
+  EXPECT_EQ(surface, 20U);  // the top row, corners included, and nothing along the walls
+}
+
+TEST(FreeSurface, JitteredColumnHasNoFalseSurfaceNodesInsideOrAlongWalls) {
+  const double dx = 0.01;
+  FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-0.1 * dx, 0.1 * dx);
+  for (std::size_t i = 0; i < scene.cloud.size(); ++i)
+    if (!scene.cloud.is_wall[i])
+      for (std::size_t d = 0; d < 2; ++d) scene.cloud.positions[2 * i + d] += jitter(random);
+  FreeSurfaceSolver s(column_params(dx, 1e-3, 1.0), scene.boundaries, scene.cloud);
+  const double top = top_row(s);
+  std::size_t false_surface = 0, missed_surface = 0;
+  for (std::size_t i = 0; i < s.node_count(); ++i) {
+    if (!s.is_fluid(i)) continue;
+    const double depth = top - s.positions()[2 * i + 1];
+    if (depth > 1.5 * dx && s.kinds()[i] == FreeNode::surface) {
+      ++false_surface;
+      std::printf("false surface node at (%g, %g)\n", s.positions()[2 * i], s.positions()[2 * i + 1]);
+    }
+    if (depth < 0.3 * dx && s.kinds()[i] != FreeNode::surface) ++missed_surface;
+  }
+  EXPECT_EQ(false_surface, 0U);
+  EXPECT_EQ(missed_surface, 0U);
+}
+
+// A column at rest from p = 0: the pressure must settle to ρ g h (h measured from the surface
+// row, where p = p_atm is imposed) and the velocities must die out.
+TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {
+  const double dx = 0.01, height = 0.3, rho = 1000, g = 9.81;
+  FreeSurfaceScene scene = column_scene(column(0.1, height), dx);
+  FreeSurfaceParams p = column_params(dx, 1e-3, 5.0);
+  p.hydrostatic_start = false;
+  FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
+  const double volume0 = s.fluid_volume();
+  FreeSurfaceStats stats;
+  for (int k = 0; k < 400; ++k) stats = s.step();
+  const double top = top_row(s);
+  double worst = 0, max_speed = 0;
+  for (std::size_t i = 0; i < s.node_count(); ++i) {
+    if (!s.is_fluid(i)) continue;
+    const double depth = top - s.positions()[2 * i + 1];
+    worst = std::max(worst, std::abs(s.pressure()[i] - rho * g * depth));
+    max_speed = std::max(max_speed, std::hypot(s.velocity()[2 * i], s.velocity()[2 * i + 1]));
+  }
+  const double bottom_pressure = rho * g * (height - dx);
+  std::printf("[ measured ] hydrostatic column: max |p - rho g h| = %.4g Pa = %.3g %% of rho g H, max |u| = %.3g m/s, "
+              "volume drift %.3g %%\n",
+              worst, 100 * worst / bottom_pressure, max_speed, 100 * (s.fluid_volume() / volume0 - 1));
+  EXPECT_LT(worst, 0.01 * bottom_pressure);
+  EXPECT_LT(max_speed, 1e-3 * std::sqrt(g * height));  // noise level: 0.1 % of the wave speed
+  EXPECT_LT(std::abs(s.fluid_volume() / volume0 - 1), 0.01);
+  EXPECT_EQ(stats.splash_nodes, 0U);
+}
+
+TEST(FreeSurface, SplashNodeFallsFreelyWithoutUpsettingThePressure) {
+  const double dx = 0.01, dt = 1e-3;
+  FreeSurfaceScene scene = column_scene(column(0.1, 0.1), dx);
+  const std::vector<double> drop{0.05, 0.25};
+  scene.cloud.add(drop, false, false, std::vector<double>{0.0, 0.0}, -1);
+  FreeSurfaceSolver s(column_params(dx, dt, 1.0), scene.boundaries, scene.cloud);
+  const std::size_t last = s.node_count() - 1;
+  FreeSurfaceStats stats;
+  for (int k = 0; k < 50; ++k) stats = s.step();
+  EXPECT_EQ(s.kinds()[last], FreeNode::splash);
+  // Ballistic: u_n = −g n δt, and eq. 20 moves it by (3/2 u_n − 1/2 u_{n−1}) δt = −g δt² (n + ½)
+  // per step (the first step is Euler, −g δt²): y_N = y0 − g δt² (1 + Σ_{n=2..N} (n + ½)).
+  const double t = 50 * dt;
+  double drop_distance = 1.0;
+  for (int step = 2; step <= 50; ++step) drop_distance += step + 0.5;
+  EXPECT_NEAR(s.positions()[2 * last + 1], 0.25 - 9.81 * dt * dt * drop_distance, 1e-6);
+  EXPECT_NEAR(s.velocity()[2 * last + 1], -9.81 * t, 1e-6);
+  EXPECT_LT(stats.max_speed, 9.81 * t * 1.001);
+  for (double v : s.pressure()) EXPECT_TRUE(std::isfinite(v));
+}
+
+TEST(ConeMould, DistanceNormalAndLift) {
+  const ConeMouldBoundary cone(0.1, 0.05, 0.3, 0.0, 0.1, 0.45);
+  double distance = 0;
+  std::vector<double> normal(3);
+  const std::vector<double> on_axis{0.0, 0.0, 0.15};
+  ASSERT_TRUE(cone.distance(on_axis, 0.0, distance, normal));
+  const double slope = 0.05 / 0.3, cosine = 1 / std::sqrt(1 + slope * slope);
+  EXPECT_NEAR(distance, 0.075 * cosine, 1e-12);  // radius 0.075 at mid-height
+  EXPECT_NEAR(normal[2], -slope * cosine, 1e-12);
+  EXPECT_FALSE(cone.distance(std::vector<double>{0.0, 0.0, 0.05}, 1.0, distance, normal));  // below the lifted mould
+  EXPECT_NEAR(cone.bottom(1.0), 0.1, 1e-12);
+  EXPECT_NEAR(cone.bottom(10.0), 0.45, 1e-12);  // stops at its lift height
+  std::vector<double> v(3);
+  cone.velocity(10.0, v);
+  EXPECT_EQ(v[2], 0.0);
+}
+
+TEST(SlumpScene, FillsTheConeVolume) {
+  core::SlumpScene scene;
+  scene.cone_height = 0.3;
+  scene.cone_bottom_diameter = 0.2;
+  scene.cone_top_diameter = 0.1;
+  scene.lift_velocity = 0.1;
+  const double dx = 0.01;
+  const FreeSurfaceScene s = slump_scene(scene, dx);
+  std::size_t fluid = 0;
+  for (auto w : s.cloud.is_wall) fluid += w ? 0 : 1;
+  const double cone_volume = std::numbers::pi * 0.3 / 3 * (0.01 + 0.005 + 0.0025);
+  EXPECT_NEAR(static_cast<double>(fluid) * dx * dx * dx / cone_volume, 1.0, 0.03);
+}
+
+// A dam-break case end to end through run_case (the `rheosim run` path): files and summary keys.
+TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+      "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.1}\n";
+  const core::Case c = core::parse_case(text, "dam_break_small.yaml");
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_dam_break_run";
+  std::filesystem::remove_all(dir);
+  const RunOutcome outcome = run_case(c, dir, core::Log::null());
+  EXPECT_EQ(outcome.status, "end_time");
+  for (const char* file : {"summary.json", "front.csv", "table1.csv", "table1.txt", "nodes.pvd", "frames/nodes_0000.vtk"})
+    EXPECT_TRUE(std::filesystem::exists(dir / file)) << file;
+  const auto summary = core::read_json(dir / "summary.json");
+  EXPECT_EQ(summary["scene"], "dam_break");
+  EXPECT_EQ(summary["fluid_nodes"], 40);  // 10 × 4 cells
+  ASSERT_TRUE(summary["front"].is_array());
+  EXPECT_GT(summary["front"].back()["x"].get<double>(), 0.0);  // the front left the gate
+  EXPECT_LT(summary["volume_drift"].get<double>(), 0.01);
+  EXPECT_EQ(summary["table1"]["rows"].size(), 6U);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rheosim::ldd
