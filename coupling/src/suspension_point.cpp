@@ -183,9 +183,14 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
   coupling.fluid_time_step = coupling.coupling_interval * scene.time_step();
   Coupler coupler(coupling, scene, fluid);
   SteadyStateDetector detector(s.steady, s.rim_shear_rate);
+  double reported_strain = 0.0;
   while (!detector.done()) {
     const CouplingStepReport& r = coupler.step();
     detector.add(r.record.time, r.record.fluid_torque + r.record.contact_torque);
+    if (s.on_strain && detector.strain() >= reported_strain + 0.01 * s.steady.max_strain) {
+      reported_strain = detector.strain();
+      s.on_strain(reported_strain, s.steady.max_strain);
+    }
   }
 
   SuspensionPoint out;

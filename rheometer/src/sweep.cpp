@@ -219,6 +219,7 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
     s.run_directory = work / fmt::format("point_{:04d}", point.index);
     try {
       fs::create_directories(s.run_directory);
+      if (progress) s.on_strain = [&progress](double strain, double max_strain) { progress({strain, max_strain}); };
       const coupling::SuspensionPoint p = coupling::run_point(s);
       out.converged = p.converged;
       if (!p.converged)

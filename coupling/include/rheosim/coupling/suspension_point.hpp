@@ -19,6 +19,7 @@
 // state), the particles from the scene's placement at rest.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -74,6 +75,8 @@ struct SuspensionPointSettings {
   SteadyStateSettings steady{};
   std::uint64_t seed = 1;
   std::filesystem::path run_directory{};  // for LIGGGHTS' files
+  // Called about every 1 % of max_strain with (strain reached, max_strain), for live progress.
+  std::function<void(double, double)> on_strain{};
 };
 
 struct SuspensionPoint {
