@@ -13,21 +13,11 @@
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/report.hpp"
 #include "rheosim/rheometer/run_analysis.hpp"
+#include "swirl_params.hpp"
 
 namespace rheosim::rheometer {
 
 namespace {
-
-fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
-  fluid::SwirlParams p;
-  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading};
-  p.density = fluid.density;
-  p.rheology = fluid.rheology;
-  p.inertia = inertia;
-  p.tolerance = r.solver.tolerance;
-  p.max_iterations = r.solver.max_iterations;
-  return p;
-}
 
 core::Hdf5Dataset dataset(const std::string& path, std::vector<std::size_t> shape, const std::vector<double>& data,
                           const std::string& unit) {
