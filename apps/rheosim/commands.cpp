@@ -99,16 +99,17 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
 }
 
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
-                    const std::string& mesh, const core::Log& log) {
+                    const std::string& mesh, const std::string& rim, const core::Log& log) {
   try {
     const core::Case c = core::load_case(case_file);
     if (rim_shear_rate <= 0)
       if (const auto* r = std::get_if<core::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();
     rheometer::OpenFoamExportOptions options;
     options.mesh = rheometer::OpenFoamMesh::preset(mesh);
+    options.rim = rheometer::parse_openfoam_rim(rim);
     const auto exported = rheometer::export_openfoam(c, rim_shear_rate, dir, options);
-    log.info("OpenFOAM case written to {} ({} cells, {}); run it with:\n{}", dir.string(), exported.cells,
-             exported.transport.model, exported.commands);
+    log.info("OpenFOAM case written to {} ({} cells, {}, {} rim); run it with:\n{}", dir.string(), exported.cells,
+             exported.transport.model, rim, exported.commands);
     if (!exported.transport.note.empty()) log.warn("{}", exported.transport.note);
     return exit_success;
   } catch (const core::ConfigError& e) {

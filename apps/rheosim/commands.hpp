@@ -19,6 +19,6 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
         const core::Log& log);
 int report(const std::filesystem::path& run_dir, const core::Log& log);
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
-                    const std::string& mesh, const core::Log& log);
+                    const std::string& mesh, const std::string& rim, const core::Log& log);
 
 }  // namespace rheosim::app

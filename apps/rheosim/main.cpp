@@ -72,6 +72,8 @@ int main(int argc, char** argv) {
   foam->add_option("dir", export_dir, "Output case directory")->required();
   foam->add_option("--shear-rate", export_rate, "Rim shear rate [1/s] (default: the case's last)");
   foam->add_option("--mesh", export_mesh, "Mesh preset M1 | M2 | M3 (CD §2.3)");
+  std::string export_rim = "shear_free";
+  foam->add_option("--rim", export_rim, "Rim condition shear_free | slip (docs/openfoam.md §2.2)");
   foam->footer(
       "Writes blockMeshDict (O-grid), controlDict with a forces function object, fvSchemes,\n"
       "fvSolution, transportProperties (kinematic units), 0/U and 0/p; run blockMesh then simpleFoam\n"
@@ -90,6 +92,6 @@ int main(int argc, char** argv) {
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
   if (*run) return app::run(run_case, run_out, point_budget, log);
-  if (*foam) return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, log);
+  if (*foam) return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, export_rim, log);
   return app::report(report_dir, log);
 }

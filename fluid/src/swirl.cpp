@@ -297,11 +297,18 @@ class Discretisation {
         add(L.axial(i, k), L.rc[i] * L.dr(i) * L.dz_centres(k), s.axial_velocity[L.uz_index(i, k)]);
   }
 
-  // Torque transmitted through the top (or bottom) plate, 2π Σ ∫ r² τ_θz dr [N·m].
+  // Whether the plate gradients of ω and u_r are the second-order one-sided ones (with
+  // inertia) rather than half-cell differences (creeping: exact for the linear profile).
+  bool wall_gradient_is_one_sided() const { return L.inertia && L.nz >= 2 && p.one_sided_plate_gradients; }
+
+  // Torque transmitted through the top (or bottom) plate, 2π Σ ∫ r² τ_θz dr [N·m]: the
+  // plate fluxes exactly as assembled, so top and bottom balance at convergence.
   double wall_torque(const SwirlState& s, const ViscosityField& mu, bool top) const {
     const std::size_t k = top ? L.nz : 0;
     double per_radian = 0;
-    for (std::size_t i = 0; i < L.nr; ++i) per_radian += mu.axial_flux[i * (L.nz + 1) + k] * domega_dz(s, i, k);
+    for (std::size_t i = 0; i < L.nr; ++i)
+      per_radian += mu.axial_flux[i * (L.nz + 1) + k] *
+                    (wall_gradient_is_one_sided() ? domega_dz_for_viscosity(s, i, k) : domega_dz(s, i, k));
     return 2.0 * std::acos(-1.0) * per_radian;
   }
 
@@ -355,12 +362,28 @@ class Discretisation {
           constant -= outward * newton * geometry * g_star * g_star * slope;
         }
         // Axial faces: ∫ μ r³ dr ∂_zω; plates give Dirichlet values 0 (bottom) and Ω (top).
+        // With inertia the plate fluxes use the second-order one-sided gradient that μ is
+        // evaluated with: the half-cell difference there is first-order, and since μ(γ̇) then
+        // sees the O(h²) shift of the wall cell's ω as an O(h) error of the wall gradient, the
+        // torque of a shear-thinning fluid converged only at first order in N_z.
         for (std::size_t f : {k, k + 1}) {
           const std::size_t face = i * (nz + 1) + f;
-          const double g_star = domega_dz(s, i, f), slope = mu.axial_flux_slope[face];
-          const double coef = e * (mu.axial_flux[face] + newton * g_star * slope) / L.dz_centres(f);
+          const bool one_sided = (f == 0 || f == nz) && wall_gradient_is_one_sided();
+          const double g_star = one_sided ? domega_dz_for_viscosity(s, i, f) : domega_dz(s, i, f);
+          const double slope = mu.axial_flux_slope[face];
+          const double jacobian = e * (mu.axial_flux[face] + newton * g_star * slope);
           const double outward = f == k + 1 ? 1.0 : -1.0;
           constant -= outward * newton * e * g_star * g_star * slope;
+          if (one_sided) {
+            // bottom: g = (9ω₀ − ω₁)/(3h), the row gets −F; top: g = (8Ω − 9ω_{N−1} + ω_{N−2})/(3h), +F
+            const double h = L.dz(f == 0 ? 0 : nz - 1);
+            const std::size_t far = f == 0 ? 1 : nz - 2;
+            diag -= 3 * jacobian / h;
+            t.emplace_back(row, L.omega(i, far), jacobian / (3 * h));
+            if (f == nz) rhs[static_cast<Eigen::Index>(row)] -= 8 * jacobian * omega_top / (3 * h);
+            continue;
+          }
+          const double coef = jacobian / L.dz_centres(f);
           diag -= coef;
           if (f == 0) continue;                                   // ω = 0 on the bottom plate
           if (f == nz) { rhs[static_cast<Eigen::Index>(row)] -= coef * omega_top; continue; }
@@ -437,8 +460,13 @@ class Discretisation {
           const double sign = f == k + 1 ? 1.0 : -1.0;
           const double mu_corner = corner_viscosity(mu, i, f);
           const double coef = e * sign * r * drc * mu_corner;
-          // ∂u_r/∂z at the corner
-          if (f == 0) add_ur(i, 0, coef / L.dz_centres(0));
+          // ∂u_r/∂z at the corner; at a plate second-order one-sided (as μ there), for the
+          // reason given in assemble_angular
+          if ((f == 0 || f == nz) && wall_gradient_is_one_sided()) {
+            const double h = L.dz(f == 0 ? 0 : nz - 1), side = f == 0 ? 1.0 : -1.0;
+            add_ur(i, f == 0 ? 0 : nz - 1, side * 3 * coef / h);
+            add_ur(i, f == 0 ? 1 : nz - 2, -side * coef / (3 * h));
+          } else if (f == 0) add_ur(i, 0, coef / L.dz_centres(0));
           else if (f == nz) add_ur(i, nz - 1, -coef / L.dz_centres(nz));
           else {
             add_ur(i, f, coef / L.dz_centres(f));
@@ -638,6 +666,120 @@ class AndersonMixer {
 
 bool all_finite(const Eigen::VectorXd& x) { return x.allFinite(); }
 
+// Bilinear interpolation of v (index i * ys.size() + j, at (xs[i], ys[j])) at (x, y); constant
+// beyond the ends. For the coarse-grid start of grid sequencing.
+double bilinear(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& v, double x,
+                double y) {
+  const auto locate = [](const std::vector<double>& a, double t) {
+    if (a.size() < 2 || t <= a.front()) return std::pair<std::size_t, double>{0, 0.0};
+    if (t >= a.back()) return std::pair<std::size_t, double>{a.size() - 2, 1.0};
+    const auto it = std::upper_bound(a.begin(), a.end(), t);
+    const auto i = static_cast<std::size_t>(it - a.begin()) - 1;
+    return std::pair<std::size_t, double>{i, (t - a[i]) / (a[i + 1] - a[i])};
+  };
+  const auto [i, wx] = locate(xs, x);
+  const auto [j, wy] = locate(ys, y);
+  const std::size_t ny = ys.size();
+  const auto at = [&](std::size_t a, std::size_t b) {
+    return v[std::min(a, xs.size() - 1) * ny + std::min(b, ny - 1)];
+  };
+  return (1 - wx) * ((1 - wy) * at(i, j) + wy * at(i, j + 1)) + wx * ((1 - wy) * at(i + 1, j) + wy * at(i + 1, j + 1));
+}
+
+// A coarse solution carried to a finer grid of the same gap: ω, p, u_r, u_z interpolated
+// bilinearly, with the plate values (ω = 0 and Ω, u = 0) as the end points in z.
+SwirlState interpolate_state(const CylindricalGrid& from, const SwirlState& s, const CylindricalGrid& to,
+                             double top_angular_velocity) {
+  const std::size_t nr = from.radial_cells(), nz = from.axial_cells();
+  const auto vec = [](std::span<const double> a) { return std::vector<double>(a.begin(), a.end()); };
+  const std::vector<double> rc = vec(from.radial_centres()), rf = vec(from.radial_faces()), zf = vec(from.axial_faces());
+  std::vector<double> zc_walls = {zf.front()};
+  for (double z : from.axial_centres()) zc_walls.push_back(z);
+  zc_walls.push_back(zf.back());
+  // Cell-centred fields padded with their plate values.
+  const auto pad = [&](const std::vector<double>& field, std::size_t columns, double bottom, double top, bool zero_walls) {
+    std::vector<double> out(columns * (nz + 2));
+    for (std::size_t i = 0; i < columns; ++i) {
+      out[i * (nz + 2)] = zero_walls ? 0.0 : bottom;
+      for (std::size_t k = 0; k < nz; ++k) out[i * (nz + 2) + k + 1] = field[i * nz + k];
+      out[i * (nz + 2) + nz + 1] = zero_walls ? 0.0 : top;
+    }
+    return out;
+  };
+  const std::vector<double> omega = pad(s.angular_velocity, nr, 0.0, top_angular_velocity, false);
+  std::vector<double> pressure = pad(s.pressure, nr, 0.0, 0.0, false);
+  for (std::size_t i = 0; i < nr; ++i) {  // no plate value for p: repeat the wall cells
+    pressure[i * (nz + 2)] = pressure[i * (nz + 2) + 1];
+    pressure[i * (nz + 2) + nz + 1] = pressure[i * (nz + 2) + nz];
+  }
+  const std::vector<double> radial = pad(s.radial_velocity, nr + 1, 0.0, 0.0, true);
+
+  const std::size_t mr = to.radial_cells(), mz = to.axial_cells();
+  SwirlState out;
+  out.angular_velocity.resize(mr * mz);
+  out.pressure.resize(mr * mz);
+  out.radial_velocity.assign((mr + 1) * mz, 0.0);
+  out.axial_velocity.assign(mr * (mz + 1), 0.0);
+  for (std::size_t i = 0; i < mr; ++i)
+    for (std::size_t k = 0; k < mz; ++k) {
+      const double r = to.radial_centres()[i], z = to.axial_centres()[k];
+      out.angular_velocity[i * mz + k] = bilinear(rc, zc_walls, omega, r, z);
+      out.pressure[i * mz + k] = bilinear(rc, zc_walls, pressure, r, z);
+    }
+  for (std::size_t i = 1; i < mr; ++i)
+    for (std::size_t k = 0; k < mz; ++k)
+      out.radial_velocity[i * mz + k] = bilinear(rf, zc_walls, radial, to.radial_faces()[i], to.axial_centres()[k]);
+  for (std::size_t i = 0; i < mr; ++i)
+    for (std::size_t k = 1; k < mz; ++k)
+      out.axial_velocity[i * (mz + 1) + k] = bilinear(rc, zf, s.axial_velocity, to.radial_centres()[i], to.axial_faces()[k]);
+  return out;
+}
+
+// GMRES (no restart) for M x = b with M given as a function: at most `max_iterations` Krylov
+// vectors, stops when ‖b − M x‖₂ ≤ tolerance ‖b‖₂. Used for the Newton step, where M is the
+// exact Jacobian (by finite differences) preconditioned by the LU of the linearised system.
+template <class Apply>
+Eigen::VectorXd gmres(const Apply& apply, const Eigen::VectorXd& b, double tolerance, int max_iterations) {
+  const Eigen::Index n = b.size();
+  const double beta = b.norm();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
+  if (!(beta > 0)) return x;
+  const auto m = static_cast<Eigen::Index>(max_iterations);
+  Eigen::MatrixXd v(n, m + 1), h = Eigen::MatrixXd::Zero(m + 1, m);
+  Eigen::VectorXd cs = Eigen::VectorXd::Zero(m), sn = Eigen::VectorXd::Zero(m), g = Eigen::VectorXd::Zero(m + 1);
+  v.col(0) = b / beta;
+  g[0] = beta;
+  Eigen::Index used = 0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    Eigen::VectorXd w = apply(v.col(j));
+    for (Eigen::Index i = 0; i <= j; ++i) {  // modified Gram–Schmidt
+      h(i, j) = w.dot(v.col(i));
+      w -= h(i, j) * v.col(i);
+    }
+    h(j + 1, j) = w.norm();
+    for (Eigen::Index i = 0; i < j; ++i) {  // earlier Givens rotations
+      const double a = h(i, j), c = h(i + 1, j);
+      h(i, j) = cs[i] * a + sn[i] * c;
+      h(i + 1, j) = -sn[i] * a + cs[i] * c;
+    }
+    const double denom = std::hypot(h(j, j), h(j + 1, j));
+    cs[j] = denom > 0 ? h(j, j) / denom : 1.0;
+    sn[j] = denom > 0 ? h(j + 1, j) / denom : 0.0;
+    const double hj1 = h(j + 1, j);
+    h(j, j) = cs[j] * h(j, j) + sn[j] * hj1;
+    h(j + 1, j) = 0;
+    g[j + 1] = -sn[j] * g[j];
+    g[j] = cs[j] * g[j];
+    used = j + 1;
+    if (std::abs(g[j + 1]) <= tolerance * beta || !(hj1 > 1e-300 * beta)) break;
+    v.col(j + 1) = w / hj1;
+  }
+  const Eigen::VectorXd y =
+      h.topLeftCorner(used, used).triangularView<Eigen::Upper>().solve(g.head(used));
+  x = v.leftCols(used) * y;
+  return x;
+}
+
 }  // namespace
 
 SwirlSolver::SwirlSolver(SwirlParams params) : params_(std::move(params)), grid_(params_.grid) {
@@ -702,7 +844,94 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
 
   double beta = beta_start;
   int rising = 0;  // consecutive iterations whose change grew
-  AndersonMixer mixer(params_.anderson_depth);
+  // Newton–Krylov (inertia only): the Picard linearisation leaves out how μ depends on the
+  // secondary flow and on the cross gradients, which strong shear thinning makes large; GMRES
+  // with the exact Jacobian supplies it, and the Picard LU is its preconditioner.
+  const bool krylov = L.inertia && params_.newton_krylov;
+  AndersonMixer mixer(krylov ? 0 : params_.anderson_depth);
+  // System vector (ω, p, interior u_r, u_z) ↔ state; pressure pinned to 0 at cell (0, 0) as in
+  // the assembled continuity rows.
+  const auto to_system = [&](const SwirlState& st) {
+    Eigen::VectorXd z(static_cast<Eigen::Index>(L.unknowns()));
+    for (std::size_t c = 0; c < L.nc; ++c) {
+      z[static_cast<Eigen::Index>(L.omega(c / L.nz, c % L.nz))] = st.angular_velocity[c];
+      z[static_cast<Eigen::Index>(L.pressure(c / L.nz, c % L.nz))] = st.pressure[c] - st.pressure[0];
+    }
+    for (std::size_t i = 1; i < L.nr; ++i)
+      for (std::size_t k = 0; k < L.nz; ++k) z[static_cast<Eigen::Index>(L.radial(i, k))] = st.radial_velocity[L.ur_index(i, k)];
+    for (std::size_t i = 0; i < L.nr; ++i)
+      for (std::size_t k = 1; k < L.nz; ++k) z[static_cast<Eigen::Index>(L.axial(i, k))] = st.axial_velocity[L.uz_index(i, k)];
+    return z;
+  };
+  const auto from_system = [&](const Eigen::VectorXd& z, SwirlState& st) {
+    for (std::size_t c = 0; c < L.nc; ++c) {
+      st.angular_velocity[c] = z[static_cast<Eigen::Index>(L.omega(c / L.nz, c % L.nz))];
+      st.pressure[c] = z[static_cast<Eigen::Index>(L.pressure(c / L.nz, c % L.nz))];
+    }
+    for (std::size_t i = 1; i < L.nr; ++i)
+      for (std::size_t k = 0; k < L.nz; ++k) st.radial_velocity[L.ur_index(i, k)] = z[static_cast<Eigen::Index>(L.radial(i, k))];
+    for (std::size_t i = 0; i < L.nr; ++i)
+      for (std::size_t k = 1; k < L.nz; ++k) st.axial_velocity[L.uz_index(i, k)] = z[static_cast<Eigen::Index>(L.axial(i, k))];
+  };
+  // Steady residual A(z) z − b(z) of the discrete equations (the Newton terms of the
+  // linearisation cancel at its own expansion point, so this is the nonlinear residual).
+  SwirlState scratch = rest_state();
+  Triplets residual_triplets;
+  Eigen::VectorXd residual_rhs;
+  const auto steady_residual = [&](const Eigen::VectorXd& z) {
+    from_system(z, scratch);
+    const ViscosityField m = disc.viscosity(scratch);
+    disc.assemble(scratch, m, coupling.torque_density, std::numeric_limits<double>::infinity(), residual_triplets,
+                  residual_rhs);
+    Eigen::VectorXd f = -residual_rhs;
+    for (const auto& e : residual_triplets) f[e.row()] += e.value() * z[e.col()];
+    return f;
+  };
+  // One inexact Newton step from `state`: solves (J + D) δ = −F by GMRES, left-preconditioned
+  // with the Picard LU (whose solution x_picard gives the first Krylov vector), in variables
+  // scaled by Ω, ΩR and the pressure's magnitude; J·v by a forward difference of F. D is the
+  // pseudo-time term, so with it each step is one implicit pseudo-time step.
+  int floor_count = 0;          // consecutive Newton changes below 1e-8 (the rounding floor)
+  double newton_step_size = 0;  // ‖δ‖∞ of the last full Newton step (scaled), for the stopping test
+  const auto newton_krylov_step = [&](const Eigen::VectorXd& x_picard, double dtau, const auto& factor) {
+    const Eigen::VectorXd y0 = to_system(state);
+    const Eigen::VectorXd f0 = steady_residual(y0);
+    double p_scale = 0;
+    for (std::size_t c = 0; c < L.nc; ++c) p_scale = std::max(p_scale, std::abs(x_picard[static_cast<Eigen::Index>(L.nc + c)]));
+    Eigen::VectorXd scale = Eigen::VectorXd::Constant(y0.size(), velocity_scale);
+    scale.head(static_cast<Eigen::Index>(L.nc)).setConstant(omega_scale);
+    scale.segment(static_cast<Eigen::Index>(L.nc), static_cast<Eigen::Index>(L.nc)).setConstant(p_scale > 0 ? p_scale : 1.0);
+    Eigen::VectorXd pseudo = Eigen::VectorXd::Zero(y0.size());
+    if (std::isfinite(dtau)) {
+      Triplets tp;
+      Eigen::VectorXd unused = Eigen::VectorXd::Zero(y0.size());
+      disc.add_pseudo_time(state, dtau, tp, unused);
+      for (const auto& e : tp) pseudo[e.row()] += e.value();
+    }
+    const Eigen::VectorXd b = (x_picard - y0).cwiseQuotient(scale);
+    constexpr double h = 1e-7;  // forward-difference step in the scaled variables (O(1))
+    const auto apply = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+      const Eigen::VectorXd w = v.cwiseProduct(scale);
+      const Eigen::VectorXd jw = (steady_residual(y0 + h * w) - f0) / h + pseudo.cwiseProduct(w);
+      return Eigen::VectorXd(factor.solve(jw)).cwiseQuotient(scale);
+    };
+    // Inexact Newton: the linear tolerance follows the size of the step (superlinear near the end).
+    const double eta = std::clamp(b.lpNorm<Eigen::Infinity>(), 1e-6, 1e-2);
+    const Eigen::VectorXd delta = gmres(apply, b, eta, 30);
+    newton_step_size = delta.lpNorm<Eigen::Infinity>();
+    // Backtracking on the row-scaled residual (rows scaled by Σ|a_rj| of the linearised
+    // system): far from the solution the full step can overshoot, as plain Newton does.
+    Eigen::VectorXd row_scale = Eigen::VectorXd::Constant(y0.size(), 1e-300);
+    for (const auto& e : triplets) row_scale[e.row()] += std::abs(e.value());
+    const double merit = f0.cwiseQuotient(row_scale).norm();
+    const Eigen::VectorXd step = delta.cwiseProduct(scale);
+    double lambda = 1;
+    for (int trial = 0; trial < 6; ++trial, lambda *= 0.5) {
+      const Eigen::VectorXd f = steady_residual(y0 + lambda * step);
+      if (f.allFinite() && f.cwiseQuotient(row_scale).norm() < (1 - 1e-4 * lambda) * merit) break;
+    }
+    return Eigen::VectorXd(y0 + lambda * step);
+  };
   // Pseudo-time step: starts at a fraction of a revolution, only used with inertia.
   const double pseudo_start = params_.pseudo_time_step > 0 ? params_.pseudo_time_step / (std::abs(angular_velocity) + 1e-300)
                                                             : std::numeric_limits<double>::infinity();
@@ -745,7 +974,8 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       result.failure = "sparse LU factorisation failed at iteration " + std::to_string(iteration);
       break;
     }
-    const Eigen::VectorXd x = lu.solve(rhs);
+    Eigen::VectorXd x = lu.solve(rhs);
+    if (krylov && all_finite(x)) x = newton_krylov_step(x, pseudo_dt, lu);
     if (!all_finite(x)) {
       result.failure = "non-finite values (NaN/inf) at iteration " + std::to_string(iteration);
       break;
@@ -767,7 +997,8 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
           picard.axial_velocity[L.uz_index(i, k)] = x[static_cast<Eigen::Index>(L.axial(i, k))];
     }
     const Eigen::VectorXd y = pack(state), g = pack(picard);
-    const double residual = (g - y).lpNorm<Eigen::Infinity>();
+    const double residual = krylov ? std::max(newton_step_size, (g - y).lpNorm<Eigen::Infinity>())
+                                   : (g - y).lpNorm<Eigen::Infinity>();
     if (residual > 10 * best_residual) mixer.reset();  // a bad extrapolation: restart the history
     if (std::isfinite(pseudo_dt)) {
       // Switched evolution relaxation: Δτ follows the residual's fall, and is dropped (steady
@@ -778,7 +1009,7 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     }
     previous_residual = residual;
     best_residual = std::min(best_residual, residual);
-    const Eigen::VectorXd y_next = mixer.next(y, g, beta);
+    const Eigen::VectorXd y_next = mixer.next(y, g, krylov ? 1.0 : beta);  // Newton: damped by its line search
     if (!y_next.allFinite() || y_next.lpNorm<Eigen::Infinity>() > 1e3) {
       result.failure = fmt::format("diverged at iteration {}: velocities above 1000 times the plate speed", iteration);
       break;
@@ -820,6 +1051,14 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       result.converged = true;
       break;
     }
+    // Newton at large Re reaches a rounding floor (the residual's terms cancel to ~1e-9 of
+    // their size) that may sit above a tight tolerance: five changes in a row below 1e-8,
+    // where a working Newton step would have gained orders, count as converged.
+    floor_count = krylov && change < 1e-8 ? floor_count + 1 : 0;
+    if (floor_count >= 5) {
+      result.converged = true;
+      break;
+    }
   }
   if (!result.converged && result.failure.empty())
     result.failure = "no convergence to " + fmt::format("{:g}", params_.tolerance) + " in " +
@@ -836,8 +1075,44 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
 }
 
 SwirlResult SwirlSolver::solve(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling) const {
-  SwirlResult direct =
-      attempt(angular_velocity, initial, coupling, params_.velocity_relaxation, params_.max_iterations);
+  // Grid sequencing (inertia, single phase, no start given): solve on the grid with half the
+  // cells in r and z first (recursively), start here from its interpolated solution, and
+  // report the pair's Richardson extrapolation.
+  const bool single_phase = coupling.void_fraction.empty() && coupling.torque_density.empty();
+  const int nr = params_.grid.radial_cells, nz = params_.grid.axial_cells;
+  if (params_.inertia && params_.grid_sequencing && !initial && single_phase && nr >= 8 && nz >= 8 && nr % 2 == 0 &&
+      nz % 2 == 0) {
+    const auto start = std::chrono::steady_clock::now();
+    SwirlParams half = params_;
+    half.grid.radial_cells = nr / 2;
+    half.grid.axial_cells = nz / 2;
+    const SwirlSolver coarse_solver(half);
+    const SwirlResult coarse = coarse_solver.solve(angular_velocity);
+    if (coarse.converged) {
+      const SwirlState guess = interpolate_state(coarse_solver.grid(), coarse.state, grid_, angular_velocity);
+      SwirlResult fine = solve_from(angular_velocity, &guess, coupling);
+      fine.iterations += coarse.iterations;
+      fine.coarse_torque = coarse.torque;
+      // Second order in h (docs/performance.md, grid convergence): T + (T − T_2h)/3.
+      fine.extrapolated_torque = fine.torque + (fine.torque - coarse.torque) / 3;
+      fine.extrapolation_error = std::abs(fine.torque - coarse.torque) / 3 / std::abs(fine.extrapolated_torque);
+      fine.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return fine;
+    }
+  }
+  return solve_from(angular_velocity, initial, coupling);
+}
+
+SwirlResult SwirlSolver::solve_from(double angular_velocity, const SwirlState* initial,
+                                    const SwirlCoupling& coupling) const {
+  // Newton converges in a handful of steps or not at all: give the direct attempt only a few
+  // dozen before the continuation takes over.
+  const bool krylov = params_.inertia && params_.newton_krylov;
+  // dozen before the continuation takes over (pseudo-time steps: a few hundred, since Δτ only
+  // grows as fast as the residual falls).
+  const int newton_budget = params_.pseudo_time_step > 0 ? 200 : 30;
+  const int direct_iterations = krylov ? std::min(params_.max_iterations, newton_budget) : params_.max_iterations;
+  SwirlResult direct = attempt(angular_velocity, initial, coupling, params_.velocity_relaxation, direct_iterations);
   if (direct.converged || !params_.inertia) return direct;
 
   // Continuation in Ω: climb from a converged lower speed, growing the step after successes
@@ -851,7 +1126,7 @@ SwirlResult SwirlSolver::solve(double angular_velocity, const SwirlState* initia
   while (reached < angular_velocity) {
     const double target = std::min(angular_velocity, reached + step);
     SwirlResult stage = attempt(target, have_last ? &last.state : nullptr, coupling,
-                                std::min(params_.velocity_relaxation, 0.5), params_.max_iterations);
+                                std::min(params_.velocity_relaxation, 0.5), direct_iterations);
     total_iterations += stage.iterations;
     history.insert(history.end(), stage.residual_history.begin(), stage.residual_history.end());
     if (stage.converged) {

@@ -89,6 +89,13 @@ OpenFoamMesh OpenFoamMesh::preset(std::string_view name) {
               "M1 (15×30×4), M2 (30×60×8) or M3 (60×120×16), CD §2.3");
 }
 
+OpenFoamRim parse_openfoam_rim(std::string_view name) {
+  if (name == "shear_free") return OpenFoamRim::shear_free;
+  if (name == "slip") return OpenFoamRim::slip;
+  input_error("", "--rim", fmt::format("'{}' is not a rim condition", name),
+              "shear_free (τ_rθ = 0, rheosim's rim) or slip (OpenFOAM's ∂u_t/∂n = 0)");
+}
+
 long long OpenFoamMesh::cell_count() const {
   const long long nr = radial_cells, nq = azimuthal_cells, nz = axial_cells;
   return (nq * nq + 4 * nr * nq) * nz;

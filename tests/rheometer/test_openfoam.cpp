@@ -312,6 +312,14 @@ TEST(OpenFoamExport, PlainSlipRimOnRequest) {
   EXPECT_EQ(core::read_json(dir.path() / "rheosim.json").at("rim").get<std::string>(), "slip");
 }
 
+// The CLI's `--rim` names (bench/openfoam_compare.sh passes them on).
+TEST(OpenFoamExport, RimNamesParse) {
+  EXPECT_EQ(parse_openfoam_rim("shear_free"), OpenFoamRim::shear_free);
+  EXPECT_EQ(parse_openfoam_rim("slip"), OpenFoamRim::slip);
+  EXPECT_THROW((void)parse_openfoam_rim("noSlip"), core::ConfigError);
+  EXPECT_THROW((void)parse_openfoam_rim(""), core::ConfigError);
+}
+
 TEST(OpenFoamExport, TransportPropertiesFileHoldsTheKinematicValues) {
   TempDir dir("transport");
   (void)export_openfoam(rheometer_case("{model: power_law, consistency: 1.0e-3, index: 0.6}"), 10.0, dir.path(),

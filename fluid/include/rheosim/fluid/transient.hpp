@@ -18,7 +18,10 @@
 // faces. The creeping solution ω = Ωz/H (v_θ = rΩz/H) is therefore an exact discrete steady
 // state for every GN law, and the plate torque is the conservative wall flux
 //   T = Σ_(i,j) Δθ ∫ μ r³ dr ∂_zω |top  = 2π Σ_i ∫ r² τ_θz dr  (axisymmetric),
-// identical to SwirlSolver::torque for N_θ = 1 on the same (r, z) grid.
+// identical to SwirlSolver::torque for N_θ = 1 on the same (r, z) grid when the steady solver
+// runs with SwirlParams::one_sided_plate_gradients = false. Its default, with inertia, takes
+// the plate fluxes second-order one-sided, not by the half-cell difference used here; on
+// coarse grids the torques then differ by about 1e-3 (validate_transient uses false).
 //
 // Time scheme (per step n → n+1, step Δt, ratio w = Δt/Δt_prev): SBDF2, i.e. variable-step
 // BDF2 for ∂(εu)/∂t with every explicit term evaluated at the extrapolated velocity

@@ -74,6 +74,8 @@ struct OpenFoamMesh {
 //               estimate of d within 1 % (enough: the rim term itself is a 0.15 % effect).
 //   slip        OpenFOAM's `slip`, for reference.
 enum class OpenFoamRim { shear_free, slip };
+// "shear_free" | "slip" (the CLI's --rim); anything else is a ConfigError naming both.
+[[nodiscard]] OpenFoamRim parse_openfoam_rim(std::string_view name);
 
 struct OpenFoamExportOptions {
   OpenFoamMesh mesh = OpenFoamMesh::m2();
