@@ -45,11 +45,13 @@ void DragForce::add(const FluidConstants& fluid, std::span<const ParticleSample>
   }
 }
 
-void PressureGradientForce::add(const FluidConstants& /*fluid*/, std::span<const ParticleSample> particles,
+void PressureGradientForce::add(const FluidConstants& fluid, std::span<const ParticleSample> particles,
                                 std::span<ParticleForce> forces) const {
   for (std::size_t p = 0; p < particles.size(); ++p)
     for (std::size_t d = 0; d < 3; ++d) {
-      const double f = -particles[p].volume * particles[p].pressure_gradient[d];  // CD eq. 34
+      const ParticleSample& s = particles[p];
+      // CD eq. 34, with the creeping fluid's missing centripetal pressure (header comment).
+      const double f = -s.volume * (s.pressure_gradient[d] - fluid.density * s.creeping_acceleration[d]);
       forces[p].explicit_force[d] += f;
       forces[p].pressure_gradient[d] += f;
     }
@@ -123,9 +125,14 @@ void FluidSampler::sample(const fluid::TransientSolver& solver, const VoidFracti
   const auto mu = fields_.viscosity();
   const CellVectorField& gp = fields_.pressure_gradient();
   const CellVectorField& dt = fields_.stress_divergence();
+  const bool creeping = !solver.params().inertia;
   for (std::size_t p = 0; p < n; ++p) {
     ParticleSample& s = samples[p];
     s.fluid_velocity = cartesian(u[p].radial, u[p].azimuthal, u[p].axial, s.theta);
+    const double r = points_[p].r;
+    s.creeping_acceleration = creeping && r > 0.0 ? cartesian(-u[p].azimuthal * u[p].azimuthal / r,
+                                                              u[p].radial * u[p].azimuthal / r, 0.0, s.theta)
+                                                  : Vector3{};
     double e = 0.0, m = 0.0, total = 0.0;
     std::array<double, 3> g{}, t{};
     for (const VolumeShare& share : map.of(p)) {

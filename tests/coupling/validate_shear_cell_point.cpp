@@ -60,7 +60,10 @@ TEST(ShearCellPointValidation, PlatesCarryTheSameStressAndTheSuspensionIsMoreVis
       EXPECT_GT(p.stress_contact, 0.0);
       EXPECT_GT(p.stress, newtonian);
     } else {
-      EXPECT_NEAR(p.stress, newtonian, 1e-6 * newtonian);
+      // Spheres at every height (placement shaken like the disk's) meet now and then: +2–3 %
+      // over μγ̇ at φ = 0.1 (docs/shear-cell.md); spheres that never meet would give μγ̇.
+      EXPECT_GT(p.stress, newtonian);
+      EXPECT_LT(p.stress, 1.06 * newtonian);
       EXPECT_TRUE(p.converged);
     }
   }

@@ -12,22 +12,35 @@
 // void fraction, 4 fluid cells across the gap (with 2 the disk's torque is grid-dominated,
 // docs/coupling.md "Resolution warning"), Δt_CFD <= 1e-5 s, creeping fluid (see below); each
 // model's torque is compared as a ratio to its own liquid torque on the same grid.
-// Measured (docs/performance.md): NOT within 3 % — the disk gives 1.55–1.60× its liquid at
-// φ = 0.1 where the cell gives 1.000×.
+// Each model runs three placements (seeds) and their means are compared: one run's error bar
+// (0.1–0.3 %) understates the scatter between placements (±1.3 % at 100 1/s), because a drag-only
+// suspension keeps its arrangement. Measured: docs/shear-cell.md ("Why the disk's excess over
+// the cell grew with the rate") and docs/performance.md. Within 3 % only with the cell's
+// placement shaken like the disk's (until then the cell's layered lattice never lets spheres
+// meet and gives 1.000×, −1.9 % / −2.8 % against the disk's seed means); 6–9 minutes, so it stays
+// DISABLED_.
 // Environment overrides: RHEOSIM_PHI, RHEOSIM_DISK_RADIUS, RHEOSIM_CELL_LENGTH,
 // RHEOSIM_YOUNGS_MODULUS, RHEOSIM_MAX_STRAIN, RHEOSIM_AXIAL_CELLS, RHEOSIM_FLUID_STEP, and for the
 // disk only (diagnostics) RHEOSIM_DISK_FORCES (e.g. "di_felice,viscous"), RHEOSIM_VOID_FRACTION;
-// RHEOSIM_SKIP_DISK=1 runs the cell alone.
+// RHEOSIM_SKIP_DISK=1 runs the cell alone. Studies of the disk's excess (docs/shear-cell.md):
+// RHEOSIM_RATES ("50,100"), RHEOSIM_SEEDS (placements, both; "1,2,3": the torques compared are
+// means over them), RHEOSIM_DENSITY (ρ = ρ_p, both: the
+// Stokes number), RHEOSIM_STRAIN_WINDOW, RHEOSIM_MIN_STRAIN (both), and for the disk
+// RHEOSIM_PG_FILTER_STEPS (∇p filter, fluid steps), RHEOSIM_DISK_RADIAL_CELLS,
+// RHEOSIM_DISK_AZIMUTHAL_CELLS, RHEOSIM_DISK_GRAVITY (0: off in DEM and fluid).
 // Cell: 1.6 mm × 1.6 mm (the size the seed sweep converged to at φ = 0.1), the same steady-state
 // detector.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -49,79 +62,118 @@ double env_or(const char* name, double fallback) {
   return v != nullptr ? std::stod(v) : fallback;
 }
 
+std::vector<std::string> env_list(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  const std::string list = v != nullptr ? v : fallback;
+  std::vector<std::string> out;
+  for (std::size_t start = 0; start <= list.size();) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    out.push_back(list.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
 TEST(ShearCellVersusDisk, DISABLED_TorqueWithinThreePercentOfTheDisk) {
   const auto doc = core::Document::from_string("model: newtonian\nviscosity: 1.0e-3\n", "rheology");
-  const core::FluidProperties fluid{.density = 1000.0, .rheology = core::make_rheology(doc.root())};
+  const double density = env_or("RHEOSIM_DENSITY", 1000.0);  // ρ = ρ_p
+  const core::FluidProperties fluid{.density = density, .rheology = core::make_rheology(doc.root())};
   const double phi = env_or("RHEOSIM_PHI", 0.1);
   const double radius = env_or("RHEOSIM_DISK_RADIUS", 5e-3);
   const double gap = 5e-4;
   const double cell_length = env_or("RHEOSIM_CELL_LENGTH", 1.6e-3);
-  core::ParticleProperties particles{.volume_fraction = phi, .diameter = 2e-4, .density = 1000.0,
+  core::ParticleProperties particles{.volume_fraction = phi, .diameter = 2e-4, .density = density,
                                      .youngs_modulus = env_or("RHEOSIM_YOUNGS_MODULUS", 5e6)};
-  const coupling::SteadyStateSettings steady{.strain_window = 2.0, .relative_tolerance = 0.02, .min_strain = 4.0,
+  const coupling::SteadyStateSettings steady{.strain_window = env_or("RHEOSIM_STRAIN_WINDOW", 2.0),
+                                             .relative_tolerance = 0.02,
+                                             .min_strain = env_or("RHEOSIM_MIN_STRAIN", 4.0),
                                              .max_strain = env_or("RHEOSIM_MAX_STRAIN", 20.0)};
-  const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, particles.youngs_modulus, particles.poisson_ratio});
+  const double dt = 0.3 * dem::rayleigh_time({1e-4, density, particles.youngs_modulus, particles.poisson_ratio});
   const int interval = std::max(1, static_cast<int>(env_or("RHEOSIM_FLUID_STEP", 1e-5) / dt));
   const int axial_cells = static_cast<int>(env_or("RHEOSIM_AXIAL_CELLS", 4));
   const fs::path dir = fs::temp_directory_path() / fmt::format("rheosim_cell_vs_disk_{}", ::getpid());
 
+  // Mean and standard error over the placements (seeds): one run's batch-means error (0.1–0.3 %)
+  // understates the scatter between placements (±1.3 % at 100 1/s, docs/shear-cell.md).
+  const auto mean_and_error = [](const std::vector<double>& v) {
+    double m = 0.0, var = 0.0;
+    for (const double x : v) m += x / static_cast<double>(v.size());
+    for (const double x : v) var += (x - m) * (x - m);
+    const double n = static_cast<double>(v.size());
+    return std::pair{m, v.size() > 1 ? std::sqrt(var / (n - 1.0) / n) : 0.0};
+  };
+  std::vector<std::uint64_t> seeds;
+  for (const std::string& s : env_list("RHEOSIM_SEEDS", "1,2,3")) seeds.push_back(std::stoull(s));
+  const bool skip_disk = env_or("RHEOSIM_SKIP_DISK", 0.0) != 0.0;
   LocalFlowCurve curve;
-  std::vector<double> disk_torque, disk_error, disk_liquid;
-  const std::vector<double> rates{50.0, 100.0};
+  std::vector<double> cell_error, disk_torque, disk_error, disk_liquid;
+  std::vector<double> rates;
+  for (const std::string& r : env_list("RHEOSIM_RATES", "50,100")) rates.push_back(std::stod(r));
   for (const double rate : rates) {
-    coupling::ShearCellPointSettings c;
-    c.gap = gap;
-    c.cell_length = c.cell_width = cell_length;
-    c.fluid = fluid;
-    c.particles = particles;
-    c.shear_rate = rate;
-    c.axial_cells = axial_cells;
-    c.coupling_interval = interval;
-    c.steady = steady;
-    c.run_directory = dir / fmt::format("cell_{}", rate);
-    fs::create_directories(c.run_directory);
-    const auto cell = coupling::run_shear_cell_point(c);
-    std::printf("cell  rate %g: tau %.5g +- %.2g Pa (fluid %.5g, contact %.5g), N %lld, strain %.1f, converged %d, "
-                "%.1f s\n",
-                rate, cell.stress, cell.stress_error, cell.stress_fluid, cell.stress_contact,
-                static_cast<long long>(cell.particles), cell.strain, cell.converged, cell.wall_time);
-    curve.shear_rate.push_back(rate);
-    curve.stress.push_back(cell.stress);
-
-    if (env_or("RHEOSIM_SKIP_DISK", 0.0) != 0.0) continue;  // cell only (its own studies)
+    std::vector<double> cell_stress, disk_torques;
     coupling::SuspensionPointSettings d;
-    d.geometry = {.radius = radius, .gap = gap};
-    d.fluid = fluid;
-    d.particles = particles;
-    d.rim_shear_rate = rate;
-    // Fluid inertia off by default (RHEOSIM_DISK_INERTIA=1 switches it on): the cell is creeping,
-    // and with inertia on the disk's transient solver stopped on its Courant guard in a cell
-    // next to the axis at φ = 0.1 for every Δt tried (9.3e-6, 4.7e-6, 2.3e-6 s), i.e. the
-    // velocity there grows without bound. Caveat: without fluid inertia nothing balances the
-    // spheres' centrifugal force (with ρ_p = ρ it is the centripetal −V_p∇p).
-    d.inertia = env_or("RHEOSIM_DISK_INERTIA", 0.0) != 0.0;
-    d.axial_cells = axial_cells;
-    d.coupling.coupling_interval = interval;
-    if (const char* forces = std::getenv("RHEOSIM_DISK_FORCES")) {  // diagnostics, e.g. "di_felice,viscous"
-      d.coupling.forces.clear();
-      std::string list = forces;
-      for (std::size_t start = 0; start <= list.size();) {
-        const std::size_t end = std::min(list.find(',', start), list.size());
-        d.coupling.forces.push_back(list.substr(start, end - start));
-        start = end + 1;
-      }
+    for (const std::uint64_t seed : seeds) {
+      coupling::ShearCellPointSettings c;
+      c.gap = gap;
+      c.cell_length = c.cell_width = cell_length;
+      c.fluid = fluid;
+      c.particles = particles;
+      c.shear_rate = rate;
+      c.axial_cells = axial_cells;
+      c.coupling_interval = interval;
+      c.steady = steady;
+      c.seed = seed;
+      c.run_directory = dir / fmt::format("cell_{}_{}", rate, seed);
+      fs::create_directories(c.run_directory);
+      const auto cell = coupling::run_shear_cell_point(c);
+      std::printf("cell  rate %g seed %llu: tau %.5g +- %.2g Pa (%.4f x mu rate; fluid %.5g, contact %.5g), N %lld, "
+                  "strain %.1f, converged %d, %.1f s\n",
+                  rate, static_cast<unsigned long long>(seed), cell.stress, cell.stress_error,
+                  cell.stress / (1e-3 * rate), cell.stress_fluid, cell.stress_contact,
+                  static_cast<long long>(cell.particles), cell.strain, cell.converged, cell.wall_time);
+      cell_stress.push_back(cell.stress);
+
+      if (skip_disk) continue;  // cell only (its own studies)
+      d.geometry = {.radius = radius, .gap = gap};
+      d.fluid = fluid;
+      d.particles = particles;
+      d.rim_shear_rate = rate;
+      // Fluid inertia off by default (RHEOSIM_DISK_INERTIA=1 switches it on): the cell is
+      // creeping, and with inertia on the disk at φ = 0.1 did not reach a steady torque by strain
+      // 20 (1.57× / 1.43× its liquid, bottom-plate torque above the top's; docs/shear-cell.md).
+      // The creeping disk's spheres get the centripetal pressure the fluid's inertia would give
+      // (forces.hpp), so they are not flung outward.
+      d.inertia = env_or("RHEOSIM_DISK_INERTIA", 0.0) != 0.0;
+      d.axial_cells = axial_cells;
+      d.coupling.coupling_interval = interval;
+      d.coupling.pressure_gradient_filter_steps =
+          env_or("RHEOSIM_PG_FILTER_STEPS", d.coupling.pressure_gradient_filter_steps);
+      d.radial_cells = static_cast<int>(env_or("RHEOSIM_DISK_RADIAL_CELLS", d.radial_cells));
+      d.azimuthal_cells = static_cast<int>(env_or("RHEOSIM_DISK_AZIMUTHAL_CELLS", d.azimuthal_cells));
+      d.gravity = env_or("RHEOSIM_DISK_GRAVITY", 1.0) != 0.0;
+      d.seed = seed;
+      if (std::getenv("RHEOSIM_DISK_FORCES") != nullptr)  // diagnostics, e.g. "di_felice,viscous"
+        d.coupling.forces = env_list("RHEOSIM_DISK_FORCES", "");
+      if (const char* scheme = std::getenv("RHEOSIM_VOID_FRACTION")) d.coupling.void_fraction = scheme;
+      d.steady = steady;
+      d.run_directory = dir / fmt::format("disk_{}_{}", rate, seed);
+      fs::create_directories(d.run_directory);
+      const auto disk = coupling::run_point(d);
+      std::printf("disk  rate %g seed %llu: T %.5g +- %.2g N m (fluid %.5g, contact %.5g, bottom fluid %.5g), N %lld, "
+                  "strain %.1f, converged %d, %.1f s (dem %.1f)\n",
+                  rate, static_cast<unsigned long long>(seed), disk.torque, disk.torque_error, disk.torque_fluid,
+                  disk.torque_contact, disk.bottom_torque_fluid, static_cast<long long>(disk.particles), disk.strain,
+                  disk.converged, disk.wall_time, disk.cost.dem);
+      disk_torques.push_back(disk.torque);
     }
-    if (const char* scheme = std::getenv("RHEOSIM_VOID_FRACTION")) d.coupling.void_fraction = scheme;
-    d.steady = steady;
-    d.run_directory = dir / fmt::format("disk_{}", rate);
-    fs::create_directories(d.run_directory);
-    const auto disk = coupling::run_point(d);
-    std::printf("disk  rate %g: T %.5g +- %.2g N m (fluid %.5g, contact %.5g), N %lld, strain %.1f, converged %d, "
-                "%.1f s (dem %.1f)\n",
-                rate, disk.torque, disk.torque_error, disk.torque_fluid, disk.torque_contact,
-                static_cast<long long>(disk.particles), disk.strain, disk.converged, disk.wall_time, disk.cost.dem);
-    disk_torque.push_back(disk.torque);
-    disk_error.push_back(disk.torque_error);
+    const auto [cell_mean, cell_se] = mean_and_error(cell_stress);
+    curve.shear_rate.push_back(rate);
+    curve.stress.push_back(cell_mean);
+    cell_error.push_back(cell_se / cell_mean);
+    if (skip_disk) continue;
+    const auto [disk_mean, disk_se] = mean_and_error(disk_torques);
+    disk_torque.push_back(disk_mean);
+    disk_error.push_back(disk_se);
     // The same disk, grid and time step without particles (run_point runs the fluid alone):
     // the liquid reference that carries the disk's own inertia and grid effects.
     d.particles.volume_fraction = 0.0;
@@ -131,22 +183,25 @@ TEST(ShearCellVersusDisk, DISABLED_TorqueWithinThreePercentOfTheDisk) {
     std::printf("disk  rate %g, no particles: T %.5g N m\n", rate, liquid.torque);
     disk_liquid.push_back(liquid.torque);
   }
-  if (env_or("RHEOSIM_SKIP_DISK", 0.0) != 0.0) GTEST_SKIP() << "RHEOSIM_SKIP_DISK: cell only";
   const ParallelPlate plate{radius, gap};
   for (std::size_t i = 0; i < rates.size(); ++i) {
     const double cell_torque = plate_torque(curve, radius, rates[i]);
     const double liquid = newtonian_torque(plate, 1e-3, rates[i]);
+    std::printf("rate %g: cell torque %.5g N m (%.4f +- %.4f x creeping liquid, %zu seeds)\n", rates[i], cell_torque,
+                cell_torque / liquid, cell_error[i] * cell_torque / liquid, seeds.size());
+    if (skip_disk) continue;
     // Compared as torque ratios to each model's own liquid (the cell is creeping; the disk's
-    // liquid carries its inertia and grid), and as plain torques.
+    // liquid carries its inertia and grid), and as plain torques; means over the seeds.
     const double difference = (cell_torque / liquid) / (disk_torque[i] / disk_liquid[i]) - 1.0;
-    std::printf("rate %g: cell torque %.5g N m (%.4f x creeping liquid), disk %.5g +- %.2g N m (%.4f x its liquid "
-                "%.5g): ratio difference %+.2f %%, plain cell/disk - 1 = %+.2f %%\n",
-                rates[i], cell_torque, cell_torque / liquid, disk_torque[i], disk_error[i],
-                disk_torque[i] / disk_liquid[i], disk_liquid[i], 100.0 * difference,
-                100.0 * (cell_torque / disk_torque[i] - 1.0));
+    const double error = std::hypot(cell_error[i], disk_error[i] / disk_torque[i]);
+    std::printf("rate %g: disk %.5g +- %.2g N m (%.4f +- %.4f x its liquid %.5g): ratio difference %+.2f +- %.2f %%, "
+                "plain cell/disk - 1 = %+.2f %%\n",
+                rates[i], disk_torque[i], disk_error[i], disk_torque[i] / disk_liquid[i], disk_error[i] / disk_liquid[i],
+                disk_liquid[i], 100.0 * difference, 100.0 * error, 100.0 * (cell_torque / disk_torque[i] - 1.0));
     EXPECT_LE(std::abs(difference), 0.03) << rates[i];
   }
   fs::remove_all(dir);
+  if (skip_disk) GTEST_SKIP() << "RHEOSIM_SKIP_DISK: cell only";
 }
 
 }  // namespace

@@ -5,11 +5,23 @@
 //                      ε inside Re_p, μ the local apparent viscosity μ(γ̇)); any law of the drag
 //                      registry is a force model under its own name
 //   pressure_gradient  −V_p ∇p                                        (CD eq. 34)
+//                      + ρ V_p a_c with a creeping fluid (inertia off; see below)
 //   viscous            +V_p ∇·τ                                       (CD eq. 35, sign see below)
 // Sign of the viscous force: the seed prints −V_p(∇·τ), following CFDEMcoupling, whose divTau
 // field holds −∇·τ (OpenFOAM's divDevRhoReff convention). The force of the undisturbed stress on
 // the volume V_p is V_p ∇·σ = V_p(−∇p + ∇·τ); with −V_p∇·τ a neutrally buoyant particle in a
 // Poiseuille flow would not follow the fluid. rheosim uses +V_p ∇·τ.
+//
+// Creeping fluid (TransientParams::inertia = false): the solver drops ρ(u·∇)u, so its pressure
+// lacks the centripetal ∂p/∂r = ρu_θ²/r that makes a fluid parcel, and a neutrally buoyant sphere
+// with it, move on a circle; the spheres keep their inertia in the DEM and would be flung
+// outward. The pressure-gradient force then adds that part back, ρ V_p a_c with a_c the
+// curvature part of the fluid's acceleration at the centre, (−u_θ²/r, u_r u_θ/r, 0) of the
+// interpolated u_f (CD eq. 34 with the pressure an inertial fluid would have to leading order;
+// the grid-scale advective part is left out, as the ∇p filter leaves out its noise). Without it
+// the spheres drift outward at ≈ ρ d² Ω² r (z/H)²/(18 μ) (0.3 mm/s at the rim of the R = 5 mm
+// disk at 100 1/s); its effect on that disk's torque is below the scatter between placements
+// (docs/shear-cell.md).
 //
 // Interpolation (FluidSampler): the fluid velocity at the particle centre is the solver's
 // trilinear interpolation of the staggered components (TransientSolver::sample_velocity); ε, μ,
@@ -51,6 +63,9 @@ struct ParticleSample {
   double viscosity = 0.0;       // μ(γ̇) [Pa·s]
   Vector3 pressure_gradient{};  // ∇p [Pa/m]
   Vector3 stress_divergence{};  // ∇·τ [N/m³]
+  // Curvature part of the fluid's acceleration at the centre when the fluid is creeping (header
+  // comment), 0 otherwise [m/s²].
+  Vector3 creeping_acceleration{};
 };
 
 // Fluid properties every model may need.
@@ -63,7 +78,7 @@ struct ParticleForce {
   Vector3 explicit_force{};       // [N]
   double drag_coefficient = 0.0;  // β [kg/s]
   Vector3 drag{};                 // β (u_f − u_p) [N], filled by the drag model
-  Vector3 pressure_gradient{};     // −V∇p [N]
+  Vector3 pressure_gradient{};     // −V∇p (+ ρV a_c, creeping fluid) [N]
   Vector3 viscous{};               // V∇·τ [N]
 
   [[nodiscard]] Vector3 total(const ParticleSample& at) const {
