@@ -181,6 +181,25 @@ class FluidColumn {
   double wall_top_ = 0.0, wall_bottom_ = 0.0;
 };
 
+// Mean of the values and the standard error of the mean from `batches` consecutive batch means.
+std::pair<double, double> batch_mean(const std::vector<double>& values, std::size_t batches) {
+  if (values.empty()) return {0.0, 0.0};
+  double mean = 0.0;
+  for (const double v : values) mean += v;
+  mean /= static_cast<double>(values.size());
+  if (values.size() < batches) return {mean, std::abs(mean)};
+  double variance = 0.0;
+  for (std::size_t b = 0; b < batches; ++b) {
+    const std::size_t lo = b * values.size() / batches, hi = (b + 1) * values.size() / batches;
+    double m = 0.0;
+    for (std::size_t i = lo; i < hi; ++i) m += values[i];
+    m /= static_cast<double>(hi - lo);
+    variance += (m - mean) * (m - mean);
+  }
+  variance /= static_cast<double>(batches - 1);
+  return {mean, std::sqrt(variance / static_cast<double>(batches))};
+}
+
 struct WindowMeans {
   double fluid_top = 0.0, contact_top = 0.0, lubrication_top = 0.0, stresslet = 0.0, couple = 0.0, bottom = 0.0,
          bulk = 0.0;
@@ -405,11 +424,26 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   }
 
   const auto estimate = detector.estimate();
-  out.stress = estimate.mean;
-  out.stress_error = estimate.standard_error;
   out.converged = estimate.steady;
   out.strain = detector.strain();
-  const auto means = window_means(out.series, time - settings.steady.strain_window / settings.shear_rate);
+  // Steady: the detector's last window. Not steady by max_strain (a dense suspension whose stress
+  // wanders over several strain units, e.g. with lubrication at φ = 0.3): the last window's mean
+  // and batch error understate that wandering, so the second half of the run is used instead,
+  // with the standard error of 5 batch means.
+  double from_time = time - settings.steady.strain_window / settings.shear_rate;
+  if (estimate.steady) {
+    out.stress = estimate.mean;
+    out.stress_error = estimate.standard_error;
+  } else {
+    from_time = 0.5 * time;
+    std::vector<double> values;
+    for (const auto& r : out.series)
+      if (r.time >= from_time) values.push_back(r.total_top());
+    const auto [mean, error] = batch_mean(values, 5);
+    out.stress = mean;
+    out.stress_error = error;
+  }
+  const auto means = window_means(out.series, from_time);
   out.stress_fluid = means.fluid_top;
   out.stress_contact = means.contact_top;
   out.stress_lubrication = means.lubrication_top;

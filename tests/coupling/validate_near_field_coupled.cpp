@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 
@@ -27,6 +28,7 @@
 #include "rheosim/coupling/near_field.hpp"
 #include "rheosim/coupling/shear_cell_point.hpp"
 #include "rheosim/coupling/suspension_point.hpp"
+#include "rheosim/dem/contact.hpp"
 
 namespace rheosim::coupling {
 namespace {
@@ -134,6 +136,61 @@ TEST(NearFieldCoupledValidation, DiskTorqueParts) {
   EXPECT_GT(p.torque_lubrication, 0.0);
   EXPECT_GT(p.torque, liquid);
   EXPECT_GT(p.cost.near_field, 0.0);
+}
+
+}  // namespace
+}  // namespace rheosim::coupling
+
+namespace rheosim::coupling {
+namespace {
+
+double env_or(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  return v != nullptr ? std::atof(v) : fallback;
+}
+
+// Study (not run by make test): one coupled shear-cell point with the near field at the seed's
+// particles softened by RHEOSIM_NF_SOFTENING, φ = RHEOSIM_NF_PHI, cell RHEOSIM_NF_CELL m,
+// RHEOSIM_NF_STRAIN strain units, printing the stress parts and the running stress per strain unit.
+TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
+  ShearCellPointSettings s;
+  s.gap = 5e-4;
+  s.cell_length = s.cell_width = env_or("RHEOSIM_NF_CELL", 1.6e-3);
+  s.fluid = {.density = 1000.0, .rheology = newtonian()};
+  const double softening = env_or("RHEOSIM_NF_SOFTENING", 1e4);
+  s.particles = {.volume_fraction = env_or("RHEOSIM_NF_PHI", 0.3), .diameter = 2e-4, .density = 1000.0,
+                 .youngs_modulus = 3.0e9 / softening, .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
+  const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, s.particles.youngs_modulus, 0.33});
+  s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));
+  s.shear_rate = env_or("RHEOSIM_NF_RATE", 100.0);
+  s.axial_cells = 2;
+  const double strain = env_or("RHEOSIM_NF_STRAIN", 20.0);
+  s.steady = {.strain_window = 2.0, .relative_tolerance = 1e-9, .min_strain = strain, .max_strain = strain};
+  s.near_field = make_near_field_model(near_field_settings(lubrication_and_stresslet()), s.fluid.rheology);
+  s.run_directory = fs::temp_directory_path() / fmt::format("rheosim_study_nf_cell_{}", ::getpid());
+  const auto p = run_shear_cell_point(s);
+  fs::remove_all(s.run_directory);
+  const double liquid = mu * s.shear_rate;
+  std::printf("E/%g, phi %.4f, N %lld, dt %.3g s: eta_r %.4f +- %.4f (fluid %.4f contact %.4f lubrication %.4f "
+              "stresslet %.4f couple %.4f; bulk %.4f), DEM %.1f s, near field %.1f s, max CG %d\n",
+              softening, p.volume_fraction, static_cast<long long>(p.particles), p.dem_time_step, p.stress / liquid,
+              p.stress_error / liquid, p.stress_fluid / liquid, p.stress_contact / liquid,
+              p.stress_lubrication / liquid, p.stress_stresslet / liquid, p.stress_couple / liquid,
+              p.bulk_stress / liquid, p.cost.dem, p.cost.near_field, p.max_near_field_iterations);
+  // Running mean per strain unit.
+  double sum = 0.0;
+  int count = 0;
+  double next = 1.0;
+  for (const auto& r : p.series) {
+    sum += r.total_top();
+    ++count;
+    if (r.time * s.shear_rate >= next) {
+      std::printf("  strain %4.1f: eta_r over the last unit %.4f\n", next, sum / count / liquid);
+      sum = 0.0;
+      count = 0;
+      next += 1.0;
+    }
+  }
 }
 
 }  // namespace

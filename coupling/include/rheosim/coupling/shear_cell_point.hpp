@@ -106,7 +106,9 @@ struct ShearCellStepRecord {
 
 struct ShearCellPoint {
   double shear_rate = 0.0;       // γ̇ [1/s]
-  double stress = 0.0;           // top-plate total shear stress, mean over the last window [Pa]
+  // Top-plate total shear stress [Pa]: mean over the detector's last window when steady, else
+  // over the second half of the run (5 batch means give the error); the parts use the same span.
+  double stress = 0.0;
   double stress_error = 0.0;     // its standard error [Pa]
   double stress_fluid = 0.0;     // fluid part [Pa]
   double stress_contact = 0.0;   // contact part [Pa]
