@@ -25,6 +25,10 @@ void NearFieldResult::reset(std::size_t particles, std::size_t plates) {
   lubrication_virial = {};
   plate_virial = {};
   stresslet_sum = {};
+  stresslet_axial_moment = 0.0;
+  rotation_torque_sum = {};
+  lubrication_virial_full = {};
+  rotation_torque_radial_moment = 0.0;
   plate_forces.assign(plates, Vector3{});
   plate_moments.assign(plates, Vector3{});
   lubricated_pairs = 0;
@@ -249,6 +253,7 @@ class CombinedNearField final : public NearFieldModel {
     std::vector<lubrication::Gap> gaps;
     std::vector<double> drag;      // 6πμa per particle (stokes_drag)
     std::vector<double> rotation;  // 8πμa³ per particle (single_particle)
+    std::vector<double> ambient_spin;  // ω∞ = ½∇×u∞, 3 per particle (single_particle)
     std::vector<double> drive;     // F₀, 6 per particle
     std::vector<double> blocks;    // the particles' own 6×6 blocks of R, 36 per particle
   };
@@ -288,6 +293,7 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
   if (terms_.stokes_drag || terms_.single_particle) {
     s.drag.assign(terms_.stokes_drag ? n : 0, 0.0);
     s.rotation.assign(terms_.single_particle ? n : 0, 0.0);
+    s.ambient_spin.assign(terms_.single_particle ? 3 * n : 0, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       const double a = p.radii[i];
       const double mu = matrix_->viscosity(ambient_shear_rate(i));
@@ -303,11 +309,14 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
         s.rotation[i] = 8.0 * pi * mu * a * a * a;
         for (std::size_t k = 0; k < 3; ++k) {
           s.drive[6 * i + 3 + k] += s.rotation[i] * f.vorticity_half[k];
+          s.ambient_spin[3 * i + k] = f.vorticity_half[k];
           s.blocks[36 * i + 7 * (3 + k)] += s.rotation[i];
         }
         if (result != nullptr) {
           const double stresslet = 20.0 / 3.0 * pi * mu * a * a * a;
           for (std::size_t c = 0; c < 6; ++c) result->stresslet_sum[c] += stresslet * f.strain_rate[c];
+          const Vector3 x = position(p, i);
+          result->stresslet_axial_moment += stresslet * (x[0] * f.strain_rate[5] - x[1] * f.strain_rate[4]);
         }
       }
     }
@@ -480,9 +489,24 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
       r.torques[3 * i + k] += s.drive[6 * i + 3 + k] - rv[6 * i + 3 + k];
     }
 
+  // The rotation torques −8πμa³(Ω⁺ − ω∞): their reaction is a couple on the liquid, which the
+  // fluid solvers do not carry; the scenes add the antisymmetric stress it makes (near_field.hpp).
+  for (std::size_t i = 0; i < s.rotation.size(); ++i) {
+    const Vector3 x = position(p, i);
+    Vector3 torque{};
+    for (std::size_t k = 0; k < 3; ++k) {
+      torque[k] = s.rotation[i] * (s.ambient_spin[3 * i + k] - v_new[6 * i + 3 + k]);
+      r.rotation_torque_sum[k] += torque[k];
+    }
+    r.rotation_torque_radial_moment += x[0] * torque[0] + x[1] * torque[1];
+  }
+
   // Stress and plate loads from the gap forces at V⁺.
   for (const auto& gap : s.gaps) {
     const Vector3 f_i = lubrication::gap_force_on_i(gap, v_new);
+    // Unsymmetrised: F_i ⊗ (separation) = −F_j ⊗ (x_j − x_i) resp. −F_p ⊗ (x_p − x_w).
+    for (std::size_t a = 0; a < 3; ++a)
+      for (std::size_t b = 0; b < 3; ++b) r.lubrication_virial_full[3 * a + b] += f_i[a] * gap.separation[b];
     if (gap.j != lubrication::no_partner) {
       // −(x_j − x_i) ⊗ F_j with F_j = −F_i.
       add_outer(r.lubrication_virial, gap.separation, f_i, 1.0);

@@ -53,6 +53,10 @@ void NearFieldStepHook::on_step(const dem::StepState& state, std::span<double> f
     sums_.plate_virial[c] += last_.plate_virial[c];
     sums_.stresslet_sum[c] += last_.stresslet_sum[c];
   }
+  sums_.stresslet_axial_moment += last_.stresslet_axial_moment;
+  sums_.rotation_torque_radial_moment += last_.rotation_torque_radial_moment;
+  for (std::size_t k = 0; k < 3; ++k) sums_.rotation_torque_sum[k] += last_.rotation_torque_sum[k];
+  for (std::size_t k = 0; k < 9; ++k) sums_.lubrication_virial_full[k] += last_.lubrication_virial_full[k];
   for (std::size_t w = 0; w < scene_.plates.size(); ++w)
     for (std::size_t k = 0; k < 3; ++k) {
       sums_.plate_forces[w][k] += last_.plate_forces[w][k];
@@ -73,6 +77,10 @@ NearFieldStepHook::Means NearFieldStepHook::take_means() {
       out.plate_virial[c] *= inv;
       out.stresslet_sum[c] *= inv;
     }
+    out.stresslet_axial_moment *= inv;
+    out.rotation_torque_radial_moment *= inv;
+    for (double& x : out.rotation_torque_sum) x *= inv;
+    for (double& x : out.lubrication_virial_full) x *= inv;
     for (auto& f : out.plate_forces)
       for (double& x : f) x *= inv;
     for (auto& m : out.plate_moments)

@@ -37,12 +37,6 @@ void check_settings(const ShearCellPointSettings& s) {
   if (s.coupling_interval < 1) fail("coupling_interval", s.coupling_interval, ">= 1");
   if (!(s.void_fraction_floor > 0.0 && s.void_fraction_floor < 1.0))
     fail("void_fraction_floor", s.void_fraction_floor, "(0, 1)");
-  if (s.near_field)
-    throw std::invalid_argument(fmt::format(
-        "ShearCellPointSettings::near_field = '{}': near-field models need the per-DEM-step callback of "
-        "dem::Engine (issue 9), which the shear cell does not call yet (see NEAR-FIELD PLUG-IN POINT in "
-        "coupling/src/shear_cell_point.cpp); run without hydrodynamics or with model: full_disk",
-        s.near_field->name()));
 }
 
 // The horizontally averaged fluid column: u_x, u_y at N_z layer centres, plates at z = 0 (rest)
@@ -79,6 +73,26 @@ class FluidColumn {
     const auto k = static_cast<std::size_t>(s);
     const double w = s - static_cast<double>(k);
     return {(1.0 - w) * ux_[k] + w * ux_[k + 1], (1.0 - w) * uy_[k] + w * uy_[k + 1], 0.0};
+  }
+  // ∂u/∂z at height z (x and y components): the slope of the same piecewise-linear profile.
+  [[nodiscard]] std::array<double, 2> slope_at(double z) const {
+    z = std::clamp(z, 0.0, gap_);
+    const double s = z / dz_ - 0.5;
+    if (s <= 0.0) return {ux_[0] / (0.5 * dz_), uy_[0] / (0.5 * dz_)};
+    if (s >= static_cast<double>(n_) - 1.0)
+      return {(plate_speed_ - ux_[n_ - 1]) / (0.5 * dz_), -uy_[n_ - 1] / (0.5 * dz_)};
+    const auto k = static_cast<std::size_t>(s);
+    return {(ux_[k + 1] - ux_[k]) / dz_, (uy_[k + 1] - uy_[k]) / dz_};
+  }
+  // (1/H) ∫ μ ∂u_x/∂z dz over the faces: the fluid's part of the bulk stress.
+  [[nodiscard]] double mean_fluid_stress() const {
+    double sum = 0.0;
+    for (std::size_t f = 0; f <= n_; ++f) {
+      const double below = f == 0 ? 0.0 : ux_[f - 1];
+      const double above = f == n_ ? plate_speed_ : ux_[f];
+      sum += face_mu_[f] * (above - below);
+    }
+    return sum / gap_;
   }
   [[nodiscard]] double cell_viscosity(std::size_t k) const { return cell_mu_[k]; }
   [[nodiscard]] double div_tau_x(std::size_t k) const { return div_tau_x_[k]; }
@@ -167,8 +181,28 @@ class FluidColumn {
   double wall_top_ = 0.0, wall_bottom_ = 0.0;
 };
 
+// Mean of the values and the standard error of the mean from `batches` consecutive batch means.
+std::pair<double, double> batch_mean(const std::vector<double>& values, std::size_t batches) {
+  if (values.empty()) return {0.0, 0.0};
+  double mean = 0.0;
+  for (const double v : values) mean += v;
+  mean /= static_cast<double>(values.size());
+  if (values.size() < batches) return {mean, std::abs(mean)};
+  double variance = 0.0;
+  for (std::size_t b = 0; b < batches; ++b) {
+    const std::size_t lo = b * values.size() / batches, hi = (b + 1) * values.size() / batches;
+    double m = 0.0;
+    for (std::size_t i = lo; i < hi; ++i) m += values[i];
+    m /= static_cast<double>(hi - lo);
+    variance += (m - mean) * (m - mean);
+  }
+  variance /= static_cast<double>(batches - 1);
+  return {mean, std::sqrt(variance / static_cast<double>(batches))};
+}
+
 struct WindowMeans {
-  double fluid_top = 0.0, contact_top = 0.0, bottom = 0.0;
+  double fluid_top = 0.0, contact_top = 0.0, lubrication_top = 0.0, stresslet = 0.0, couple = 0.0, bottom = 0.0,
+         bulk = 0.0;
 };
 
 WindowMeans window_means(const std::vector<ShearCellStepRecord>& series, double from_time) {
@@ -178,14 +212,16 @@ WindowMeans window_means(const std::vector<ShearCellStepRecord>& series, double 
     if (r.time >= from_time) {
       m.fluid_top += r.fluid_top;
       m.contact_top += r.contact_top;
-      m.bottom += r.fluid_bottom + r.contact_bottom;
+      m.lubrication_top += r.lubrication_top;
+      m.stresslet += r.stresslet;
+      m.couple += r.couple;
+      m.bottom += r.fluid_bottom + r.contact_bottom + r.lubrication_bottom + r.stresslet + r.couple;
+      m.bulk += r.bulk;
       ++n;
     }
-  if (n > 0) {
-    m.fluid_top /= static_cast<double>(n);
-    m.contact_top /= static_cast<double>(n);
-    m.bottom /= static_cast<double>(n);
-  }
+  if (n > 0)
+    for (double* x : {&m.fluid_top, &m.contact_top, &m.lubrication_top, &m.stresslet, &m.couple, &m.bottom, &m.bulk})
+      *x /= static_cast<double>(n);
   return m;
 }
 
@@ -237,16 +273,12 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
     out.dem_time_step = scene->time_step();
     out.particles = scene->total_particle_count();
     out.volume_fraction = scene->volume_fraction();
-    // NEAR-FIELD PLUG-IN POINT (issue 9): once dem::Engine offers its per-step callback, build
-    //   const NearFieldScene near_scene = make_near_field_scene(*scene);
-    // here, and register a callback that, on every DEM step, fills a ParticleSnapshot from the
-    // engine's views, calls settings.near_field->evaluate(snapshot, near_scene, ambient, result)
-    // with `ambient` = the column's velocity_at(z) and velocity gradient (∂u_x/∂z at z), and
-    // adds result.forces / result.torques to the coupling forces set below. The plates'
-    // near-field forces (result.plate_forces[1] for the top plate, x component) then add to the
-    // wall stress of each step (record.contact_top / contact_bottom), and the DEM step must
-    // respect settings.near_field->stable_time_step(). check_settings() rejects a non-null
-    // near_field until then.
+    // Pair contact virial (LIGGGHTS' pressure tensor, virial part, xz), averaged over each
+    // coupling interval, for the bulk-stress cross-check.
+    scene->engine().commands(
+        {"compute rheosim_cell_temp all temp", "compute rheosim_cell_pressure all pressure rheosim_cell_temp virial",
+         fmt::format("fix rheosim_cell_virial all ave/time 1 {0} {0} c_rheosim_cell_pressure[5]",
+                     settings.coupling_interval)});
   } else {
     // The column alone runs at the step the particles would have (as run_point does at φ = 0).
     const double rayleigh = q.diameter > 0.0 && q.density > 0.0 && q.youngs_modulus > 0.0
@@ -260,6 +292,22 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   out.fluid_time_step = dt;
 
   FluidColumn column(settings, area);
+  // Near field on every DEM step, in the column's flow (declared after the scene and the column,
+  // so it is removed first).
+  std::unique_ptr<NearFieldStepHook> hook;
+  if (scene && settings.near_field)
+    hook = std::make_unique<NearFieldStepHook>(scene->engine(), settings.near_field, make_near_field_scene(*scene),
+                                               [&column](const Vector3& x) {
+                                                 AmbientSample a;
+                                                 a.velocity = column.velocity_at(x[2]);
+                                                 const auto slope = column.slope_at(x[2]);
+                                                 a.velocity_gradient[2] = slope[0];  // ∂u_x/∂z
+                                                 a.velocity_gradient[5] = slope[1];  // ∂u_y/∂z
+                                                 return a;
+                                               });
+  const double cell_volume = area * settings.gap;
+  const double box_volume = scene ? area * (scene->box_high()[2] - scene->box_low()[2]) : 0.0;
+  double near_field_seconds = 0.0;
   // One-cell-wide cylindrical grid of N_z layers around the cell's centre: the void-fraction
   // schemes' sub-points and plate mirroring are reused as they are; only the z index matters.
   const double half_diagonal = 0.5 * std::hypot(settings.cell_length, settings.cell_width);
@@ -312,6 +360,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
       t0 = Clock::now();
       const std::size_t n = view.size();
       forces.assign(3 * n, 0.0);
+      double drag_virial = 0.0;  // Σ −(z_p − z_layer) F_x: the fluid forces act at the particle, react at the layer
       for (std::size_t p = 0; p < n; ++p) {
         const double vp = sphere_volume_from_radius(radii[p]);
         double eps_p = 0.0, mu_p = 0.0, div_x = 0.0, div_y = 0.0;
@@ -332,11 +381,31 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
           forces[3 * p] += vp * div_x;
           forces[3 * p + 1] += vp * div_y;
         }
-        for (const auto& share : map.of(p))
+        for (const auto& share : map.of(p)) {
           column.add_reaction(share.cell, beta * share.volume / vp, input.fluid_velocity, up);
+          drag_virial -= share.volume / vp * (shifted[3 * p + 2] - column.centre(share.cell)) * forces[3 * p];
+        }
       }
       engine.set_external_forces(forces);
       out.cost.forces += seconds_since(t0);
+
+      // Bulk (Batchelor) stress from the particle virial, for the cross-check of the plate
+      // reading: pair contacts (LIGGGHTS), plate contacts as pairs with the contact point a
+      // below/above the centre, the fluid forces' offset, and the near-field virial below.
+      const double a = 0.5 * q.diameter;
+      const double pair_contact = -engine.fix_scalar("rheosim_cell_virial") * box_volume;
+      record.bulk = (pair_contact + a * area * (record.contact_top + record.contact_bottom) + drag_virial) / cell_volume;
+      if (hook) {
+        const NearFieldStepHook::Means m = hook->take_means();
+        record.lubrication_top = -m.plate_forces[1][0] / area;
+        record.lubrication_bottom = m.plate_forces[0][0] / area;
+        record.stresslet = m.stresslet_sum[4] / cell_volume;
+        record.couple = 0.5 * m.rotation_torque_sum[1] / cell_volume;
+        // Force x, lever z (the plates' momentum balance), plus the stresslets.
+        record.bulk += (m.lubrication_virial_full[2] + m.stresslet_sum[4]) / cell_volume + record.couple;
+        near_field_seconds += m.seconds;
+        out.max_near_field_iterations = std::max(out.max_near_field_iterations, m.max_solver_iterations);
+      }
     }
 
     const auto t0 = Clock::now();
@@ -347,19 +416,43 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
     record.time = time;
     record.fluid_top = column.wall_stress_top();
     record.fluid_bottom = column.wall_stress_bottom();
+    record.bulk += column.mean_fluid_stress();
+    if (!std::isfinite(record.total_top()))
+      throw std::runtime_error(fmt::format("shear cell: wall stress is not finite at t = {:.6g} s", time));
     out.series.push_back(record);
-    detector.add(time, record.fluid_top + record.contact_top);
+    detector.add(time, record.total_top());
   }
 
   const auto estimate = detector.estimate();
-  out.stress = estimate.mean;
-  out.stress_error = estimate.standard_error;
   out.converged = estimate.steady;
   out.strain = detector.strain();
-  const auto means = window_means(out.series, time - settings.steady.strain_window / settings.shear_rate);
+  // Steady: the detector's last window. Not steady by max_strain (a dense suspension whose stress
+  // wanders over several strain units, e.g. with lubrication at φ = 0.3): the last window's mean
+  // and batch error understate that wandering, so the second half of the run is used instead,
+  // with the standard error of 5 batch means.
+  double from_time = time - settings.steady.strain_window / settings.shear_rate;
+  if (estimate.steady) {
+    out.stress = estimate.mean;
+    out.stress_error = estimate.standard_error;
+  } else {
+    from_time = 0.5 * time;
+    std::vector<double> values;
+    for (const auto& r : out.series)
+      if (r.time >= from_time) values.push_back(r.total_top());
+    const auto [mean, error] = batch_mean(values, 5);
+    out.stress = mean;
+    out.stress_error = error;
+  }
+  const auto means = window_means(out.series, from_time);
   out.stress_fluid = means.fluid_top;
   out.stress_contact = means.contact_top;
+  out.stress_lubrication = means.lubrication_top;
+  out.stress_stresslet = means.stresslet;
+  out.stress_couple = means.couple;
   out.bottom_stress = means.bottom;
+  out.bulk_stress = means.bulk;
+  out.cost.near_field = near_field_seconds;  // spent inside the DEM steps
+  out.cost.dem = std::max(0.0, out.cost.dem - near_field_seconds);
   out.wall_time = seconds_since(start);
   return out;
 }

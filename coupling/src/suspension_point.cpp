@@ -9,6 +9,9 @@
 #include <fmt/format.h>
 
 #include "rheosim/core/units.hpp"
+#include "rheosim/coupling/fluid_fields.hpp"
+#include "rheosim/coupling/near_field.hpp"
+#include "rheosim/coupling/void_fraction.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/dem/rheometer_scene.hpp"
 #include "rheosim/fluid/transient.hpp"
@@ -107,18 +110,96 @@ void start_from_couette(fluid::TransientSolver& fluid, double angular_velocity) 
 
 void fill_window_means(const SuspensionPointSettings& s, SuspensionPoint& out) {
   const double window_start = out.series.back().time - s.steady.strain_window / s.rim_shear_rate;
-  double fluid_sum = 0.0, contact_sum = 0.0, bottom_sum = 0.0;
+  CouplingStepRecord sum;
   std::size_t n = 0;
   for (const CouplingStepRecord& r : out.series)
     if (r.time > window_start) {
-      fluid_sum += r.fluid_torque;
-      contact_sum += r.contact_torque;
-      bottom_sum += r.bottom_fluid_torque;
+      sum.fluid_torque += r.fluid_torque;
+      sum.contact_torque += r.contact_torque;
+      sum.bottom_fluid_torque += r.bottom_fluid_torque;
+      sum.lubrication_torque += r.lubrication_torque;
+      sum.stresslet_torque += r.stresslet_torque;
+      sum.couple_torque += r.couple_torque;
       ++n;
     }
-  out.torque_fluid = n ? fluid_sum / static_cast<double>(n) : 0.0;
-  out.torque_contact = n ? contact_sum / static_cast<double>(n) : 0.0;
-  out.bottom_torque_fluid = n ? bottom_sum / static_cast<double>(n) : 0.0;
+  const double inv = n ? 1.0 / static_cast<double>(n) : 0.0;
+  out.torque_fluid = sum.fluid_torque * inv;
+  out.torque_contact = sum.contact_torque * inv;
+  out.bottom_torque_fluid = sum.bottom_fluid_torque * inv;
+  out.torque_lubrication = sum.lubrication_torque * inv;
+  out.torque_stresslet = sum.stresslet_torque * inv;
+  out.torque_couple = sum.couple_torque * inv;
+}
+
+// The solved fluid as the near-field models' ambient flow. Per cell, the velocity gradient of the
+// cell-centred velocities (FluidCellFields: ∂_r, (1/r)∂_θ, ∂_z of each component) with the
+// cylindrical metric terms, G_rθ −= u_θ/r and G_θθ += u_r/r; at a point it is turned into
+// Cartesian components at the point's θ, and the velocity is the cell value plus G·(r − r_c,
+// 0, z − z_c). Exact for the torsional flow u_θ = Ωrz/H (E_θz = Ωr/(2H), E_rθ = 0).
+class DiskAmbientFlow {
+ public:
+  explicit DiskAmbientFlow(const fluid::CylindricalGrid& grid)
+      : grid_(&grid), fields_(grid), locator_(grid), gradient_(9 * grid.cell_count(), 0.0) {
+    for (CellVectorField* g : {&grad_r_, &grad_t_, &grad_z_}) g->resize(grid.cell_count());
+  }
+
+  void update(const fluid::TransientSolver& solver) {
+    fields_.update(solver);
+    const CellVectorField& u = fields_.velocity();
+    fields_.gradient(u.radial, grad_r_);
+    fields_.gradient(u.azimuthal, grad_t_);
+    fields_.gradient(u.axial, grad_z_);
+    const std::size_t nt = grid_->azimuthal_cells(), nz = grid_->axial_cells();
+    for (std::size_t c = 0; c < grid_->cell_count(); ++c) {
+      const double r = grid_->radial_centres()[c / (nt * nz)];
+      double* g = &gradient_[9 * c];
+      g[0] = grad_r_.radial[c], g[1] = grad_r_.azimuthal[c] - u.azimuthal[c] / r, g[2] = grad_r_.axial[c];
+      g[3] = grad_t_.radial[c], g[4] = grad_t_.azimuthal[c] + u.radial[c] / r, g[5] = grad_t_.axial[c];
+      g[6] = grad_z_.radial[c], g[7] = grad_z_.azimuthal[c], g[8] = grad_z_.axial[c];
+    }
+  }
+
+  [[nodiscard]] AmbientSample operator()(const Vector3& x) const {
+    const std::size_t c = locator_.locate(x).cell;
+    const std::size_t nt = grid_->azimuthal_cells(), nz = grid_->axial_cells();
+    const double r = std::hypot(x[0], x[1]);
+    const double cs = r > 0.0 ? x[0] / r : 1.0, sn = r > 0.0 ? x[1] / r : 0.0;
+    const double dr = r - grid_->radial_centres()[c / (nt * nz)];
+    const double dz = x[2] - grid_->axial_centres()[c % nz];
+    const double* g = &gradient_[9 * c];
+    const CellVectorField& u = fields_.velocity();
+    const double ur = u.radial[c] + g[0] * dr + g[2] * dz;
+    const double ut = u.azimuthal[c] + g[3] * dr + g[5] * dz;
+    const double uz = u.axial[c] + g[6] * dr + g[8] * dz;
+    AmbientSample out;
+    out.velocity = {cs * ur - sn * ut, sn * ur + cs * ut, uz};
+    // G_cart = Q G_cyl Qᵀ, Q = [e_r e_θ e_z] in Cartesian columns.
+    const double q[9] = {cs, -sn, 0.0, sn, cs, 0.0, 0.0, 0.0, 1.0};
+    double qg[9];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) qg[3 * i + j] = q[3 * i] * g[j] + q[3 * i + 1] * g[3 + j] + q[3 * i + 2] * g[6 + j];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        out.velocity_gradient[3 * i + j] = qg[3 * i] * q[3 * j] + qg[3 * i + 1] * q[3 * j + 1] + qg[3 * i + 2] * q[3 * j + 2];
+    return out;
+  }
+
+ private:
+  const fluid::CylindricalGrid* grid_;
+  FluidCellFields fields_;
+  CellLocator locator_;
+  CellVectorField grad_r_, grad_t_, grad_z_;
+  std::vector<double> gradient_;  // 9 per cell, row-major ∂u_i/∂x_j in (r, θ, z)
+};
+
+// The near-field model of particles.hydrodynamics, or null for drag only.
+std::shared_ptr<const NearFieldModel> near_field_model(const SuspensionPointSettings& s) {
+  if (!s.particles.hydrodynamics.any()) return nullptr;
+  if (s.particles.hydrodynamics.stokes_drag)
+    throw std::invalid_argument(
+        "particles.hydrodynamics: stokes_drag is the drag on an imposed flow, for cells without a fluid solver; "
+        "the CFD-DEM rheometer already applies the drag law of coupling.drag — use lubrication and/or stresslet");
+  return make_near_field_model(near_field_settings(s.particles.hydrodynamics), s.fluid.rheology);
 }
 
 // φ = 0: the fluid alone on the same grid and time step (the suspension's reference).
@@ -182,11 +263,44 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
   CouplerSettings coupling = s.coupling;
   coupling.fluid_time_step = coupling.coupling_interval * scene.time_step();
   Coupler coupler(coupling, scene, fluid);
+
+  // Near field (declared after the fluid and the scene: the hook goes first).
+  const std::shared_ptr<const NearFieldModel> model = near_field_model(s);
+  std::unique_ptr<DiskAmbientFlow> ambient;
+  std::unique_ptr<NearFieldStepHook> hook;
+  if (model) {
+    ambient = std::make_unique<DiskAmbientFlow>(fluid.grid());
+    ambient->update(fluid);
+    NearFieldScene plates;
+    plates.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
+    plates.plates.push_back({.z = s.geometry.gap, .faces_up = false, .velocity_at = [&scene](const Vector3& x) {
+                               const double w = scene.angular_velocity();  // read at call time
+                               return Vector3{-w * x[1], w * x[0], 0.0};
+                             }});
+    hook = std::make_unique<NearFieldStepHook>(
+        scene.engine(), model, std::move(plates),
+        [flow = ambient.get()](const Vector3& x) { return (*flow)(x); });
+  }
+
   SteadyStateDetector detector(s.steady, s.rim_shear_rate);
-  double reported_strain = 0.0;
+  std::vector<CouplingStepRecord> series;
+  double reported_strain = 0.0, near_field_seconds = 0.0;
+  int near_field_iterations = 0;
   while (!detector.done()) {
-    const CouplingStepReport& r = coupler.step();
-    detector.add(r.record.time, r.record.fluid_torque + r.record.contact_torque);
+    CouplingStepRecord record = coupler.step().record;
+    if (hook) {
+      const NearFieldStepHook::Means m = hook->take_means();
+      record.lubrication_torque = -m.plate_moments[1][2];  // drive torque, signed as the contact torque
+      record.stresslet_torque = m.stresslet_axial_moment / s.geometry.gap;
+      record.couple_torque = -0.5 * m.rotation_torque_radial_moment / s.geometry.gap;
+      near_field_seconds += m.seconds;
+      near_field_iterations = std::max(near_field_iterations, m.max_solver_iterations);
+      ambient->update(fluid);
+      if (!std::isfinite(record.lubrication_torque) || !std::isfinite(record.stresslet_torque))
+        throw std::runtime_error(fmt::format("near-field torque is not finite at t = {:.6g} s", record.time));
+    }
+    series.push_back(record);
+    detector.add(record.time, record.total_torque());
     if (s.on_strain && detector.strain() >= reported_strain + 0.01 * s.steady.max_strain) {
       reported_strain = detector.strain();
       s.on_strain(reported_strain, s.steady.max_strain);
@@ -200,12 +314,15 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
   out.torque_error = e.standard_error;
   out.converged = e.steady;
   out.strain = detector.strain();
-  out.series = coupler.torque_series();
+  out.series = std::move(series);
   fill_window_means(s, out);
+  out.max_near_field_iterations = near_field_iterations;
   out.particles = scene.total_particle_count();
   out.fluid_time_step = coupling.fluid_time_step;
   out.dem_time_step = scene.time_step();
   out.cost = coupler.cost();
+  out.cost.near_field = near_field_seconds;  // spent inside the DEM steps
+  out.cost.dem = std::max(0.0, out.cost.dem - near_field_seconds);
   out.void_fraction = coupler.last().void_fraction;
   out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

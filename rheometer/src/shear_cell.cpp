@@ -52,7 +52,9 @@ double cell_cost_seconds(const core::RheometerCase& r, double phi, double rate, 
   const double length = std::max(8.0 * p.diameter, 3.0 * r.geometry.gap);
   const auto n = static_cast<double>(dem::shear_cell_particle_count(r.geometry.gap, length, length, p.diameter, phi));
   const double dt = 0.3 * dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus / softening, p.poisson_ratio});
-  return std::max(n, 1.0) * max_strain / (rate * dt) / 3e6;
+  // Near field: ×10–25 the DEM time per step with soft particles (docs/performance.md, issue 9).
+  const double near_field = p.hydrodynamics.any() ? 20.0 : 1.0;
+  return std::max(n, 1.0) * max_strain / (rate * dt) / 3e6 * near_field;
 }
 
 double inertia_effect(const core::RheometerCase& r, const core::FluidProperties& fluid, double rate) {
@@ -72,8 +74,23 @@ double inertia_effect(const core::RheometerCase& r, const core::FluidProperties&
   return std::abs(full.torque / creeping.torque - 1.0);
 }
 
+// One cell run's top-plate stress and its parts [Pa].
+struct Measured {
+  double rate = 0;
+  double stress = 0, error = 0;
+  double fluid = 0, contact = 0, lubrication = 0, stresslet = 0, couple = 0, bulk = 0;
+  bool converged = false;
+};
+
 // Everything the cell learnt about one φ.
 struct PhiStudy {
+  std::map<double, Measured> measured;  // the runs at the study's stiffness and size, by rate
+  [[nodiscard]] const Measured& nearest(double rate) const {
+    auto best = measured.begin();
+    for (auto it = measured.begin(); it != measured.end(); ++it)
+      if (std::abs(std::log(it->first / rate)) < std::abs(std::log(best->first / rate))) best = it;
+    return best->second;
+  }
   LocalFlowCurve curve;
   double softening = 1.0;          // E used = E / softening
   double stiffness_change = 0.0;   // |τ(E/s) − τ(E/(s/10))| / τ, measured
@@ -104,9 +121,9 @@ class ShearCellRunner {
       out.failure = fmt::format("φ = {:g} needs a particles: section", point.volume_fraction);
       return out;
     }
-    if (r_.particles->hydrodynamics.any()) {  // see NEAR-FIELD PLUG-IN POINT in coupling/src/shear_cell_point.cpp
-      out.failure = "particles.hydrodynamics is set, but near-field models are not plugged into the shear cell yet; "
-                    "use model: full_disk (or auto) for this case";
+    if (r_.particles->hydrodynamics.stokes_drag) {
+      out.failure = "particles.hydrodynamics: stokes_drag is the drag on an imposed flow; the shear cell solves its "
+                    "fluid column and applies coupling.drag — use lubrication and/or stresslet";
       return out;
     }
     const auto start = std::chrono::steady_clock::now();
@@ -123,6 +140,15 @@ class ShearCellRunner {
                                     (std::isfinite(inertia) ? inertia * inertia : 0.0));
     out.torque = plate_torque(study.curve, r_.geometry.radius, rate);
     out.torque_creeping = out.torque;
+    // Parts of the torque: the stress fractions of the simulated rate nearest to this one.
+    const Measured& nearest = study.nearest(rate);
+    if (std::isfinite(out.torque) && nearest.stress != 0.0) {
+      out.torque_fluid = out.torque * nearest.fluid / nearest.stress;
+      out.torque_contact = out.torque * nearest.contact / nearest.stress;
+      out.torque_lubrication = out.torque * nearest.lubrication / nearest.stress;
+      out.torque_stresslet = out.torque * nearest.stresslet / nearest.stress;
+      out.torque_couple = out.torque * nearest.couple / nearest.stress;
+    }
     // A cell run that did not meet the steady-state tolerance within its maximum strain still has
     // a last-window mean ± standard error, which the estimated error carries; the point keeps it.
     out.converged = std::isfinite(out.torque) && std::isfinite(out.estimated_error);
@@ -130,7 +156,8 @@ class ShearCellRunner {
     const auto groups = dimensionless_groups(r_, fluid, *r_.particles, rate);
     out.model_reason = fmt::format(
         "{}; this rate: Re_gap {:.3g}, Re_p {:.3g}, St {:.3g}, Bn {:.3g}, μγ̇/E* {:.2g} (softened: {:.2g}){}, liquid "
-        "inertia effect {:.2g} %",
+        "inertia effect {:.2g} %; cell at {:g} 1/s: wall stress {:.4g} Pa = fluid {:.3g} + contact {:.3g} + "
+        "lubrication {:.3g} + stresslet {:.3g} + couple {:.3g}, bulk stress from the particle virial {:.4g} Pa ({:+.2g} %)",
         study.all_converged ? study.summary
                             : study.summary + " (not every cell run met the steady-state tolerance within its "
                                               "maximum strain: last-window means used)",
@@ -140,7 +167,8 @@ class ShearCellRunner {
                                   study.curve.shear_rate.end()
             ? " (from the linear shortcut, not simulated)"
             : "",
-        100.0 * inertia);
+        100.0 * inertia, nearest.rate, nearest.stress, nearest.fluid, nearest.contact, nearest.lubrication,
+        nearest.stresslet, nearest.couple, nearest.bulk, 100.0 * (nearest.bulk / nearest.stress - 1.0));
     out.iterations = fresh ? study.cell_runs : 0;
     out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (fresh) {
@@ -148,15 +176,12 @@ class ShearCellRunner {
       out.cost_void_fraction = study.cost.void_fraction;
       out.cost_forces = study.cost.forces;
       out.cost_fluid = study.cost.fluid;
+      out.cost_near_field = study.cost.near_field;
     }
     return out;
   }
 
  private:
-  struct Measured {
-    double stress = 0, error = 0;
-    bool converged = false;
-  };
 
   Measured cell(double phi, double rate, double softening, double length, const std::string& tag, PhiStudy& study,
                 const PointProgressCallback& progress, int axial_cells = 0) {
@@ -174,6 +199,9 @@ class ShearCellRunner {
     s.coupling_interval = std::max(1, static_cast<int>(std::lround(options_.fluid_time_step / dt)));
     s.steady = options_.steady;
     s.run_directory = work_ / fmt::format("cell_phi{:g}", phi) / tag;
+    if (s.particles.hydrodynamics.any())
+      s.near_field = coupling::make_near_field_model(coupling::near_field_settings(s.particles.hydrodynamics),
+                                                     s.fluid.rheology);
     fs::create_directories(s.run_directory);
     const auto p = coupling::run_shear_cell_point(s);
     ++study.cell_runs;
@@ -182,8 +210,11 @@ class ShearCellRunner {
     study.cost.void_fraction += p.cost.void_fraction;
     study.cost.forces += p.cost.forces;
     study.cost.fluid += p.cost.fluid;
+    study.cost.near_field += p.cost.near_field;
     if (progress) progress({p.strain, std::numeric_limits<double>::quiet_NaN()});
-    return {p.stress, p.stress_error, p.converged};
+    return {.rate = rate, .stress = p.stress, .error = p.stress_error, .fluid = p.stress_fluid,
+            .contact = p.stress_contact, .lubrication = p.stress_lubrication, .stresslet = p.stress_stresslet,
+            .couple = p.stress_couple, .bulk = p.bulk_stress, .converged = p.converged};
   }
 
   // The change between two measurements, and whether it passes: within the tolerance, or within
@@ -267,6 +298,7 @@ class ShearCellRunner {
     }
     if (!study.curve.linear)
       for (const double rate : rates) measure(rate);
+    study.measured = measured;
     for (const auto& [rate, m] : measured) {
       study.curve.shear_rate.push_back(rate);
       study.curve.stress.push_back(m.stress);
@@ -384,12 +416,6 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
       "full disk ≈ {:.3g} h per point (DEM alone), shear cell ≈ {:.2g} s per run and ≈ {:.2g} s for this φ's study",
       disk.wall_time / 3600.0, cell, study);
   std::string unfit;
-  if (p.hydrodynamics.any())
-    return {Model::full_disk,
-            fmt::format("auto: full disk because of particles.hydrodynamics (near-field models are not plugged "
-                        "into the shear cell yet); {}",
-                        costs),
-            study};
   if (p.size_distribution.type != core::SizeDistribution::Type::none)
     unfit = "a size distribution (the cell is monodisperse)";
   else if (r.geometry.radius < 10.0 * r.geometry.gap)

@@ -49,11 +49,15 @@ const core::NamedFluid& fluid_named(const core::RheometerCase& r, const std::str
 struct NumberField {
   const char* name;
   double PointResult::*member;
+  bool since_issue_9 = false;  // absent in points stored before: NaN when loaded
 };
 constexpr NumberField number_fields[] = {
     {"torque", &PointResult::torque},
     {"torque_fluid", &PointResult::torque_fluid},
     {"torque_contact", &PointResult::torque_contact},
+    {"torque_lubrication", &PointResult::torque_lubrication, true},
+    {"torque_stresslet", &PointResult::torque_stresslet, true},
+    {"torque_couple", &PointResult::torque_couple, true},
     {"torque_std_error", &PointResult::torque_std_error},
     {"torque_creeping", &PointResult::torque_creeping},
     {"torque_analytic", &PointResult::torque_analytic},
@@ -63,6 +67,7 @@ constexpr NumberField number_fields[] = {
     {"cost_void_fraction", &PointResult::cost_void_fraction},
     {"cost_forces", &PointResult::cost_forces},
     {"cost_fluid", &PointResult::cost_fluid},
+    {"cost_near_field", &PointResult::cost_near_field, true},
 };
 
 nlohmann::ordered_json finite_or_null(double x) {
@@ -145,7 +150,9 @@ SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, do
   e.dem_steps = max_strain / (rim_shear_rate * dem_step);
   constexpr double particle_steps_per_second = 1.5e7;  // one core, CD §4 scene (docs/performance.md)
   constexpr double coupling_overhead = 1.2;            // void fraction + forces + fluid, measured 5–17 %
-  e.wall_time = e.particles * e.dem_steps / particle_steps_per_second * coupling_overhead;
+  // Near field: about ×10 the DEM time per step with the seed's particles (docs/performance.md).
+  const double near_field = p.hydrodynamics.any() ? 10.0 : 1.0;
+  e.wall_time = e.particles * e.dem_steps / particle_steps_per_second * coupling_overhead * near_field;
   return e;
 }
 
@@ -181,7 +188,10 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
   return [r = rheometer, work = std::move(work_dir), budget_seconds](const SweepPoint& point,
                                                                      const PointProgressCallback& progress) {
     PointResult out;
-    out.method = "CFD-DEM (transient 3D fluid + LIGGGHTS, Di Felice drag), steady over a strain window";
+    out.method = r.particles && r.particles->hydrodynamics.any()
+                     ? "CFD-DEM (transient 3D fluid + LIGGGHTS, Di Felice drag) with near-field hydrodynamics, "
+                       "steady over a strain window"
+                     : "CFD-DEM (transient 3D fluid + LIGGGHTS, Di Felice drag), steady over a strain window";
     if (!r.particles) {
       out.failure = fmt::format("φ = {:g} needs a particles: section (diameter, density, contact properties)",
                                 point.volume_fraction);
@@ -218,20 +228,34 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
       out.torque = p.torque;
       out.torque_fluid = p.torque_fluid;
       out.torque_contact = p.torque_contact;
+      if (s.particles.hydrodynamics.any()) {
+        out.torque_lubrication = p.torque_lubrication;
+        out.torque_stresslet = p.torque_stresslet;
+        out.torque_couple = p.torque_couple;
+      }
       out.torque_std_error = p.torque_error;
       out.strain = p.strain;
       out.iterations = static_cast<int>(p.cost.steps);
       out.wall_time = p.wall_time;
       if (progress) progress({p.strain, p.strain});
-      std::vector<double> time, fluid, contact;
+      std::vector<double> time, fluid, contact, lubrication, stresslet, couple;
       for (const auto& rec : p.series) {
         time.push_back(rec.time);
         fluid.push_back(rec.fluid_torque);
         contact.push_back(rec.contact_torque);
+        lubrication.push_back(rec.lubrication_torque);
+        stresslet.push_back(rec.stresslet_torque);
+        couple.push_back(rec.couple_torque);
       }
       out.fields.push_back(field("time", {time.size()}, time, "s"));
       out.fields.push_back(field("torque_fluid", {fluid.size()}, fluid, "N m"));
       out.fields.push_back(field("torque_contact", {contact.size()}, contact, "N m"));
+      if (s.particles.hydrodynamics.any()) {
+        out.fields.push_back(field("torque_lubrication", {lubrication.size()}, lubrication, "N m"));
+        out.fields.push_back(field("torque_stresslet", {stresslet.size()}, stresslet, "N m"));
+        out.fields.push_back(field("torque_couple", {couple.size()}, couple, "N m"));
+        out.cost_near_field = p.cost.near_field;
+      }
       out.cost_dem = p.cost.dem;
       out.cost_void_fraction = p.cost.void_fraction;
       out.cost_forces = p.cost.forces;
@@ -332,7 +356,8 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
   if (const auto it = a.find("estimated_error"); it != a.end() && std::holds_alternative<double>(it->second))
     r.estimated_error = std::get<double>(it->second);
   r.iterations = static_cast<int>(number("iterations"));
-  for (const auto& f : number_fields) r.*(f.member) = number(f.name);
+  for (const auto& f : number_fields)
+    r.*(f.member) = f.since_issue_9 && !a.contains(f.name) ? nan : number(f.name);
   return r;
 }
 
@@ -439,6 +464,11 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
       p["torque"] = res.torque;
       p["torque_fluid"] = finite_or_null(res.torque_fluid);
       p["torque_contact"] = finite_or_null(res.torque_contact);
+      if (std::isfinite(res.torque_lubrication) || std::isfinite(res.torque_stresslet)) {
+        p["torque_lubrication"] = finite_or_null(res.torque_lubrication);
+        p["torque_stresslet"] = finite_or_null(res.torque_stresslet);
+        p["torque_couple"] = finite_or_null(res.torque_couple);
+      }
       p["torque_std_error"] = finite_or_null(res.torque_std_error);
       p["torque_creeping"] = finite_or_null(res.torque_creeping);
       if (std::isfinite(res.torque_analytic)) {
@@ -460,6 +490,7 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
         const double overhead = res.cost_dem > 0 ? (res.cost_void_fraction + res.cost_forces) / res.cost_dem : 0.0;
         p["cost"] = {{"dem", res.cost_dem}, {"void_fraction", res.cost_void_fraction}, {"forces", res.cost_forces},
                      {"fluid", res.cost_fluid}, {"coupling_overhead", overhead}};
+        if (std::isfinite(res.cost_near_field)) p["cost"]["near_field"] = res.cost_near_field;
       }
       p["converged"] = true;
       json_points.push_back(p);

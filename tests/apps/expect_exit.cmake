@@ -1,6 +1,9 @@
 # Runs COMMAND (a ;-list) and checks its exit code and that its output matches every regex
 # in PATTERNS (a ;-list). Used for command-line tests: exit codes 0/1/2 and the messages.
 separate_arguments(command NATIVE_COMMAND "${COMMAND}")
+if(CLEAN)  # an output folder from an earlier run would be resumed, not recomputed
+  file(REMOVE_RECURSE "${CLEAN}")
+endif()
 execute_process(COMMAND ${command} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err
                 WORKING_DIRECTORY "${WORKDIR}")
 set(all "${out}${err}")

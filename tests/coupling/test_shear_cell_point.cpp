@@ -1,7 +1,7 @@
 // coupling::run_shear_cell_point (issue 10 item 1): without particles the fluid column is plane
 // Couette flow, so the wall stress is exactly μ(γ̇) γ̇ for any generalized-Newtonian law and the
-// same on both plates; settings are checked; a near-field model is refused until its per-step
-// hook exists; the near-field scene describes the box.
+// same on both plates; settings are checked; a near-field model runs on every DEM step and its
+// plate load, stresslet and couple reach the wall stress; the near-field scene describes the box.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -67,22 +67,52 @@ TEST(ShearCellPoint, ChecksItsSettings) {
   EXPECT_THROW((void)run_shear_cell_point(s), std::invalid_argument);
 }
 
-class DummyNearField final : public NearFieldModel {
+// Adds nothing to the particles; puts a fixed load on the top plate and a fixed stresslet and
+// rotation torque into the bookkeeping, and counts its calls.
+class CountingNearField final : public NearFieldModel {
  public:
-  [[nodiscard]] std::string_view name() const override { return "dummy"; }
-  void evaluate(const ParticleSnapshot&, const NearFieldScene&, const AmbientFlow&, NearFieldResult&) const override {}
+  static constexpr double plate_load = -2e-9;   // x force on the top plate [N]
+  static constexpr double stresslet_xz = 3e-13;  // Σ S_xz [N·m]
+  static constexpr double torque_y = 4e-13;      // Σ T_y [N·m]
+  [[nodiscard]] std::string_view name() const override { return "counting"; }
+  void evaluate(const ParticleSnapshot& p, const NearFieldScene& scene, const AmbientFlow& ambient,
+                NearFieldResult& r) const override {
+    ++calls;
+    particles = p.size();
+    r.plate_forces.at(1)[0] += plate_load;
+    r.stresslet_sum[4] += stresslet_xz;
+    r.particle_stress[4] += stresslet_xz;
+    r.rotation_torque_sum[1] += torque_y;
+    plates = scene.plates.size();
+    // The column's ambient flow: Couette at the start, slope γ̇ in the middle of the gap.
+    middle_slope = ambient(Vector3{0.0, 0.0, 2.5e-4}).velocity_gradient[2];
+  }
   [[nodiscard]] double stable_time_step(const ParticleSnapshot&, double) const override { return INFINITY; }
+  mutable long calls = 0;
+  mutable std::size_t particles = 0, plates = 0;
+  mutable double middle_slope = 0.0;
 };
 
-TEST(ShearCellPoint, RefusesANearFieldModelUntilTheHookExists) {
-  auto s = settings(fluid("model: newtonian\nviscosity: 1.0e-3\n"), 10.0, 0.0);
-  s.near_field = std::make_shared<DummyNearField>();
-  try {
-    (void)run_shear_cell_point(s);
-    FAIL() << "expected std::invalid_argument";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("NEAR-FIELD PLUG-IN POINT"), std::string::npos);
-  }
+TEST(ShearCellPoint, NearFieldRunsOnEveryDemStepAndReachesTheWallStress) {
+  auto s = settings(fluid("model: newtonian\nviscosity: 1.0e-3\n"), 100.0, 0.1);
+  s.particles.youngs_modulus = 3e6;
+  s.coupling_interval = 4;
+  s.steady = {.strain_window = 0.1, .relative_tolerance = 1e-12, .min_strain = 0.2, .max_strain = 0.2};
+  const auto model = std::make_shared<CountingNearField>();
+  s.near_field = model;
+  const auto p = run_shear_cell_point(s);
+  fs::remove_all(s.run_directory);
+  const auto dem_steps = static_cast<long>(p.series.size()) * s.coupling_interval;
+  EXPECT_GE(model->calls, dem_steps);  // every step (plus LIGGGHTS' setup calls)
+  EXPECT_LE(model->calls, dem_steps + static_cast<long>(p.series.size()) + 1);
+  EXPECT_EQ(model->particles, static_cast<std::size_t>(p.particles));
+  EXPECT_EQ(model->plates, 2U);
+  EXPECT_NEAR(model->middle_slope, 100.0, 20.0);
+  const double area = s.cell_length * s.cell_width, volume = area * s.gap;
+  EXPECT_NEAR(p.stress_lubrication, -CountingNearField::plate_load / area, 1e-9);
+  EXPECT_NEAR(p.stress_stresslet, CountingNearField::stresslet_xz / volume, 1e-9);
+  EXPECT_NEAR(p.stress_couple, 0.5 * CountingNearField::torque_y / volume, 1e-9);
+  EXPECT_GT(p.cost.near_field, 0.0);
 }
 
 TEST(ShearCellPoint, NearFieldSceneDescribesTheBox) {

@@ -91,12 +91,12 @@ TEST(ShearCellModelChoice, CaseKeyAndAutomaticChoice) {
   EXPECT_NE(small_choice.reason.find("R/H"), std::string::npos) << small_choice.reason;
   EXPECT_EQ(to_string(Model::shear_cell), "shear_cell");
 
-  // Near-field hydrodynamics are not in the cell yet: auto keeps the disk whatever it costs.
+  // Near-field hydrodynamics run in the cell too (issue 9); both cost estimates grow with them.
   auto lubricated = seed();
   lubricated.particles->hydrodynamics.lubrication = true;
   const auto lubricated_choice = choose_suspension_model(lubricated, 0.3, 600);
-  EXPECT_EQ(lubricated_choice.model, Model::full_disk);
-  EXPECT_NE(lubricated_choice.reason.find("hydrodynamics"), std::string::npos);
+  EXPECT_EQ(lubricated_choice.model, Model::shear_cell);
+  EXPECT_GT(lubricated_choice.cell_study_seconds, 10.0 * choice.cell_study_seconds);
   // The study estimate that the dispatcher holds against --point-budget: seconds for the seed.
   EXPECT_GT(choice.cell_study_seconds, 0.0);
   EXPECT_LT(choice.cell_study_seconds, 600.0);

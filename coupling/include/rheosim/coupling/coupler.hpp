@@ -58,8 +58,9 @@ struct CostSplit {
   double void_fraction = 0.0;
   double forces = 0.0;   // interpolation, force models, exchange, handing forces to LIGGGHTS
   double fluid = 0.0;
+  double near_field = 0.0;  // near-field models inside the DEM steps (issue 9), not counted in dem
   std::int64_t steps = 0;
-  [[nodiscard]] double total() const { return dem + void_fraction + forces + fluid; }
+  [[nodiscard]] double total() const { return dem + void_fraction + forces + fluid + near_field; }
   // (void fraction + forces) / DEM: the coupling overhead issue 5 bounds by 25 %.
   [[nodiscard]] double coupling_overhead() const { return dem > 0.0 ? (void_fraction + forces) / dem : 0.0; }
 };
@@ -71,6 +72,16 @@ struct CouplingStepRecord {
   // Fluid torque transmitted to the bottom plate [N·m]; fluid_torque − bottom_fluid_torque is
   // what the fluid hands to the particles (and on to their contacts) at steady state.
   double bottom_fluid_torque = 0.0;
+  // Near-field parts (issue 9; 0 without particles.hydrodynamics), filled by run_point: plate
+  // lubrication on the top plate, and the torque the particle stresslets transmit,
+  // (1/H) Σ_p (x_p S_yz − y_p S_xz), which the fluid grid does not carry [N·m].
+  // The rotation couples' part −Σ (x T_x + y T_y) / (2H) (near_field.hpp), likewise.
+  double lubrication_torque = 0.0;
+  double stresslet_torque = 0.0;
+  double couple_torque = 0.0;
+  [[nodiscard]] double total_torque() const {
+    return fluid_torque + contact_torque + lubrication_torque + stresslet_torque + couple_torque;
+  }
 };
 
 struct CouplingStepReport {

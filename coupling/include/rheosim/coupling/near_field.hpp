@@ -93,8 +93,24 @@ struct NearFieldResult {
   // under the particle) plus Σ over particles of the stresslet S_p. Split for the bookkeeping:
   SymmetricTensor particle_stress{};     // lubrication_virial + stresslet_sum
   SymmetricTensor lubrication_virial{};  // pairs and plates
+  // The same, not symmetrised, force component first: [3a + b] = Σ −F_j,a (x_j − x_i)_b [N·m].
+  // A plate's momentum balance needs this one ([2] = force x, lever z in the shear cell); the
+  // symmetric part differs from it by the lubrication torques.
+  std::array<double, 9> lubrication_virial_full{};
   SymmetricTensor plate_virial{};        // the plates' part of lubrication_virial
   SymmetricTensor stresslet_sum{};
+  // Σ_p (x_p S_yz − y_p S_xz) [N·m²]: the stresslets' r σ_θz about the z axis. The fluid solvers
+  // do not receive the stresslet (it is a force dipole, no force on the particle), so a disk adds
+  // the torque it transmits, (1/H) ∫ r σ_θz dV = stresslet_axial_moment / H, to the plate torque.
+  double stresslet_axial_moment = 0.0;
+  // Σ_p of the single-particle rotation torques T_p = −8πμa³(Ω_p − ω∞) [N·m] and Σ_p (x_p T_x +
+  // y_p T_y) [N·m²]. Their reaction is a couple density c = −Σ T_p / V on the liquid, which the
+  // fluid solvers do not carry either; it makes the antisymmetric stress σ^A_jk = ½ ε_jkm c_m,
+  // so the plate reading gains σ^A_xz = ½ Σ T_y / V in the shear cell and
+  // (1/H) ∫ r σ^A_θz dV = −Σ (x T_x + y T_y) / (2H) on the disk (for spheres held still in
+  // simple shear this is the known +1.5φ of non-rotating spheres).
+  Vector3 rotation_torque_sum{};
+  double rotation_torque_radial_moment = 0.0;
   // Hydrodynamic near-field force [N] on each plate of the scene (NearFieldScene::plates
   // order) and its moment about the origin [N·m] (the plate torque for the disk is its z part).
   std::vector<Vector3> plate_forces;
@@ -158,8 +174,12 @@ class NearFieldStepHook {
     std::int64_t steps = 0;              // DEM steps averaged
     SymmetricTensor particle_stress{};   // step means of NearFieldResult's sums [N·m]
     SymmetricTensor lubrication_virial{};
+    std::array<double, 9> lubrication_virial_full{};
     SymmetricTensor plate_virial{};
     SymmetricTensor stresslet_sum{};
+    double stresslet_axial_moment = 0.0;  // [N·m²]
+    Vector3 rotation_torque_sum{};         // [N·m]
+    double rotation_torque_radial_moment = 0.0;  // [N·m²]
     std::vector<Vector3> plate_forces;   // [N]
     std::vector<Vector3> plate_moments;  // [N·m]
     double mean_lubricated_pairs = 0.0;

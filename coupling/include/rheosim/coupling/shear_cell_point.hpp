@@ -38,10 +38,20 @@
 // telescopes, so in a steady state the top and bottom plates carry the same total stress; the
 // validation checks this (tests/coupling/validate_shear_cell_point.cpp).
 //
-// Near-field hydrodynamics (issue 9): `near_field` is accepted and the scene description is
-// built by make_near_field_scene(), but the per-DEM-step evaluation needs the per-step DEM
-// callback of dem::Engine that issue 9 adds; see "NEAR-FIELD PLUG-IN POINT" in
-// shear_cell_point.cpp. Until then a non-null near_field is rejected with a clear error.
+// Near-field hydrodynamics (issue 9, `near_field`): the model runs on every DEM step through
+// NearFieldStepHook (implicit update) in the column's flow (u(z) and ∂u/∂z of the layers), with
+// make_near_field_scene()'s plates and periodic box. The wall stress is then fluid + contact +
+// plate lubrication + the stresslets' Σ S_xz / V + the rotation couples' ½ Σ T_y / V (near_field.hpp):
+// a force dipole and a couple that the column does not carry, added as the stress they transmit
+// (for a Newtonian column this is exact, since (1/H)∫μ∂u/∂z dz = μU/H whatever the profile).
+//
+// Stress cross-check (issue 9 item 3): every step also gives the bulk (Batchelor) stress of the
+// cell contents, (1/H)∫μ∂u/∂z dz + (1/V)[pair contact virial (LIGGGHTS) + plate contacts +
+// near-field virial (pairs and plates: force x times lever z, not symmetrised) + Σ −(z_p − z_layer)
+// F_p of the fluid forces] + the same stresslet and couple parts. Summing each body's x-momentum
+// balance times its height shows that at a steady state this equals the top-plate stress exactly
+// (LIGGGHTS' contact virial is the symmetric one, so tangential contact forces leave a small
+// difference); the validation compares the two.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -86,15 +96,28 @@ struct ShearCellStepRecord {
   double contact_top = 0.0;      // contact shear stress on the top plate (mean over the step) [Pa]
   double fluid_bottom = 0.0;     // on the bottom plate [Pa]
   double contact_bottom = 0.0;
+  double lubrication_top = 0.0;     // plate lubrication on the top plate [Pa] (near field)
+  double lubrication_bottom = 0.0;
+  double stresslet = 0.0;           // Σ S_xz / V [Pa] (near field)
+  double couple = 0.0;              // ½ Σ T_y / V of the rotation torques [Pa] (near field)
+  double bulk = 0.0;                // bulk stress from the virial [Pa] (see the header)
+  [[nodiscard]] double total_top() const { return fluid_top + contact_top + lubrication_top + stresslet + couple; }
 };
 
 struct ShearCellPoint {
   double shear_rate = 0.0;       // γ̇ [1/s]
-  double stress = 0.0;           // top-plate total shear stress, mean over the last window [Pa]
+  // Top-plate total shear stress [Pa]: mean over the detector's last window when steady, else
+  // over the second half of the run (5 batch means give the error); the parts use the same span.
+  double stress = 0.0;
   double stress_error = 0.0;     // its standard error [Pa]
   double stress_fluid = 0.0;     // fluid part [Pa]
   double stress_contact = 0.0;   // contact part [Pa]
+  double stress_lubrication = 0.0;  // plate lubrication part [Pa]
+  double stress_stresslet = 0.0;    // stresslet part [Pa]
+  double stress_couple = 0.0;       // rotation-couple part [Pa]
   double bottom_stress = 0.0;    // bottom plate total, same window [Pa]
+  double bulk_stress = 0.0;      // bulk stress from the particle virial, same window [Pa]
+  int max_near_field_iterations = 0;
   bool converged = false;
   double strain = 0.0;
   std::int64_t particles = 0;

@@ -15,6 +15,13 @@
 // φ = 0 runs the fluid alone on the same grid and time step (N × the DEM step the particles
 // would have), the same-grid reference for the suspension's torque increase (no LIGGGHTS).
 //
+// Near-field hydrodynamics (issue 9, particles.hydrodynamics): the model runs on every DEM step
+// through coupling::NearFieldStepHook (implicit, see near_field.hpp) with the solved fluid as the
+// ambient flow (per cell: the velocity gradient of the cell-centred velocities, with the
+// cylindrical metric terms, in Cartesian components at the particle). The plate torque is then
+// fluid + contact + plate lubrication + what the stresslets and the particles' rotation couples
+// transmit through the liquid (the grid does not carry them; near_field.hpp), each reported.
+//
 // The fluid starts from the creeping Couette profile u_θ = Ω r z/H (the steady single-phase
 // state), the particles from the scene's placement at rest.
 #include <cstdint>
@@ -85,6 +92,10 @@ struct SuspensionPoint {
   double torque_error = 0.0;      // its standard error [N·m]
   double torque_fluid = 0.0;      // mean fluid part [N·m]
   double torque_contact = 0.0;    // mean contact part [N·m]
+  double torque_lubrication = 0.0;  // mean plate lubrication part [N·m] (near field)
+  double torque_stresslet = 0.0;    // mean stresslet part [N·m] (near field)
+  double torque_couple = 0.0;       // mean rotation-couple part [N·m] (near field)
+  int max_near_field_iterations = 0;  // conjugate-gradient iterations of the implicit near field
   double bottom_torque_fluid = 0.0;  // mean fluid torque on the bottom plate [N·m]
   bool converged = false;
   double strain = 0.0;            // γ̇_R t at the end

@@ -71,11 +71,10 @@ struct ModelChoice {
 };
 // Estimated one-core wall time [s] of the cell's study of one φ (stiffness pair at E/10³, every
 // rate at E/10⁴, cell L₀, to the detector's max strain; ~3e6 particle-steps/s measured with the
-// coupling) — an upper-side estimate used against --point-budget.
+// coupling; ×20 with particles.hydrodynamics) — an upper-side estimate used against --point-budget.
 [[nodiscard]] double estimate_shear_cell_study_cost(const core::RheometerCase& rheometer, double volume_fraction);
 [[nodiscard]] std::string_view to_string(core::RheometerCase::SuspensionModel model);
-// The case's `model:`; for auto: always the full disk with particles.hydrodynamics (not yet
-// plugged into the cell); the full disk when the cell cannot represent the case (a size
+// The case's `model:`; for auto: the full disk when the cell cannot represent the case (a size
 // distribution; R < 10 H, where the rim region matters; gap Reynolds number > 1 at the highest
 // rate, where the disk's secondary flow matters) and the disk point fits the budget, or when
 // the disk is cheaper; else the cell. The reason carries both cost estimates.

@@ -67,6 +67,11 @@ struct PointResult {
   double torque = std::numeric_limits<double>::quiet_NaN();            // on the top plate [N·m]
   double torque_fluid = std::numeric_limits<double>::quiet_NaN();      // fluid part [N·m]
   double torque_contact = std::numeric_limits<double>::quiet_NaN();    // particle contacts [N·m]
+  // Near-field parts (issue 9): plate lubrication, and the torque the stresslets and the
+  // particles' rotation couples transmit through the liquid [N·m].
+  double torque_lubrication = std::numeric_limits<double>::quiet_NaN();
+  double torque_stresslet = std::numeric_limits<double>::quiet_NaN();
+  double torque_couple = std::numeric_limits<double>::quiet_NaN();
   double torque_std_error = std::numeric_limits<double>::quiet_NaN();  // steady-state error bar [N·m]
   double torque_creeping = std::numeric_limits<double>::quiet_NaN();   // inertia switched off [N·m]
   double torque_analytic = std::numeric_limits<double>::quiet_NaN();   // closed form, when one exists
@@ -76,6 +81,7 @@ struct PointResult {
   double cost_void_fraction = std::numeric_limits<double>::quiet_NaN();
   double cost_forces = std::numeric_limits<double>::quiet_NaN();
   double cost_fluid = std::numeric_limits<double>::quiet_NaN();
+  double cost_near_field = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;   // nonlinear iterations or time steps
   double wall_time = 0; // [s]
   // Which scene computed it (issue 10): "swirl", "full_disk" or "shear_cell", why, and the
