@@ -215,7 +215,49 @@ std::array<double, 2> read_pair(const Section& s, const KeyInfo& key) {
   return {v[0], v[1]};
 }
 
-LddCase read_ldd(const Section& root) {
+LddWall read_wall(const Section& w, int dimension, const std::filesystem::path& case_dir) {
+  LddWall out;
+  const auto d = static_cast<std::size_t>(dimension);
+  out.type = w.choice({"type", "wall type", "-"}, {"plane", "box", "cylinder", "stl"});
+  if ((out.type == "cylinder" || out.type == "stl") && dimension != 3)
+    w.fail("type", fmt::format("a {} wall is 3D, the case is {}D", out.type, dimension), "dimension: 3 or a plane/box wall");
+  if (out.type != "plane")
+    out.fluid_inside = w.choice_or({"fluid", "which side of the wall the fluid is on", "-"}, "inside",
+                                   {"inside", "outside"}) == "inside";
+  if (out.type == "plane") {
+    out.point = w.numbers({"point", "a point on the plane", "m"}, Range::any(), d, d);
+    out.normal = w.numbers({"normal", "plane normal, pointing into the fluid", "-"}, Range::any(), d, d);
+    double length = 0;
+    for (double v : out.normal) length += v * v;
+    if (!(length > 1e-24)) w.fail("normal", "the plane normal is zero", "a non-zero vector");
+  } else if (out.type == "box") {
+    out.lower = w.numbers({"lower", "box corner with the smallest coordinates", "m"}, Range::any(), d, d);
+    out.upper = w.numbers({"upper", "box corner with the largest coordinates", "m"}, Range::any(), d, d);
+    for (std::size_t k = 0; k < d; ++k)
+      if (!(out.upper[k] > out.lower[k]))
+        w.fail("upper", fmt::format("upper[{}] = {} m is not above lower[{}] = {} m", k, out.upper[k], k, out.lower[k]),
+               "upper > lower in every coordinate");
+  } else if (out.type == "cylinder") {
+    out.base = w.numbers({"base", "centre of the bottom cap", "m"}, Range::any(), 3, 3);
+    out.axis = w.numbers_or({"axis", "axis direction (bottom to top)", "-"}, {0.0, 0.0, 1.0}, Range::any(), 3, 3);
+    double length = 0;
+    for (double v : out.axis) length += v * v;
+    if (!(length > 1e-24)) w.fail("axis", "the cylinder axis is zero", "a non-zero vector");
+    out.radius = w.number({"radius", "cylinder radius", "m"}, Range::positive());
+    out.height = w.number({"height", "cylinder height along the axis", "m"}, Range::positive());
+  } else {
+    const std::string file = w.text({"file", "STL file (ASCII or binary), relative to the case file", "-"});
+    const std::filesystem::path path = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : case_dir / file;
+    if (!std::filesystem::is_regular_file(path))
+      w.fail("file", fmt::format("STL file '{}' does not exist", path.string()), "an existing STL file",
+             "paths are relative to the case file's directory");
+    out.file = path.string();
+    out.scale = w.number_or({"scale", "metres per STL length unit", "m"}, out.scale, Range::positive());
+  }
+  return out;
+}
+
+LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
   LddCase out;
   out.dimension = root.integer({"dimension", "spatial dimension", "-"}, 2, 3);
   const Section scene = root.section({"scene", "the LDD scene", "-"});
@@ -254,6 +296,9 @@ LddCase read_ldd(const Section& root) {
                 fmt::format("a top diameter < {} m", s.cone_bottom_diameter));
     s.lift_velocity = scene.number({"lift_velocity", "mould lift speed", "m/s"}, Range::positive());
     out.scene = s;
+    if (scene.has("walls"))
+      for (const Section& w : scene.sections({"walls", "extra solid walls (plane, box, cylinder, stl)", "-"}))
+        out.walls.push_back(read_wall(w, out.dimension, case_dir));
   } else {
     ColumnScene c;
     c.size = read_pair(scene, {"size", "column width and height", "m"});
@@ -287,6 +332,9 @@ LddCase read_ldd(const Section& root) {
                                 {"lattice", "density"});
     v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"},
                                  v.max_courant, Range::open_closed(0.0, 100.0));
+    v.pbd_sweeps = s->integer_or({"pbd_sweeps", "free surface: volume-keeping PBD sweeps per step", "-"}, v.pbd_sweeps, 0, 100);
+    v.moment_rcond = s->number_or({"moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
+                                  v.moment_rcond, Range::open(0.0, 1.0));
   }
   if (const auto o = root.optional_section({"output", "LDD output settings", "-"})) {
     out.output.frame_interval = o->number_or({"frame_interval", "time between VTK frames (0: end/20)", "s"},
@@ -322,7 +370,7 @@ Case parse_case(std::string_view text, const std::string& name) {
   else if (kind == "sweep")
     out.spec = read_sweep(root);
   else
-    out.spec = read_ldd(root);
+    out.spec = read_ldd(root, std::filesystem::path(name).parent_path());
   doc.check_all_keys_known();
   return out;
 }

@@ -160,6 +160,8 @@ void FreeSurfaceParams::check() const {
   require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
   require(surface_offset > 0 && surface_offset < 1, "surface_offset", surface_offset, "(0, 1)");
   require(surface_count > 0 && surface_count < 1, "surface_count", surface_count, "(0, 1)");
+  require(min_moment_rcond > 0 && min_moment_rcond < 1, "min_moment_rcond", min_moment_rcond, "(0, 1)");
+  require(surface_fluid_weight >= 0 && surface_fluid_weight < 1, "surface_fluid_weight", surface_fluid_weight, "[0, 1)");
   require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle, "(0, 90) degrees");
   require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
   require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
@@ -280,6 +282,7 @@ void FreeSurfaceSolver::classify() {
   const double h2 = support_radius_ * support_radius_, r2 = search_radius_ * search_radius_;
   const double offset_limit = params_.surface_offset * params_.spacing;
   const double count_limit = params_.surface_count * rest_count_;
+  const double weight_limit = params_.surface_fluid_weight * (rest_density_ - weight(0.0, support_radius_));
   const std::size_t splash_limit = dim + 1;
   // 3D clouds leave wider empty cones near curved walls (64 probes, 26 lattice neighbours), so
   // the 3D half-angle is 15° wider.
@@ -295,6 +298,7 @@ void FreeSurfaceSolver::classify() {
     double centroid[3] = {0, 0, 0};
     double wall_normals[3][3] = {};  // distinct normals of the wall nodes nearby (up to 3)
     std::size_t walls_near = 0, within_search = 0, within_support = 0, fluid_within = 0;
+    double fluid_weight = 0;  // Σ W_ij over fluid neighbours: what the PPE row actually couples to
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
       const double r = squared_distance(&positions_[dim * i], &positions_[dim * j], dim);
@@ -309,6 +313,7 @@ void FreeSurfaceSolver::classify() {
       }
       if (is_fluid(j)) {
         ++fluid_within;
+        fluid_weight += weight(std::sqrt(r), support_radius_);
         for (std::size_t d = 0; d < dim; ++d) centroid[d] += positions_[dim * j + d] - positions_[dim * i + d];
         continue;
       }
@@ -375,7 +380,17 @@ void FreeSurfaceSolver::classify() {
       }
       empty_cone = !covered;
     }
-    const bool surface = empty_cone || offset > offset_limit || static_cast<double>(within_search) < count_limit;
+    // Fluid support: wall pressures are extrapolated from the fluid (the PPE's wall rows), so a
+    // node whose kernel sees mostly wall nodes has no pressure level of its own — as interior it
+    // formed a floating block with its walls (the slump cake's edge reached 9·10⁶ Pa, docs/ldd.md).
+    // Degenerate stencil: the moment matrix (eq. 13) needed its pseudo-inverse, i.e. the
+    // neighbours do not span all directions — the node is at an edge of the fluid. As interior its
+    // gradient along the weak direction, amplified by 1/λ_min, drove the δt = 1e-3 slump's
+    // pressure correction to 40 m/s in one step (docs/ldd.md).
+    const bool degenerate = operators_.guarded.size() == kinds_.size() && (operators_.guarded[i] & 1U) != 0;
+    const bool thin_support = fluid_weight < weight_limit || degenerate;
+    const bool surface = empty_cone || thin_support || offset > offset_limit ||
+                         static_cast<double>(within_search) < count_limit;
     kinds_[i] = surface ? FreeNode::surface : FreeNode::interior;
   }
   // Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
@@ -474,7 +489,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
 
   // 1. Operators (eqs. 13–16) and the free-surface classification.
   auto t0 = Clock::now();
-  operators_ = build_operators(positions_, dim_, nb, OperatorSettings{support_radius_});
+  operators_ = build_operators(positions_, dim_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond});
   keep_laplacian_positive();
   const Operators& ops = operators_;
   classify();

@@ -89,7 +89,7 @@ FreeSurfaceScene build_scene(const core::LddCase& l) {
     if (l.dimension != 2) throw core::RunError("the LDD dam_break scene is built in 2D only (dimension: 2)");
     return dam_break_scene(*d, l.spacing);
   }
-  if (const auto* s = std::get_if<core::SlumpScene>(&l.scene)) return slump_scene(*s, l.spacing);
+  if (const auto* s = std::get_if<core::SlumpScene>(&l.scene)) return slump_scene(*s, l.spacing, l.walls);
   if (const auto* c = std::get_if<core::ColumnScene>(&l.scene)) {
     if (l.dimension != 2) throw core::RunError("the LDD column scene is built in 2D only (dimension: 2)");
     return column_scene(*c, l.spacing);
@@ -112,6 +112,8 @@ FreeSurfaceParams free_surface_params(const core::LddCase& l) {
   p.velocity_tolerance = l.solver.velocity_tolerance;
   p.max_iterations = l.solver.max_iterations;
   p.max_courant = l.solver.max_courant;
+  p.pbd_iterations = l.solver.pbd_sweeps;
+  p.min_moment_rcond = l.solver.moment_rcond;
   return p;
 }
 

@@ -1,10 +1,14 @@
 #include "rheosim/ldd/scenes.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "rheosim/ldd/walls.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -58,7 +62,7 @@ FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacin
   return box_2d(x0, channel, rows + 4, 0, reservoir, rows, spacing);
 }
 
-FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing) {
+FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing, std::span<const core::LddWall> walls) {
   const double dx = spacing, height = scene.cone_height;
   const double rb = 0.5 * scene.cone_bottom_diameter, rt = 0.5 * scene.cone_top_diameter;
   cells_along(scene.cone_top_diameter, spacing, "cone top diameter");
@@ -101,7 +105,69 @@ FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing) {
         const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, z = (k + 0.5) * dx;
         if (std::hypot(x, y) <= rb - slope * z) s.cloud.add(std::vector<double>{x, y, z}, false, false, none, -1);
       }
+  if (!walls.empty()) {
+    const std::vector<double> lower{-floor_radius, -floor_radius, -dx}, upper{floor_radius, floor_radius, 2 * height};
+    add_walls(s, walls, dx, {0}, lower, upper);  // the floor (boundary 0) is fixed; the mould moves
+  }
   return s;
+}
+
+void add_walls(FreeSurfaceScene& s, std::span<const core::LddWall> walls, double spacing, std::vector<std::size_t> fixed,
+               std::span<const double> region_lower, std::span<const double> region_upper) {
+  const int dimension = s.cloud.dimension;
+  const auto dim = static_cast<std::size_t>(dimension);
+  const auto distance_to = [&](const Boundary& b, std::span<const double> x) {
+    double d = 0, normal[3] = {0, 0, 0};
+    return b.distance(x, 0.0, d, std::span<double>(normal, dim)) ? d : std::numeric_limits<double>::infinity();
+  };
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    BuiltWall built = make_wall(walls[w], dimension, spacing, region_lower, region_upper);
+    const Boundary& boundary = *built.boundary;
+    FreeSurfaceCloud kept;
+    kept.dimension = dimension;
+    for (std::size_t i = 0; i < s.cloud.size(); ++i) {
+      const std::span<const double> x(&s.cloud.positions[dim * i], dim);
+      if (!s.cloud.is_wall[i] && distance_to(boundary, x) < 0)
+        throw std::invalid_argument(fmt::format(
+            "LDD scene: fluid node at ({:.4g}, {:.4g}{}) lies behind wall {} ({}); the fluid must start on the walls' fluid side",
+            x[0], x[1], dim == 3 ? fmt::format(", {:.4g}", x[2]) : std::string(), w + 1, walls[w].type));
+      const int owner = s.cloud.boundary[i];
+      const bool fixed_wall = s.cloud.is_wall[i] && owner >= 0 &&
+                              std::find(fixed.begin(), fixed.end(), static_cast<std::size_t>(owner)) != fixed.end();
+      if (fixed_wall && distance_to(boundary, x) < -0.5 * spacing) continue;  // behind the new wall
+      kept.add(x, s.cloud.is_wall[i] != 0, s.cloud.is_corner[i] != 0, std::span<const double>(&s.cloud.normals[dim * i], dim),
+               owner);
+    }
+    s.cloud = std::move(kept);
+    const int index = static_cast<int>(s.boundaries.size());
+    // New nodes: not within Δ/2 of an existing wall node, not behind a fixed boundary. The
+    // proximity search scans the existing wall nodes sorted by x within a ±Δ/2 window.
+    std::vector<std::pair<double, std::size_t>> by_x;
+    for (std::size_t i = 0; i < s.cloud.size(); ++i)
+      if (s.cloud.is_wall[i]) by_x.emplace_back(s.cloud.positions[dim * i], i);
+    std::sort(by_x.begin(), by_x.end());
+    const double min_distance = 0.5 * spacing;
+    for (const WallNode& node : built.nodes) {
+      const std::span<const double> x(node.x.data(), dim);
+      bool behind = false;
+      for (std::size_t f : fixed) behind = behind || distance_to(*s.boundaries[f], x) < -0.5 * spacing;
+      if (behind) continue;
+      bool near = false;
+      const auto first = std::lower_bound(by_x.begin(), by_x.end(), std::make_pair(x[0] - min_distance, std::size_t{0}));
+      for (auto it = first; it != by_x.end() && it->first <= x[0] + min_distance && !near; ++it) {
+        double r2 = 0;
+        for (std::size_t d = 0; d < dim; ++d) {
+          const double delta = s.cloud.positions[dim * it->second + d] - x[d];
+          r2 += delta * delta;
+        }
+        near = r2 < min_distance * min_distance;
+      }
+      if (near) continue;
+      s.cloud.add(x, true, node.corner, std::span<const double>(node.normal.data(), dim), index);
+    }
+    s.boundaries.push_back(std::move(built.boundary));
+    fixed.push_back(static_cast<std::size_t>(index));
+  }
 }
 
 }  // namespace rheosim::ldd

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 
@@ -122,6 +123,34 @@ TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {
   EXPECT_LT(max_speed, 1e-3 * std::sqrt(g * height));  // noise level: 0.1 % of the wave speed
   EXPECT_LT(std::abs(s.fluid_volume() / volume0 - 1), 0.01);
   EXPECT_EQ(stats.splash_nodes, 0U);
+}
+
+// Criterion (4), the failure of the first coarse slump (docs/ldd.md): a node on the floor whose
+// kernel support (h = 1.6 Δ) holds only floor wall nodes, while fluid nodes at 1.75 Δ — inside the
+// 1.9 Δ detection radius, outside h — cover every upward direction and the floor normal removes
+// their centroid offset. Criteria (1)–(3) call it interior, and as interior its pressure had no
+// level of its own; with the fluid-support test it is on the surface.
+TEST(FreeSurface, NodeSupportedOnlyByWallNodesIsOnTheSurface) {
+  const double dx = 0.01;
+  const auto build = [&](double fluid_weight_limit) {
+    FreeSurfaceCloud cloud;
+    cloud.dimension = 2;
+    const std::vector<double> up{0.0, 1.0}, none{0.0, 0.0};
+    for (int i = -6; i < 6; ++i) cloud.add(std::vector<double>{(i + 0.5) * dx, -0.5 * dx}, true, false, up, 0);
+    cloud.add(std::vector<double>{0.0, 0.0}, false, false, none, -1);  // node 12: the lone node
+    for (int q = 0; q <= 6; ++q) {
+      const double angle = std::numbers::pi * q / 6;
+      cloud.add(std::vector<double>{1.75 * dx * std::cos(angle), 1.75 * dx * std::sin(angle)}, false, false, none, -1);
+    }
+    FreeSurfaceParams p = column_params(dx, 1e-3, 1.0);
+    p.surface_fluid_weight = fluid_weight_limit;
+    p.hydrostatic_start = false;
+    std::vector<std::shared_ptr<const Boundary>> walls{
+        std::make_shared<PlaneBoundary>(std::vector<double>{0.0, -0.5 * dx}, std::vector<double>{0.0, 1.0})};
+    return FreeSurfaceSolver(p, walls, cloud);
+  };
+  EXPECT_EQ(build(0.0).kinds()[12], FreeNode::interior);  // criteria (1)–(3) alone
+  EXPECT_EQ(build(0.1).kinds()[12], FreeNode::surface);
 }
 
 TEST(FreeSurface, SplashNodeFallsFreelyWithoutUpsettingThePressure) {

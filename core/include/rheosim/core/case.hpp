@@ -130,6 +130,20 @@ struct ColumnScene {                  // a resting column (hydrostatics)
 };
 using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScene>;
 
+// scene.walls: — extra solid walls of a 3D free-surface scene, one Boundary each, built by type
+// through the registry in ldd/walls.hpp. Box, cylinder and STL are closed solids; the fluid is
+// inside them (a container) or outside (an obstacle).
+struct LddWall {
+  std::string type;                    // plane | box | cylinder | stl
+  bool fluid_inside = true;            // box, cylinder, stl
+  std::vector<double> point, normal;   // plane: a point on it [m], normal pointing into the fluid
+  std::vector<double> lower, upper;    // box: opposite corners [m]
+  std::vector<double> base, axis;      // cylinder: centre of the bottom cap [m], axis direction
+  double radius = 0, height = 0;       // cylinder [m]
+  std::string file;                    // stl: path, resolved against the case file's directory
+  double scale = 1;                    // stl: metres per file unit
+};
+
 // solver: — numerical settings of the LDD solver (all optional; ldd/solver.hpp documents them).
 struct LddSolverSettings {
   int threads = 0;                      // OpenMP threads; 0: OMP_NUM_THREADS or all cores
@@ -138,6 +152,8 @@ struct LddSolverSettings {
   int max_iterations = 2000;            // per linear solve
   std::string reordering = "lattice";   // lattice | density (experimental)
   double max_courant = 1.0;             // stop (diverged) when max|u|δt/Δ exceeds this
+  int pbd_sweeps = 3;                   // free-surface scenes: volume-keeping PBD sweeps per step
+  double moment_rcond = 1e-3;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
 };
 
 // output: — what a run writes and how often (all optional).
@@ -159,6 +175,7 @@ struct LddCase {  // kind: ldd
   double steady_tolerance = 0;        // stop when the centre-line residual drops below; 0: never
   LddSolverSettings solver;
   LddOutputSettings output;
+  std::vector<LddWall> walls;         // scene.walls (slump only so far)
 };
 
 // ---------------------------------------------------------------------------- the case

@@ -11,8 +11,10 @@
 //   dam_break  2D: reservoir [length L, height H] from x = −L to the gate at x = 0, removed at
 //              t = 0; channel floor to x = channel_length − L, closed by walls at both ends.
 //   slump      3D: the Abrams cone (bottom diameter D₀ on the floor z = 0, top d₀ at H₀) filled,
-//              the mould lifted at lift_velocity from t = 0; floor disc radius D₀/2 + 1.2 H₀.
+//              the mould lifted at lift_velocity from t = 0; floor disc radius D₀/2 + 1.2 H₀;
+//              optional extra walls (a cylindrical container, an STL surface; walls.hpp).
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "rheosim/core/case.hpp"
@@ -28,6 +30,16 @@ struct FreeSurfaceScene {
 // Throws std::invalid_argument when the spacing leaves fewer than 4 cells across the fluid.
 [[nodiscard]] FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing);
 [[nodiscard]] FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacing);
-[[nodiscard]] FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing);
+// `walls` (scene.walls of the case): extra walls built through make_wall() (walls.hpp); floor
+// nodes behind them are removed, and the cone must lie on their fluid side.
+[[nodiscard]] FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing,
+                                           std::span<const core::LddWall> walls = {});
+// Adds walls to a scene: each wall's Boundary, and its wall nodes except those within Δ/2 of a
+// node already there or more than Δ/2 behind one of `fixed` boundaries (indices into
+// scene.boundaries); existing wall nodes of `fixed` boundaries more than Δ/2 behind a new wall
+// are removed. Throws std::invalid_argument when a fluid node lies behind a new wall.
+void add_walls(FreeSurfaceScene& scene, std::span<const core::LddWall> walls, double spacing,
+               std::vector<std::size_t> fixed, std::span<const double> region_lower,
+               std::span<const double> region_upper);
 
 }  // namespace rheosim::ldd
