@@ -153,7 +153,7 @@ double env_or(const char* name, double fallback) {
 
 // Study (not run by make test): one coupled shear-cell point with the near field at the seed's
 // particles softened by RHEOSIM_NF_SOFTENING, φ = RHEOSIM_NF_PHI, cell RHEOSIM_NF_CELL m,
-// RHEOSIM_NF_STRAIN strain units, printing the stress parts and the running stress per strain unit.
+// RHEOSIM_NF_STRAIN strain units, lubrication cutoff RHEOSIM_NF_CUTOFF (h_c/ā), printing the stress parts and the running stress per strain unit.
 TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   ShearCellPointSettings s;
   s.gap = 5e-4;
@@ -168,7 +168,9 @@ TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   s.axial_cells = 2;
   const double strain = env_or("RHEOSIM_NF_STRAIN", 20.0);
   s.steady = {.strain_window = 2.0, .relative_tolerance = 1e-9, .min_strain = strain, .max_strain = strain};
-  s.near_field = make_near_field_model(near_field_settings(lubrication_and_stresslet()), s.fluid.rheology);
+  auto hydrodynamics = lubrication_and_stresslet();
+  hydrodynamics.lubrication_cutoff = env_or("RHEOSIM_NF_CUTOFF", hydrodynamics.lubrication_cutoff);
+  s.near_field = make_near_field_model(near_field_settings(hydrodynamics), s.fluid.rheology);
   s.run_directory = fs::temp_directory_path() / fmt::format("rheosim_study_nf_cell_{}", ::getpid());
   const auto p = run_shear_cell_point(s);
   fs::remove_all(s.run_directory);
