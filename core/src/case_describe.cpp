@@ -80,6 +80,16 @@ struct SceneDescriber {
   }
 };
 
+std::string describe_wall(const LddWall& w) {
+  const char* side = w.fluid_inside ? "fluid inside" : "fluid outside";
+  if (w.type == "plane") return fmt::format("  wall: plane through {} m, normal {}\n", list(w.point), list(w.normal));
+  if (w.type == "box") return fmt::format("  wall: box {} … {} m, {}\n", list(w.lower), list(w.upper), side);
+  if (w.type == "cylinder")
+    return fmt::format("  wall: cylinder base {} m, axis {}, radius {} m, height {} m, {}\n", list(w.base),
+                       list(w.axis), w.radius, w.height, side);
+  return fmt::format("  wall: {} {} (scale {} m per unit), {}\n", w.type, w.file, w.scale, side);
+}
+
 }  // namespace
 
 std::string describe(const Case& c) {
@@ -95,6 +105,7 @@ std::string describe(const Case& c) {
     const auto& l = std::get<LddCase>(c.spec);
     out += fmt::format("  LDD {}D {} scene\n", l.dimension, l.scene_type);
     out += std::visit(SceneDescriber{}, l.scene);
+    for (const LddWall& w : l.walls) out += describe_wall(w);
     out += describe_fluid(l.fluid);
     out += fmt::format("  gravity: {} m/s²\n  spacing Δ {} m, h/Δ {}\n  time step {} s, end {} s ({} steps)\n",
                        list(l.gravity), l.spacing, l.smoothing_ratio, l.time_step, l.end_time,
@@ -103,6 +114,9 @@ std::string describe(const Case& c) {
     out += fmt::format("  solver: {} reordering, PPE tolerance {}, velocity tolerance {}, threads {}\n",
                        l.solver.reordering, l.solver.pressure_tolerance, l.solver.velocity_tolerance,
                        l.solver.threads == 0 ? std::string("default") : std::to_string(l.solver.threads));
+    if (!std::holds_alternative<CavityScene>(l.scene))
+      out += fmt::format("  free surface: {} PBD sweeps per step, moment-matrix rcond {}\n", l.solver.pbd_sweeps,
+                         l.solver.moment_rcond);
   }
   return out;
 }

@@ -254,6 +254,18 @@ TEST(WallCaseFile, BadEntriesNameLineKeyAndRange) {
   EXPECT_EQ(message("    - {type: cylinder, base: [0, 0, 0], radius: 0.07, height: 0.15}\n"), "no error");
 }
 
+// `rheosim validate` shows the walls and the free-surface solver settings it read.
+TEST(WallCaseFile, DescribeListsTheWalls) {
+  const auto c = core::parse_case(slump_case("    - {type: cylinder, base: [0, 0, 0], radius: 0.07, height: 0.15}\n"
+                                             "    - {type: box, lower: [-1, -1, 0], upper: [1, 1, 1]}\n"),
+                                  "walls.yaml");
+  const std::string text = core::describe(c);
+  EXPECT_NE(text.find("wall: cylinder base [0, 0, 0] m"), std::string::npos) << text;
+  EXPECT_NE(text.find("radius 0.07 m, height 0.15 m, fluid inside"), std::string::npos) << text;
+  EXPECT_NE(text.find("wall: box"), std::string::npos) << text;
+  EXPECT_NE(text.find("6 PBD sweeps per step, moment-matrix rcond 0.01"), std::string::npos) << text;
+}
+
 // The case file cases/ldd_slump_cylinder.yaml: the liquid spreads to the container wall and no
 // fluid node crosses it (all stay ≥ Δ/2 − tolerance inside the wall layer, i.e. within the
 // physical radius); volume kept within 1 %. The same container as an STL cylinder behaves alike.
