@@ -14,6 +14,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
+#include "run_summary.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
 
@@ -240,28 +241,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
 
   outcome.steps = solver.steps();
   outcome.ms_per_step = solver.steps() > 0 ? 1e3 * step_seconds / static_cast<double>(solver.steps()) : 0.0;
-  const PhaseTimes& t = solver.phase_times();
-  nlohmann::ordered_json summary;
-  summary["case"] = c.name;
-  summary["kind"] = c.kind();
-  summary["scene"] = l.scene_type;
-  summary["dimension"] = l.dimension;
-  summary["rheosim_version"] = core::version;
-  summary["git_revision"] = core::git_revision;
-  summary["input_sha256"] = c.sha256;
-  summary["status"] = outcome.status;
-  if (!outcome.message.empty()) summary["message"] = outcome.message;
-  summary["nodes"] = solver.node_count();
-  summary["fluid_nodes"] = solver.fluid_node_count();
-  summary["spacing"] = l.spacing;
-  summary["time_step"] = l.time_step;
-  summary["steps"] = solver.steps();
-  summary["time"] = solver.time();
-  summary["threads"] = threads;
-  summary["ms_per_step"] = outcome.ms_per_step;
-  summary["phase_seconds"] = {{"neighbours", t.neighbours}, {"operators", t.operators}, {"rheology", t.rheology},
-                              {"pressure", t.pressure},     {"momentum", t.momentum},   {"advection", t.advection},
-                              {"reordering", t.reordering}};
+  nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
   summary["volume_drift"] = max_drift;
   summary["kinetic_energy_peak"] = peak_energy;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
