@@ -233,15 +233,7 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
   StepStats stats;
   for (std::size_t k = 1; k <= total_steps; ++k) {
-    const auto step_start = std::chrono::steady_clock::now();
-    try {
-      stats = solver.step();
-    } catch (const DivergenceError& e) {
-      outcome.status = "diverged";
-      outcome.message = e.what();
-    }
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start).count();
-    if (outcome.status == "diverged") break;
+    if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
     if (k % probe_every == 0 || k == total_steps) {
       const Centerlines now = sample_centerlines(solver, cavity);
       const double residual = residual_between(now, last, solver.time() - last_probe_time, cavity);

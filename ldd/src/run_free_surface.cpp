@@ -201,15 +201,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
   FreeSurfaceStats stats;
   for (std::size_t k = 1; k <= total_steps; ++k) {
-    const auto step_start = std::chrono::steady_clock::now();
-    try {
-      stats = solver.step();
-    } catch (const DivergenceError& e) {
-      outcome.status = "diverged";
-      outcome.message = e.what();
-    }
-    step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start).count();
-    if (outcome.status == "diverged") break;
+    if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
     if (dam_break) {
       front_t.push_back(solver.time());
       front_x.push_back(mass_front(solver));

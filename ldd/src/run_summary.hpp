@@ -1,7 +1,8 @@
 #pragma once
-// The part of summary.json every LDD run writes (cavity and free-surface scenes): the case, the
-// build, the outcome, the cloud, the step and where the time went. One place, so both runners
-// report the same keys.
+// What every LDD runner (cavity and free-surface scenes) shares: one timed step that turns a
+// divergence into the run's outcome, and the part of summary.json every run writes (the case,
+// the build, the outcome, the cloud, the step and where the time went), so both report the same
+// keys.
 #include <chrono>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +13,24 @@
 #include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd::detail {
+
+// One step of `solver`, its wall time added to step_seconds. On DivergenceError the outcome
+// becomes "diverged" with the message (the solver keeps the last good state) and false is
+// returned: the caller stops stepping.
+template <class Solver, class Stats>
+[[nodiscard]] bool timed_step(Solver& solver, Stats& stats, RunOutcome& outcome, double& step_seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  bool ok = true;
+  try {
+    stats = solver.step();
+  } catch (const DivergenceError& e) {
+    outcome.status = "diverged";
+    outcome.message = e.what();
+    ok = false;
+  }
+  step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return ok;
+}
 
 // Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps, time,
 // phase_times).
