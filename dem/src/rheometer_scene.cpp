@@ -17,6 +17,7 @@
 #include <fmt/ostream.h>
 
 #include "disk_mesh.hpp"
+#include "liggghts_setup.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/dem/size_distribution.hpp"
@@ -148,13 +149,6 @@ void check_params(const RheometerScene::Params& p) {
 ElasticSphere sphere_of(const core::ParticleProperties& q) {
   return {.radius = 0.5 * smallest_diameter(q), .density = q.density, .youngs_modulus = q.youngs_modulus,
           .poisson_ratio = q.poisson_ratio};
-}
-
-// "v v v" for a per-type property, "v ... v" (n² values) for a per-pair one.
-std::string repeated(double value, int times) {
-  std::string s;
-  for (int i = 0; i < times; ++i) s += fmt::format(" {:.17g}", value);
-  return s;
 }
 
 RheometerScene::Params checked(RheometerScene::Params p) {
@@ -354,30 +348,10 @@ void RheometerScene::Impl::set_up_liggghts() {
       friction += fmt::format(" {:.17g}", rim_contact ? 0.0 : q.friction);
     }
 
+  detail::read_granular_atoms(engine, "f f f", data_file);
+  detail::set_hertz_contacts(engine, q, material_types, friction, params.neighbor_skin_fraction * largest_diameter(q),
+                             time_step);
   engine.commands({
-      "atom_style granular",
-      "atom_modify map array",
-      "boundary f f f",
-      "newton off",
-      "communicate single vel yes",
-      "units si",
-  });
-  engine.command(fmt::format("read_data {}", data_file));
-  engine.commands({
-      fmt::format("neighbor {:.17g} bin", params.neighbor_skin_fraction * largest_diameter(q)),
-      "neigh_modify delay 0",
-      "hard_particles yes",  // LIGGGHTS refuses E > 1e9 Pa in SI units without it
-      fmt::format("fix rheosim_m1 all property/global youngsModulus peratomtype{}",
-                  repeated(q.youngs_modulus, material_types)),
-      fmt::format("fix rheosim_m2 all property/global poissonsRatio peratomtype{}",
-                  repeated(q.poisson_ratio, material_types)),
-      fmt::format("fix rheosim_m3 all property/global coefficientRestitution peratomtypepair {}{}", material_types,
-                  repeated(q.restitution, material_types * material_types)),
-      fmt::format("fix rheosim_m4 all property/global coefficientFriction peratomtypepair {}{}", material_types,
-                  friction),
-      "pair_style gran model hertz tangential history",
-      "pair_coeff * *",
-      fmt::format("timestep {:.17g}", time_step),
       // Top plate: the stress module sums force and torque (about the origin) on the mesh.
       fmt::format("fix {} all mesh/surface/stress file {} type {} stress on", top_mesh_id, mesh_file, plate_type),
       fmt::format("variable {} equal {:.17g}", omega_variable, omega_of(rim_shear_rate)),
@@ -391,20 +365,10 @@ void RheometerScene::Impl::set_up_liggghts() {
           "fix rheosim_rim_wall all wall/gran model hertz tangential history primitive type {} zcylinder {:.17g} 0 0",
           rim_type, g.radius),
   });
-  if (params.gravity) {
-    const auto& a = *params.gravity;
-    const double magnitude = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    if (magnitude > 0.0)
-      engine.command(fmt::format("fix rheosim_gravity all gravity {:.17g} vector {:.17g} {:.17g} {:.17g}", magnitude,
-                                 a[0] / magnitude, a[1] / magnitude, a[2] / magnitude));
-  }
-  engine.commands({
-      "fix rheosim_integrate all nve/sphere",
-      fmt::format("fix {} all ave/time 1 {} {} f_{}[{}]", torque_average_id, params.torque_sample_interval,
-                  params.torque_sample_interval, top_mesh_id, torque_z_index + 1),
-      "thermo_style custom step atoms ke",
-      "thermo 0",  // one line at the start and end of each run
-  });
+  detail::add_gravity(engine, params.gravity);
+  detail::integrate_spheres(engine, fmt::format("fix {} all ave/time 1 {} {} f_{}[{}]", torque_average_id,
+                                                params.torque_sample_interval, params.torque_sample_interval,
+                                                top_mesh_id, torque_z_index + 1));
 }
 
 void RheometerScene::Impl::set_shear_rate(double rate) {

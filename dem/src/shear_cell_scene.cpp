@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "liggghts_setup.hpp"
 #include "portable_random.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/units.hpp"
@@ -261,12 +262,6 @@ void write_plate_stl(std::ostream& out, const ShearCellScene::Params& p, double 
   fmt::print(out, "endsolid {}\n", name);
 }
 
-std::string repeated(double value, int times) {
-  std::string s;
-  for (int i = 0; i < times; ++i) s += fmt::format(" {:.17g}", value);
-  return s;
-}
-
 }  // namespace
 
 std::size_t shear_cell_particle_count(double gap, double cell_length, double cell_width, double diameter,
@@ -358,32 +353,10 @@ void ShearCellScene::Impl::set_up_liggghts() {
   const std::string top_file = (params.run_directory / "top_plate.stl").string();
   const std::string bottom_file = (params.run_directory / "bottom_plate.stl").string();
   const std::string data_file = (params.run_directory / "particles.data").string();
+  detail::read_granular_atoms(engine, "p p f", data_file);
+  detail::set_hertz_contacts(engine, q, material_types, detail::repeated(q.friction, material_types * material_types),
+                             params.neighbor_skin_fraction * q.diameter, time_step);
   engine.commands({
-      "atom_style granular",
-      "atom_modify map array",
-      "boundary p p f",
-      "newton off",
-      "communicate single vel yes",
-      "units si",
-  });
-  engine.command(fmt::format("read_data {}", data_file));
-  engine.commands({
-      fmt::format("neighbor {:.17g} bin", params.neighbor_skin_fraction * q.diameter),
-      "neigh_modify delay 0",
-      // LIGGGHTS checks E in SI units against [5e6, 1e9] Pa unless told otherwise: softened
-      // particles (contact-stiffness scaling) need soft_particles, the CD §4 ones hard_particles.
-      q.youngs_modulus < 5e6 ? "soft_particles yes" : "hard_particles yes",
-      fmt::format("fix rheosim_m1 all property/global youngsModulus peratomtype{}",
-                  repeated(q.youngs_modulus, material_types)),
-      fmt::format("fix rheosim_m2 all property/global poissonsRatio peratomtype{}",
-                  repeated(q.poisson_ratio, material_types)),
-      fmt::format("fix rheosim_m3 all property/global coefficientRestitution peratomtypepair {}{}", material_types,
-                  repeated(q.restitution, material_types * material_types)),
-      fmt::format("fix rheosim_m4 all property/global coefficientFriction peratomtypepair {}{}", material_types,
-                  repeated(q.friction, material_types * material_types)),
-      "pair_style gran model hertz tangential history",
-      "pair_coeff * *",
-      fmt::format("timestep {:.17g}", time_step),
       // Top plate: a conveyor surface at U along x (see the header), stress module on.
       fmt::format("fix {} all mesh/surface/stress file {} type {} surface_vel {:.17g} 0 0 stress on", top_mesh_id,
                   top_file, plate_type, params.shear_rate * params.gap),
@@ -391,21 +364,11 @@ void ShearCellScene::Impl::set_up_liggghts() {
       fmt::format("fix rheosim_cell_walls all wall/gran model hertz tangential history mesh n_meshes 2 meshes {} {}",
                   top_mesh_id, bottom_mesh_id),
   });
-  if (params.gravity) {
-    const auto& a = *params.gravity;
-    const double magnitude = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    if (magnitude > 0.0)
-      engine.command(fmt::format("fix rheosim_gravity all gravity {:.17g} vector {:.17g} {:.17g} {:.17g}", magnitude,
-                                 a[0] / magnitude, a[1] / magnitude, a[2] / magnitude));
-  }
+  detail::add_gravity(engine, params.gravity);
   const auto n = params.stress_sample_interval;
-  engine.commands({
-      "fix rheosim_integrate all nve/sphere",
-      fmt::format("fix {} all ave/time 1 {} {} f_{}[1] f_{}[3] f_{}[1] f_{}[3]", stress_average_id, n, n, top_mesh_id,
-                  top_mesh_id, bottom_mesh_id, bottom_mesh_id),
-      "thermo_style custom step atoms ke",
-      "thermo 0",
-  });
+  detail::integrate_spheres(engine, fmt::format("fix {} all ave/time 1 {} {} f_{}[1] f_{}[3] f_{}[1] f_{}[3]",
+                                                stress_average_id, n, n, top_mesh_id, top_mesh_id, bottom_mesh_id,
+                                                bottom_mesh_id));
 }
 
 void ShearCellScene::Impl::advance(std::int64_t steps) {
