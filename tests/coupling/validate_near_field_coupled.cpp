@@ -156,20 +156,21 @@ double env_or(const char* name, double fallback) {
 // RHEOSIM_NF_STRAIN strain units, lubrication cutoff RHEOSIM_NF_CUTOFF (h_c/ā), printing the stress parts and the running stress per strain unit.
 TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   ShearCellPointSettings s;
-  s.gap = 5e-4;
+  s.gap = env_or("RHEOSIM_NF_GAP", 5e-4);
   s.cell_length = s.cell_width = env_or("RHEOSIM_NF_CELL", 1.6e-3);
   s.fluid = {.density = 1000.0, .rheology = newtonian()};
   const double softening = env_or("RHEOSIM_NF_SOFTENING", 1e4);
   s.particles = {.volume_fraction = env_or("RHEOSIM_NF_PHI", 0.3), .diameter = 2e-4, .density = 1000.0,
-                 .youngs_modulus = 3.0e9 / softening, .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
+                 .youngs_modulus = 3.0e9 / softening, .poisson_ratio = 0.33, .restitution = 0.9, .friction = env_or("RHEOSIM_NF_FRICTION", 0.3)};
   const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, s.particles.youngs_modulus, 0.33});
   s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));
   s.shear_rate = env_or("RHEOSIM_NF_RATE", 100.0);
-  s.axial_cells = 2;
+  s.axial_cells = std::max(2, static_cast<int>(std::lround(s.gap / 2.5e-4)));  // cells 1.25 d tall
   const double strain = env_or("RHEOSIM_NF_STRAIN", 20.0);
   s.steady = {.strain_window = 2.0, .relative_tolerance = 1e-9, .min_strain = strain, .max_strain = strain};
   auto hydrodynamics = lubrication_and_stresslet();
   hydrodynamics.lubrication_cutoff = env_or("RHEOSIM_NF_CUTOFF", hydrodynamics.lubrication_cutoff);
+  hydrodynamics.roughness = env_or("RHEOSIM_NF_ROUGHNESS", hydrodynamics.roughness);
   s.near_field = make_near_field_model(near_field_settings(hydrodynamics), s.fluid.rheology);
   s.run_directory = fs::temp_directory_path() / fmt::format("rheosim_study_nf_cell_{}", ::getpid());
   const auto p = run_shear_cell_point(s);
