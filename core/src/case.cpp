@@ -132,7 +132,8 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
 // particles.hydrodynamics (see Hydrodynamics): model `none` or terms joined by '+'.
 Hydrodynamics read_hydrodynamics(const Section& s) {
   Hydrodynamics out;
-  const std::vector<std::string> terms{"lubrication", "none", "single_particle", "stokes_drag", "stresslet"};
+  const std::vector<std::string> terms{"lubrication", "none", "repulsion", "single_particle", "stokes_drag",
+                                       "stresslet"};
   const std::string model = s.text({"model", "near-field terms, e.g. lubrication+stresslet", "-"});
   std::size_t start = 0;
   while (start <= model.size()) {
@@ -140,17 +141,27 @@ Hydrodynamics read_hydrodynamics(const Section& s) {
     const std::string term = model.substr(start, end - start);
     if (std::find(terms.begin(), terms.end(), term) == terms.end())
       s.fail("model", fmt::format("unknown near-field term '{}' in '{}'", term, model),
-             "none, or terms joined by '+' from: lubrication, single_particle, stokes_drag, stresslet",
+             "none, or terms joined by '+' from: lubrication, repulsion, single_particle, stokes_drag, stresslet",
              "e.g. 'model: lubrication+stresslet'");
     if (term == "lubrication") out.lubrication = true;
     if (term == "stresslet" || term == "single_particle") out.single_particle = true;
     if (term == "stokes_drag") out.stokes_drag = true;
+    if (term == "repulsion") out.repulsion = true;
     start = end + 1;
   }
+  if (out.repulsion && !out.lubrication)
+    s.fail("model", fmt::format("'{}' has repulsion without lubrication", model), "repulsion together with lubrication",
+           "the repulsion acts on the lubrication gap list, e.g. 'model: lubrication+stresslet+repulsion'");
   out.roughness = s.number_or({"roughness", "roughness length δ/ā regularising the lubrication gap", "-"},
                               out.roughness, Range::closed(1e-6, 0.1));
   out.lubrication_cutoff = s.number_or({"lubrication_cutoff", "gap h_c/ā below which lubrication acts", "-"},
                                        out.lubrication_cutoff, Range::open_closed(out.roughness, 1.0));
+  if (out.repulsion) {
+    out.repulsion_force =
+        s.number({"repulsion_force", "repulsion F_R0 at contact (stress scale F_R0/(6πa²))", "N"}, Range::positive());
+    out.repulsion_length = s.number_or({"repulsion_length", "repulsion decay length λ/ā", "-"}, out.repulsion_length,
+                                       Range::closed(1e-3, out.lubrication_cutoff / 5.0));
+  }
   return out;
 }
 

@@ -47,6 +47,7 @@ struct Terms {
   bool lubrication = false;
   bool single_particle = false;  // torque + stresslet
   bool stokes_drag = false;
+  bool repulsion = false;
 };
 using TermSetter = void (*)(Terms&);
 const std::map<std::string, TermSetter, std::less<>>& term_table() {
@@ -56,6 +57,7 @@ const std::map<std::string, TermSetter, std::less<>>& term_table() {
       {"stresslet", [](Terms& t) { t.single_particle = true; }},
       {"single_particle", [](Terms& t) { t.single_particle = true; }},
       {"stokes_drag", [](Terms& t) { t.stokes_drag = true; }},
+      {"repulsion", [](Terms& t) { t.repulsion = true; }},
   };
   return table;
 }
@@ -71,6 +73,14 @@ void check_settings(const NearFieldSettings& s) {
   if (!(s.solver_tolerance > 0.0 && s.solver_tolerance <= 1e-3))
     throw std::invalid_argument(
         fmt::format("hydrodynamics.solver_tolerance = {}, expected 0 < tolerance <= 1e-3", s.solver_tolerance));
+  if (!(s.repulsion_force >= 0.0 && std::isfinite(s.repulsion_force)))
+    throw std::invalid_argument(
+        fmt::format("hydrodynamics.repulsion_force = {}, expected >= 0 (F_R0 in N)", s.repulsion_force));
+  if (!(s.repulsion_length >= 1e-3 && s.repulsion_length <= s.lubrication_cutoff / 5.0))
+    throw std::invalid_argument(fmt::format(
+        "hydrodynamics.repulsion_length = {}, expected 1e-3 <= λ/ā <= lubrication_cutoff/5 = {} (the force is "
+        "evaluated on the lubrication gap list, so it must have decayed to e⁻⁵ by the cutoff)",
+        s.repulsion_length, s.lubrication_cutoff / 5.0));
   if (s.max_solver_iterations < 1)
     throw std::invalid_argument(
         fmt::format("hydrodynamics.max_solver_iterations = {}, expected >= 1", s.max_solver_iterations));
@@ -256,6 +266,7 @@ class CombinedNearField final : public NearFieldModel {
     std::vector<double> ambient_spin;  // ω∞ = ½∇×u∞, 3 per particle (single_particle)
     std::vector<double> drive;     // F₀, 6 per particle
     std::vector<double> blocks;    // the particles' own 6×6 blocks of R, 36 per particle
+    std::vector<Vector3> repulsion;  // repulsive force on i of each gap (repulsion; else empty)
   };
   [[nodiscard]] System assemble(const ParticleSnapshot& p, const NearFieldScene& scene, const AmbientFlow& ambient,
                                 std::span<const double> velocities, NearFieldResult* result) const;
@@ -372,6 +383,20 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
     const std::vector<double> zero(6 * n, 0.0);
     for (const auto& gap : s.gaps)
       if (gap.j == lubrication::no_partner) lubrication::add_gap_forces(gap, zero, s.drive, true);
+    // Repulsion: a known force, part of F₀ (it does not depend on V).
+    if (terms_.repulsion) {
+      s.repulsion.reserve(s.gaps.size());
+      for (const auto& gap : s.gaps) {
+        const double h = std::max(gap.gap_ratio, 0.0);  // h/ā (h/a at a plate)
+        const double magnitude = settings_.repulsion_force * std::exp(-h / settings_.repulsion_length);
+        const Vector3 f{-magnitude * gap.n[0], -magnitude * gap.n[1], -magnitude * gap.n[2]};
+        s.repulsion.push_back(f);
+        for (std::size_t k = 0; k < 3; ++k) {
+          s.drive[6 * gap.i + k] += f[k];
+          if (gap.j != lubrication::no_partner) s.drive[6 * gap.j + k] -= f[k];
+        }
+      }
+    }
     if (result != nullptr) result->smallest_gap_ratio = s.gaps.empty() ? 0.0 : smallest;
   }
   return s;
@@ -502,8 +527,11 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
   }
 
   // Stress and plate loads from the gap forces at V⁺.
-  for (const auto& gap : s.gaps) {
-    const Vector3 f_i = lubrication::gap_force_on_i(gap, v_new);
+  for (std::size_t g = 0; g < s.gaps.size(); ++g) {
+    const auto& gap = s.gaps[g];
+    Vector3 f_i = lubrication::gap_force_on_i(gap, v_new);
+    if (!s.repulsion.empty())
+      for (std::size_t k = 0; k < 3; ++k) f_i[k] += s.repulsion[g][k];
     // Unsymmetrised: F_i ⊗ (separation) = −F_j ⊗ (x_j − x_i) resp. −F_p ⊗ (x_p − x_w).
     for (std::size_t a = 0; a < 3; ++a)
       for (std::size_t b = 0; b < 3; ++b) r.lubrication_virial_full[3 * a + b] += f_i[a] * gap.separation[b];
@@ -559,8 +587,11 @@ NearFieldSettings near_field_settings(const core::Hydrodynamics& h) {
   if (h.lubrication) s.models.emplace_back("lubrication");
   if (h.single_particle) s.models.emplace_back("stresslet");
   if (h.stokes_drag) s.models.emplace_back("stokes_drag");
+  if (h.repulsion) s.models.emplace_back("repulsion");
   s.roughness = h.roughness;
   s.lubrication_cutoff = h.lubrication_cutoff;
+  s.repulsion_force = h.repulsion_force;
+  s.repulsion_length = h.repulsion_length;
   return s;
 }
 
@@ -583,6 +614,10 @@ std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSetti
                                               fmt::join(near_field_model_names(), ", ")));
     it->second(terms);
   }
+  if (terms.repulsion && !terms.lubrication)
+    throw std::invalid_argument("hydrodynamics: 'repulsion' needs 'lubrication' (it acts on the lubrication gap list)");
+  if (terms.repulsion && !(settings.repulsion_force > 0.0))
+    throw std::invalid_argument("hydrodynamics: 'repulsion' needs repulsion_force > 0 (F_R0 in N)");
   return std::make_unique<CombinedNearField>(settings, terms, std::move(matrix));
 }
 

@@ -45,14 +45,15 @@ AmbientFlow simple_shear(double rate) {
 
 TEST(NearFieldRegistry, ListsTheTermsAndRejectsUnknownNames) {
   const auto names = near_field_model_names();
-  const std::vector<std::string> expected{"lubrication", "none", "single_particle", "stokes_drag", "stresslet"};
+  const std::vector<std::string> expected{"lubrication", "none",        "repulsion",
+                                          "single_particle", "stokes_drag", "stresslet"};
   EXPECT_EQ(names, expected);
   try {
     (void)model({"lubrication", "stresslett"});
     FAIL() << "unknown name accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("stresslett"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("lubrication, none, single_particle, stokes_drag, stresslet"),
+    EXPECT_NE(std::string(e.what()).find("lubrication, none, repulsion, single_particle, stokes_drag, stresslet"),
               std::string::npos);
   }
   EXPECT_EQ(model({"lubrication", "stresslet"})->name(), "lubrication+stresslet");
@@ -68,6 +69,17 @@ TEST(NearFieldRegistry, ChecksRanges) {
   EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
   s.lubrication_cutoff = 0.5;
   EXPECT_THROW((void)make_near_field_model(s, nullptr), std::invalid_argument);
+  // Repulsion needs the lubrication gap list, a force, and a length that has decayed by the cutoff.
+  s.models = {"repulsion"};
+  s.repulsion_force = 1e-9;
+  EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
+  s.models = {"lubrication", "repulsion"};
+  EXPECT_NO_THROW((void)make_near_field_model(s, newtonian(1.0)));
+  s.repulsion_force = 0.0;
+  EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
+  s.repulsion_force = 1e-9;
+  s.repulsion_length = 0.2;  // > cutoff/5
+  EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
 }
 
 std::string case_with_hydrodynamics(const std::string& block) {
@@ -116,6 +128,27 @@ TEST(NearFieldCaseKeys, RejectsUnknownTermsAndOutOfRangeValues) {
   EXPECT_NE(error_of("  hydrodynamics: {model: lubrication, lubrication_cutoff: 1.5}\n").find("lubrication_cutoff"),
             std::string::npos);
   EXPECT_NE(error_of("  hydrodynamics: {model: lubrication, cutoff: 0.5}\n").find("cutoff"), std::string::npos);
+  const std::string lonely = error_of("  hydrodynamics: {model: stresslet+repulsion, repulsion_force: 1e-9}\n");
+  EXPECT_NE(lonely.find("without lubrication"), std::string::npos) << lonely;
+  const std::string no_force = error_of("  hydrodynamics: {model: lubrication+repulsion}\n");
+  EXPECT_NE(no_force.find("repulsion_force"), std::string::npos) << no_force;
+  const std::string too_long =
+      error_of("  hydrodynamics: {model: lubrication+repulsion, repulsion_force: 1e-9, repulsion_length: 0.3}\n");
+  EXPECT_NE(too_long.find("repulsion_length"), std::string::npos) << too_long;
+}
+
+TEST(NearFieldCaseKeys, ParsesTheRepulsion) {
+  const auto c = core::parse_case(
+      case_with_hydrodynamics("  hydrodynamics: {model: lubrication+stresslet+repulsion, repulsion_force: 2.0e-9, "
+                              "repulsion_length: 0.02}\n"),
+      "case.yaml");
+  const auto& h = std::get<core::RheometerCase>(c.spec).particles->hydrodynamics;
+  EXPECT_TRUE(h.repulsion);
+  const NearFieldSettings s = near_field_settings(h);
+  EXPECT_EQ(s.models, (std::vector<std::string>{"lubrication", "stresslet", "repulsion"}));
+  EXPECT_DOUBLE_EQ(s.repulsion_force, 2e-9);
+  EXPECT_DOUBLE_EQ(s.repulsion_length, 0.02);
+  EXPECT_NE(core::describe(c).find("repulsion F_R0 2e-09 N, λ/ā 0.02"), std::string::npos) << core::describe(c);
 }
 
 TEST(NearField, NoneAddsNothing) {
@@ -305,6 +338,40 @@ TEST(NearField, PeriodicPairSqueezesAcrossTheBoundary) {
   EXPECT_GT(res.forces[0], 0.0);  // particle 0 moves −x towards its neighbour's image: pushed back +x
   EXPECT_NEAR(res.forces[0], -res.forces[3], 1e-15);
   EXPECT_LT(res.lubrication_virial[0], 0.0);
+}
+
+// Two spheres at rest a gap h apart, no flow: only the repulsion F_R0 e^{−h/λ} acts, along the
+// line of centres, equal and opposite, and its virial is −r ⊗ F_j.
+TEST(NearField, RepulsionOfAPairAndAPlate) {
+  const double a = 1e-4, h = 3e-6, force = 2e-9, length = 0.05;
+  NearFieldSettings settings;
+  settings.models = {"lubrication", "repulsion"};
+  settings.repulsion_force = force;
+  settings.repulsion_length = length;
+  const auto m = make_near_field_model(settings, newtonian(1.0));
+  const std::vector<double> x{0, 0, 5e-4, 2 * a + h, 0, 5e-4}, v(6, 0.0), w(6, 0.0), r{a, a};
+  NearFieldResult res;
+  res.reset(2, 0);
+  m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, {}, {}, res);
+  const double expected = force * std::exp(-(h / a) / length);
+  EXPECT_NEAR(res.forces[0], -expected, 1e-12 * expected);
+  EXPECT_NEAR(res.forces[3], expected, 1e-12 * expected);
+  EXPECT_NEAR(res.forces[1], 0.0, 1e-24);
+  // −(x_j − x_i) ⊗ F_j: xx = −(2a + h) · expected (a repulsive pair pushes the stress negative).
+  EXPECT_NEAR(res.lubrication_virial[0], -(2 * a + h) * expected, 1e-12 * a * expected);
+  // Overlapping pair: F_R0 (the contact model takes over inside).
+  const std::vector<double> touching{0, 0, 5e-4, 2 * a - 1e-7, 0, 5e-4};
+  res.reset(2, 0);
+  m->evaluate({.positions = touching, .velocities = v, .angular_velocities = w, .radii = r}, {}, {}, res);
+  EXPECT_NEAR(res.forces[3], force, 1e-12 * force);
+  // A sphere a gap h above the bottom plate is pushed up, the plate down.
+  NearFieldScene scene;
+  scene.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
+  const std::vector<double> above{2e-4, 0, a + h}, v1(3, 0.0), r1{a};
+  res.reset(1, 1);
+  m->evaluate({.positions = above, .velocities = v1, .angular_velocities = v1, .radii = r1}, scene, {}, res);
+  EXPECT_NEAR(res.forces[2], expected, 1e-12 * expected);
+  EXPECT_NEAR(res.plate_forces[0][2], -expected, 1e-12 * expected);
 }
 
 // Sphere just under a top plate that slides in +x: the plate drags it along (+x force on the

@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -171,6 +172,13 @@ TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   auto hydrodynamics = lubrication_and_stresslet();
   hydrodynamics.lubrication_cutoff = env_or("RHEOSIM_NF_CUTOFF", hydrodynamics.lubrication_cutoff);
   hydrodynamics.roughness = env_or("RHEOSIM_NF_ROUGHNESS", hydrodynamics.roughness);
+  // Repulsion F_R0 in units of the viscous force 6πμa²γ̇ (Mari et al. 2014's stress scale).
+  if (const double ratio = env_or("RHEOSIM_NF_REPULSION", 0.0); ratio > 0.0) {
+    const double a = 0.5 * s.particles.diameter;
+    hydrodynamics.repulsion = true;
+    hydrodynamics.repulsion_force = ratio * 6.0 * std::numbers::pi * mu * a * a * s.shear_rate;
+    hydrodynamics.repulsion_length = env_or("RHEOSIM_NF_REPULSION_LENGTH", hydrodynamics.repulsion_length);
+  }
   s.near_field = make_near_field_model(near_field_settings(hydrodynamics), s.fluid.rheology);
   s.run_directory = fs::temp_directory_path() / fmt::format("rheosim_study_nf_cell_{}", ::getpid());
   const auto p = run_shear_cell_point(s);

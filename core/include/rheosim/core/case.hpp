@@ -55,9 +55,12 @@ struct Hydrodynamics {
   bool lubrication = false;       // pair and plate lubrication
   bool single_particle = false;   // torque and stresslet in the ambient flow
   bool stokes_drag = false;       // Stokes drag on the imposed ambient flow (cells without a fluid solver)
+  bool repulsion = false;         // short-range repulsion F_R0 exp(−h/λ) (needs lubrication)
   double roughness = 1.0e-3;      // δ/ā, in [1e-6, 0.1]
   double lubrication_cutoff = 0.5;  // h_c/ā, in (roughness, 1]
-  [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag; }
+  double repulsion_force = 0.0;   // F_R0 [N], > 0 with repulsion
+  double repulsion_length = 0.05;   // λ/ā, in [1e-3, lubrication_cutoff/5]
+  [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag || repulsion; }
 };
 
 struct ParticleProperties {  // particles: (CD §4 defaults)

@@ -144,9 +144,16 @@ struct NearFieldSettings {
   //   single_particle the same as stresslet
   //   stokes_drag     −6πμa(U − u∞): drag on the imposed ambient flow, for cells without a
   //                   fluid solver (with CFD-DEM the coupling's Di Felice drag does this)
+  //   repulsion       short-range repulsion F_R = F_R0 exp(−h/λ) along the line of centres
+  //                   (F_R0 for h < 0), pairs and plates: an electrostatic double layer or a
+  //                   polymer brush (Mari, Seto, Morris & Denn, J. Rheol. 2014). It keeps pairs
+  //                   apart below the stress scale F_R0/(6πa²) (the frictionless branch) and
+  //                   needs `lubrication` (it uses its gap list).
   std::vector<std::string> models;
   double roughness = 1.0e-3;          // δ/ā: the gap is regularised to max(h, 0) + δ, ā = (a_i + a_j)/2, in [1e-6, 0.1]
   double lubrication_cutoff = 0.5;    // h_c/ā: lubrication acts for h < h_c, in (roughness, 1]
+  double repulsion_force = 0.0;       // F_R0 [N], > 0 with `repulsion`
+  double repulsion_length = 0.05;     // λ/ā, in [1e-3, lubrication_cutoff/5] (the force is cut with the gap list)
   double solver_tolerance = 1.0e-7;   // residual / |right-hand side| of the implicit solve, in (0, 1e-3]
   int max_solver_iterations = 500;
 };
