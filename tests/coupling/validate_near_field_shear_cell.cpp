@@ -54,6 +54,7 @@ struct CellSettings {
   std::vector<std::string> models{"stokes_drag", "stresslet", "lubrication"};
   bool plate_lubrication = true;  // false: the plates bound the cell for contacts only
   double lubrication_cutoff = NearFieldSettings{}.lubrication_cutoff;  // h_c/ā
+  double repulsion_ratio = 0.0;  // F_R0 / (6πμa²γ̇); > 0 adds the `repulsion` term (λ = 0.05 ā)
   double youngs_modulus = 1e6;  // [Pa] soft: δt = 0.2 t_R = 3.5e-6 s = 3.5e-4/γ̇; overlaps below 1 % of d
   std::uint64_t seed = 1;
 };
@@ -94,6 +95,10 @@ CellResult run_cell(const CellSettings& c) {
   NearFieldSettings settings;
   settings.models = c.models;
   settings.lubrication_cutoff = c.lubrication_cutoff;
+  if (c.repulsion_ratio > 0.0) {
+    settings.models.emplace_back("repulsion");
+    settings.repulsion_force = c.repulsion_ratio * 6.0 * pi * c.viscosity * a * a * c.rate;
+  }
   NearFieldScene scene;
   scene.periodic = {true, true, false};
   scene.box_low = {0.0, 0.0, 0.0};
@@ -273,6 +278,7 @@ TEST(ValidateNearFieldShearCell, DISABLED_ViscosityCurveStudy) {
   base.lubrication_cutoff = env_number("RHEOSIM_NF_CUTOFF", base.lubrication_cutoff);
   base.youngs_modulus = env_number("RHEOSIM_NF_YOUNGS", base.youngs_modulus);
   base.skip_strain = env_number("RHEOSIM_NF_SKIP", base.skip_strain);
+  base.repulsion_ratio = env_number("RHEOSIM_NF_REPULSION", 0.0);
   for (const double rate : rates) {
     std::vector<double> phi, eta;
     for (const double p : phis) {
