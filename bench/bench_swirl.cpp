@@ -21,9 +21,9 @@ std::shared_ptr<const core::Rheology> power_law(double n) {
   return core::make_rheology(core::Document::from_string(yaml, "bench.yaml").root());
 }
 
-fluid::SwirlParams params(double n, bool inertia, int nr, int nz, double grading) {
+fluid::SwirlParams params(double n, bool inertia, int nr, int nz, double grading, double axial_stretching = 0) {
   fluid::SwirlParams p;
-  p.grid = {plate.radius, plate.gap, nr, 1, nz, grading};
+  p.grid = {plate.radius, plate.gap, nr, 1, nz, grading, axial_stretching};
   p.density = 1000;
   p.rheology = power_law(n);
   p.inertia = inertia;
@@ -62,9 +62,10 @@ double reference_torque(int n10, int rate) {
   return std::nan("");
 }
 
-fluid::SwirlResult inertial_solve(benchmark::State& state) {
+fluid::SwirlResult inertial_solve(benchmark::State& state, double axial_stretching = 0) {
   const double n = static_cast<double>(state.range(0)) / 10;
-  const fluid::SwirlSolver solver(params(n, true, static_cast<int>(state.range(2)), static_cast<int>(state.range(3)), 0.1));
+  const fluid::SwirlSolver solver(
+      params(n, true, static_cast<int>(state.range(2)), static_cast<int>(state.range(3)), 0.1, axial_stretching));
   const double omega = plate.angular_velocity(static_cast<double>(state.range(1)));
   fluid::SwirlResult result;
   for (auto _ : state) {
@@ -96,12 +97,50 @@ BENCHMARK(inertial_point)
     ->ArgsProduct({{6}, {100}, {20, 40}, {8, 16, 32}})
     ->Unit(benchmark::kMillisecond);
 
+// The same with the axial cells clustered towards both plates (tanh stretching β, grid.hpp),
+// where the shear-thinning plate layers are thin. args: n × 10, γ̇_R, radial cells, axial
+// cells, β × 10.
+void inertial_point_stretched(benchmark::State& state) {
+  const auto result = inertial_solve(state, static_cast<double>(state.range(4)) / 10);
+  const double reference = reference_torque(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  state.counters["rel_error"] = std::abs(result.torque - reference) / reference;
+  state.counters["ext_error"] = std::abs(result.extrapolated_torque - reference) / reference;
+}
+BENCHMARK(inertial_point_stretched)
+    ->ArgsProduct({{3}, {50, 100}, {20, 40}, {8, 16}, {10, 15, 20}})
+    ->ArgsProduct({{6}, {100}, {20, 40}, {8, 16}, {10, 15, 20}})
+    ->Unit(benchmark::kMillisecond);
+
+// Axial refinement at fixed N_r = 20 (the error is almost all in z): uniform and clustered.
+BENCHMARK(inertial_point_stretched)
+    ->Name("inertial_axial_study")
+    ->ArgsProduct({{3}, {50, 100}, {20}, {8, 16, 32, 64, 128}, {0, 15, 20, 25}})
+    ->ArgsProduct({{6}, {100}, {20}, {8, 16, 32, 64, 128}, {0, 15, 20, 25}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
 // The references: 80 × 128 cells, extrapolated with 40 × 64 (about 10 s each).
 void inertial_reference(benchmark::State& state) { (void)inertial_solve(state); }
 BENCHMARK(inertial_reference)
     ->Args({3, 100, 80, 128})
     ->Args({3, 50, 80, 128})
     ->Args({6, 100, 80, 128})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+// An independent check of the references on plate-clustered grids (β = 1.5): 40 × 64 (with
+// its 20 × 32 start) and 80 × 128 (with its 40 × 64 start) give three grids for the observed
+// order and a Richardson torque. args as inertial_point_stretched.
+void inertial_reference_stretched(benchmark::State& state) {
+  (void)inertial_solve(state, static_cast<double>(state.range(4)) / 10);
+}
+BENCHMARK(inertial_reference_stretched)
+    ->Args({3, 50, 40, 64, 15})
+    ->Args({3, 50, 80, 128, 15})
+    ->Args({3, 100, 40, 64, 15})
+    ->Args({3, 100, 80, 128, 15})
+    ->Args({6, 100, 40, 64, 15})
+    ->Args({6, 100, 80, 128, 15})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 

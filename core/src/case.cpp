@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 #include "rheosim/core/units.hpp"
 
@@ -57,7 +58,17 @@ FluidSolverSettings read_solver(const Section& root) {
   out.axial_cells = s->integer_or({"axial_cells", "axial cells N_z", "-"}, out.axial_cells, 2, 2000);
   out.radial_grading = s->number_or({"radial_grading", "last/first radial cell width", "-"}, out.radial_grading,
                                     Range::closed(0.01, 100.0));
+  out.axial_stretching = s->number_or({"axial_stretching", "tanh clustering of axial cells towards the plates", "-"},
+                                      out.axial_stretching, Range::closed(0.0, 5.0));
   out.inertia = s->boolean_or({"inertia", "solve with fluid inertia (false: creeping limit)", "-"}, out.inertia);
+  out.extrapolate = s->boolean_or({"extrapolate", "report the Richardson torque over this grid and half its cells", "-"},
+                                  out.extrapolate);
+  // The half grid must exist: the solver's grid sequencing needs even counts >= 8.
+  if (out.extrapolate)
+    for (const auto& [key, cells] : {std::pair{"radial_cells", out.radial_cells}, std::pair{"axial_cells", out.axial_cells}})
+      if (cells < 8 || cells % 2 != 0)
+        s->fail(key, fmt::format("{} = {} cannot be halved for extrapolate: true", key, cells), "an even number >= 8",
+                "use an even cell count, or extrapolate: false");
   out.tolerance = s->number_or({"tolerance", "relative change per iteration", "-"}, out.tolerance,
                                Range::open(0.0, 1e-2));
   out.max_iterations = s->integer_or({"max_iterations", "nonlinear iterations", "-"}, out.max_iterations, 1, 100000);

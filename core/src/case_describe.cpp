@@ -25,8 +25,10 @@ std::string describe_rheometer(const RheometerCase& r) {
     if (r.fluids.size() > 1) out += fmt::format("  [{}]\n", f.name);
     out += describe_fluid(f.properties);
   }
-  out += fmt::format("  solver: {} × {} cells (r × z), radial grading {}, inertia {}\n", r.solver.radial_cells,
-                     r.solver.axial_cells, r.solver.radial_grading, r.solver.inertia ? "on" : "off");
+  out += fmt::format("  solver: {} × {} cells (r × z), radial grading {}, axial stretching {}, inertia {}{}\n",
+                     r.solver.radial_cells, r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching,
+                     r.solver.inertia ? "on" : "off",
+                     r.solver.inertia && r.solver.extrapolate ? " (Richardson torque over this grid and half its cells)" : "");
   out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
   if (r.particles) {
     using M = RheometerCase::SuspensionModel;

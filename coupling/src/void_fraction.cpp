@@ -38,6 +38,10 @@ CellLocator::CellLocator(const fluid::CylindricalGrid& grid)
       axial_width_(grid.params().gap / static_cast<double>(grid.axial_cells())),
       radial_width_(grid.params().radial_grading == 1.0 ? grid.params().radius / static_cast<double>(grid.radial_cells())
                                                         : 0.0) {
+  // Cells are found by z/Δz: a stretched axial grid has no single Δz.
+  if (!grid.is_axially_uniform())
+    throw std::invalid_argument(fmt::format("CellLocator: axial_stretching = {}, expected 0 (uniform axial cells)",
+                                            grid.params().axial_stretching));
   for (std::size_t j = 0; j <= azimuthal_cells_; ++j) {
     const double theta = grid.azimuthal_faces()[j];
     face_cos_.push_back(std::cos(theta));

@@ -43,6 +43,21 @@ std::vector<double> graded_faces(double length, std::size_t n, double grading) {
   return faces;
 }
 
+// Faces clustered towards both ends by z_k = (L/2)[1 + tanh(β(2k/n − 1))/tanh β]; the map is
+// odd about mid-gap, so the two plates get mirror-image cells.
+std::vector<double> stretched_faces(double length, std::size_t n, double stretching) {
+  if (stretching == 0.0) return uniform_faces(length, n);
+  const double scale = std::tanh(stretching);
+  std::vector<double> faces(n + 1);
+  for (std::size_t k = 0; k <= n; ++k) {
+    const double xi = 2.0 * static_cast<double>(k) / static_cast<double>(n) - 1.0;
+    faces[k] = 0.5 * length * (1.0 + std::tanh(stretching * xi) / scale);
+  }
+  faces[0] = 0.0;
+  faces[n] = length;
+  return faces;
+}
+
 std::vector<double> midpoints(const std::vector<double>& faces) {
   std::vector<double> centres(faces.size() - 1);
   for (std::size_t i = 0; i < centres.size(); ++i) centres[i] = 0.5 * (faces[i] + faces[i + 1]);
@@ -58,6 +73,9 @@ CylindricalGrid::CylindricalGrid(Params params) : params_(params) {
   check_cell_count("azimuthal_cells", params_.azimuthal_cells);
   check_cell_count("axial_cells", params_.axial_cells);
   check_positive("radial_grading", params_.radial_grading);
+  if (!(std::isfinite(params_.axial_stretching) && params_.axial_stretching >= 0.0))
+    throw std::invalid_argument(fmt::format(
+        "CylindricalGrid: axial_stretching = {} is out of range, expected a finite value >= 0", params_.axial_stretching));
 
   const auto n_r = static_cast<std::size_t>(params_.radial_cells);
   const auto n_theta = static_cast<std::size_t>(params_.azimuthal_cells);
@@ -68,7 +86,7 @@ CylindricalGrid::CylindricalGrid(Params params) : params_(params) {
   azimuthal_faces_ = uniform_faces(2.0 * core::units::pi, n_theta);
   azimuthal_centres_ = midpoints(azimuthal_faces_);
   dtheta_ = 2.0 * core::units::pi / static_cast<double>(n_theta);
-  axial_faces_ = uniform_faces(params_.gap, n_z);
+  axial_faces_ = stretched_faces(params_.gap, n_z, params_.axial_stretching);
   axial_centres_ = midpoints(axial_faces_);
 }
 

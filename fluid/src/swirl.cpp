@@ -37,7 +37,12 @@ struct Layout {
         rc(g.radial_centres().begin(), g.radial_centres().end()),
         zf(g.axial_faces().begin(), g.axial_faces().end()),
         zc(g.axial_centres().begin(), g.axial_centres().end()),
-        inertia(with_inertia) {}
+        inertia(with_inertia) {
+    if (nz >= 2) {
+      bottom_plate = one_sided_plate_stencil(false);
+      top_plate = one_sided_plate_stencil(true);
+    }
+  }
 
   std::size_t cell(std::size_t i, std::size_t k) const { return i * nz + k; }
   // Unknowns: ω, then (with inertia) p, interior u_r faces, interior u_z faces.
@@ -62,6 +67,29 @@ struct Layout {
   double r4_moment(std::size_t i) const { return 0.25 * (std::pow(rf[i + 1], 4) - std::pow(rf[i], 4)); }
   std::size_t ur_index(std::size_t i, std::size_t k) const { return i * nz + k; }        // faces i = 0..nr
   std::size_t uz_index(std::size_t i, std::size_t k) const { return i * (nz + 1) + k; }  // faces k = 0..nz
+
+  // Second-order one-sided ∂φ/∂z at a plate: the quadratic through the wall value and the two
+  // nearest cell centres, ∂φ/∂z ≈ wall·φ_w + near·φ_near + far·φ_far, for any cell widths (a
+  // stretched axial grid). Uniform cells of height h give (8φ_w − 9φ₀ + φ₁)/(3h) (sign by side).
+  struct PlateStencil {
+    std::size_t near_cell = 0, far_cell = 0;  // k of the wall cell and of its neighbour
+    double wall = 0, near = 0, far = 0;       // [1/m]
+    double gradient(double at_wall, double at_near, double at_far) const {
+      return wall * at_wall + near * at_near + far * at_far;
+    }
+  };
+  PlateStencil bottom_plate, top_plate;  // set when nz >= 2
+  const PlateStencil& plate(std::size_t k) const { return k == 0 ? bottom_plate : top_plate; }
+
+ private:
+  PlateStencil one_sided_plate_stencil(bool top) const {
+    // d1, d2: distances of the two centres from the plate; φ(d) = φ_w + a d + b d² through both.
+    const double d1 = top ? zf[nz] - zc[nz - 1] : zc[0] - zf[0];
+    const double d2 = top ? zf[nz] - zc[nz - 2] : zc[1] - zf[0];
+    const double near = d2 / (d1 * (d2 - d1)), far = -d1 / (d2 * (d2 - d1));
+    const double along_z = top ? -1.0 : 1.0;  // d runs against z from the top plate
+    return {top ? nz - 1 : 0, top ? nz - 2 : 1, -along_z * (near + far), along_z * near, along_z * far};
+  }
 };
 
 // Velocity gradients and the viscosity they imply, for one iterate.
@@ -104,19 +132,15 @@ class Discretisation {
   // Newton linearisation consistent, which the hardest yield-stress cases need.
   double domega_dz_for_viscosity(const SwirlState& s, std::size_t i, std::size_t k) const {
     if ((k != 0 && k != L.nz) || L.nz < 2 || !L.inertia) return domega_dz(s, i, k);
-    const double h = L.dz(k == 0 ? 0 : L.nz - 1);
-    if (k == 0) {
-      const double a = s.angular_velocity[L.cell(i, 0)], b = s.angular_velocity[L.cell(i, 1)];
-      return (9 * a - b) / (3 * h);
-    }
-    const double a = s.angular_velocity[L.cell(i, L.nz - 1)], b = s.angular_velocity[L.cell(i, L.nz - 2)];
-    return (8 * omega_top - 9 * a + b) / (3 * h);
+    const auto& plate = L.plate(k);
+    return plate.gradient(k == 0 ? 0.0 : omega_top, s.angular_velocity[L.cell(i, plate.near_cell)],
+                          s.angular_velocity[L.cell(i, plate.far_cell)]);
   }
   double corner_shear_for_viscosity(const SwirlState& s, std::size_t i, std::size_t k) const {
     if ((k != 0 && k != L.nz) || L.nz < 2 || i == 0 || i == L.nr) return corner_shear(s, i, k);
-    const double h = L.dz(k == 0 ? 0 : L.nz - 1);
-    if (k == 0) return (9 * s.radial_velocity[L.ur_index(i, 0)] - s.radial_velocity[L.ur_index(i, 1)]) / (3 * h);
-    return -(9 * s.radial_velocity[L.ur_index(i, L.nz - 1)] - s.radial_velocity[L.ur_index(i, L.nz - 2)]) / (3 * h);
+    const auto& plate = L.plate(k);  // u_r = 0 on both plates
+    return plate.gradient(0.0, s.radial_velocity[L.ur_index(i, plate.near_cell)],
+                          s.radial_velocity[L.ur_index(i, plate.far_cell)]);
   }
 
   // Engineering shear strain rate ∂u_r/∂z + ∂u_z/∂r at corner (radial face i, axial face k).
@@ -375,12 +399,12 @@ class Discretisation {
           const double outward = f == k + 1 ? 1.0 : -1.0;
           constant -= outward * newton * e * g_star * g_star * slope;
           if (one_sided) {
-            // bottom: g = (9ω₀ − ω₁)/(3h), the row gets −F; top: g = (8Ω − 9ω_{N−1} + ω_{N−2})/(3h), +F
-            const double h = L.dz(f == 0 ? 0 : nz - 1);
-            const std::size_t far = f == 0 ? 1 : nz - 2;
-            diag -= 3 * jacobian / h;
-            t.emplace_back(row, L.omega(i, far), jacobian / (3 * h));
-            if (f == nz) rhs[static_cast<Eigen::Index>(row)] -= 8 * jacobian * omega_top / (3 * h);
+            // the row gets outward·F with F = J (wall ω_w + near ω_near + far ω_far); this
+            // cell is the plate's near cell
+            const auto& plate = L.plate(f);
+            diag += outward * jacobian * plate.near;
+            t.emplace_back(row, L.omega(i, plate.far_cell), outward * jacobian * plate.far);
+            if (f == nz) rhs[static_cast<Eigen::Index>(row)] -= outward * jacobian * plate.wall * omega_top;
             continue;
           }
           const double coef = jacobian / L.dz_centres(f);
@@ -463,9 +487,9 @@ class Discretisation {
           // ∂u_r/∂z at the corner; at a plate second-order one-sided (as μ there), for the
           // reason given in assemble_angular
           if ((f == 0 || f == nz) && wall_gradient_is_one_sided()) {
-            const double h = L.dz(f == 0 ? 0 : nz - 1), side = f == 0 ? 1.0 : -1.0;
-            add_ur(i, f == 0 ? 0 : nz - 1, side * 3 * coef / h);
-            add_ur(i, f == 0 ? 1 : nz - 2, -side * coef / (3 * h));
+            const auto& plate = L.plate(f);  // u_r = 0 on the plate
+            add_ur(i, plate.near_cell, coef * plate.near);
+            add_ur(i, plate.far_cell, coef * plate.far);
           } else if (f == 0) add_ur(i, 0, coef / L.dz_centres(0));
           else if (f == nz) add_ur(i, nz - 1, -coef / L.dz_centres(nz));
           else {
@@ -506,9 +530,10 @@ class Discretisation {
           const double uz_corner = (1 - wr) * uz(s, i - 1, f) + wr * uz(s, i, f);
           const double dmdot = sign * face_eps_z_corner(i, f) * r * drc;  // per unit corner u_z
           const double mdot = dmdot * uz_corner;
-          add_ur(i, f - 1, -rho * mdot * 0.5);
-          add_ur(i, f, -rho * mdot * 0.5);
-          const double ur_corner = 0.5 * (ur(s, i, f - 1) + ur(s, i, f));
+          const double wz = (L.zf[f] - L.zc[f - 1]) / L.dz_centres(f);  // 1/2 unless z is stretched
+          add_ur(i, f - 1, -rho * mdot * (1 - wz));
+          add_ur(i, f, -rho * mdot * wz);
+          const double ur_corner = (1 - wz) * ur(s, i, f - 1) + wz * ur(s, i, f);
           newton_flux(t, rhs, row, mdot, ur_corner, {{L.axial(i - 1, f), dmdot * (1 - wr)}, {L.axial(i, f), dmdot * wr}});
         }
       }

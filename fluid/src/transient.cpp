@@ -1446,6 +1446,9 @@ void check_params(const TransientParams& p) {
   const auto bad = [](const std::string& what) { throw std::invalid_argument("TransientSolver: " + what); };
   if (p.grid.radial_cells < 2) bad(fmt::format("grid.radial_cells = {} is out of range, expected >= 2", p.grid.radial_cells));
   if (p.grid.axial_cells < 2) bad(fmt::format("grid.axial_cells = {} is out of range, expected >= 2", p.grid.axial_cells));
+  // The plate stencils here assume equal wall cells; only the steady swirl solver stretches z.
+  if (p.grid.axial_stretching != 0.0)
+    bad(fmt::format("grid.axial_stretching = {} is not supported, expected 0 (uniform axial cells)", p.grid.axial_stretching));
   if (!(p.density > 0) || !std::isfinite(p.density)) bad(fmt::format("density = {} kg/m³ is out of range, expected > 0", p.density));
   if (!p.rheology) bad("rheology must be set");
   if (!std::isfinite(p.top_angular_velocity)) bad("top_angular_velocity must be finite");

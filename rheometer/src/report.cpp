@@ -487,8 +487,10 @@ td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size
   row("kind", esc(text(summary, "kind")));
   row("plates", fmt::format("radius R = {} m, gap H = {} m", g4(radius), g4(plate.gap)));
   if (summary.contains("grid"))
-    row("fluid grid", fmt::format("N_r = {}, N_z = {}, radial grading {}; inertia {}", num(summary.at("grid"), "radial_cells"),
-                                  num(summary.at("grid"), "axial_cells"), g4(num(summary.at("grid"), "radial_grading")),
+    row("fluid grid", fmt::format("N_r = {}, N_z = {}, radial grading {}, axial stretching {}; inertia {}",
+                                  num(summary.at("grid"), "radial_cells"), num(summary.at("grid"), "axial_cells"),
+                                  g4(num(summary.at("grid"), "radial_grading")),
+                                  g4(summary.at("grid").value("axial_stretching", 0.0)),
                                   summary.value("inertia", true) ? "on" : "off (creeping limit)"));
   row("points", fmt::format("{} finished, {} failed{}", converged, failed,
                             summary.contains("points_resumed")

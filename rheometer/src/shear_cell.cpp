@@ -61,7 +61,8 @@ double cell_cost_seconds(const core::RheometerCase& r, double phi, double rate, 
 double inertia_effect(const core::RheometerCase& r, const core::FluidProperties& fluid, double rate) {
   if (!r.solver.inertia) return 0.0;
   fluid::SwirlParams p;
-  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading};
+  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading,
+            r.solver.axial_stretching};
   p.density = fluid.density;
   p.rheology = fluid.rheology;
   p.tolerance = r.solver.tolerance;

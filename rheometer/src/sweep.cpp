@@ -99,8 +99,8 @@ PointRunner make_swirl_point_runner(const core::RheometerCase& rheometer) {
     out.method = r.solver.inertia ? "steady axisymmetric swirl solve with inertia" : "steady creeping swirl solve";
     out.converged = stokes.converged && full.converged;
     out.failure = !stokes.converged ? stokes.failure : full.failure;
-    out.torque = full.torque;
-    out.torque_fluid = full.torque;
+    out.torque = reported_torque(r, full);
+    out.torque_fluid = out.torque;
     out.torque_contact = 0.0;
     out.torque_creeping = stokes.torque;
     out.torque_analytic = closed_form_torque(plate, *fluid.rheology, rate).value_or(nan);
@@ -527,7 +527,9 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
   summary["gap"] = r.geometry.gap;
   summary["grid"] = {{"radial_cells", r.solver.radial_cells},
                      {"axial_cells", r.solver.axial_cells},
-                     {"radial_grading", r.solver.radial_grading}};
+                     {"radial_grading", r.solver.radial_grading},
+                     {"axial_stretching", r.solver.axial_stretching},
+                     {"extrapolate", r.solver.extrapolate}};
   summary["inertia"] = r.solver.inertia;
   summary["volume_fractions"] = sweep.volume_fractions;
   summary["shear_rates"] = r.shear_rates;

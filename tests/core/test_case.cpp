@@ -97,6 +97,22 @@ TEST(Case, TextWhereANumberBelongs) {
   EXPECT_THAT(e.details().hint, HasSubstr("SI"));
 }
 
+// extrapolate needs the solver's half grid (even counts >= 8); the stretching is read as given.
+TEST(Case, SolverExtrapolationNeedsCellCountsThatHalve) {
+  const auto solver = [](const std::string& settings) { return plate_case + "solver: {" + settings + "}\n"; };
+  const Case c = parse_case(solver("radial_cells: 20, axial_cells: 16, axial_stretching: 2, extrapolate: true"), "c.yaml");
+  const auto& s = std::get<RheometerCase>(c.spec).solver;
+  EXPECT_TRUE(s.extrapolate);
+  EXPECT_DOUBLE_EQ(s.axial_stretching, 2.0);
+  EXPECT_FALSE(std::get<RheometerCase>(parse_case(plate_case, "d.yaml").spec).solver.extrapolate);
+  const auto odd = parse_error(solver("radial_cells: 20, axial_cells: 15, extrapolate: true"));
+  EXPECT_EQ(odd.details().key_path, "solver.axial_cells");
+  EXPECT_THAT(odd.details().expected, HasSubstr("even"));
+  const auto few = parse_error(solver("radial_cells: 6, axial_cells: 16, extrapolate: true"));
+  EXPECT_EQ(few.details().key_path, "solver.radial_cells");
+  EXPECT_EQ(parse_error(solver("axial_stretching: -1")).details().key_path, "solver.axial_stretching");
+}
+
 TEST(Case, MalformedYamlNamesTheLine) {
   const auto e = parse_error("kind: rheometer\ngeometry: {type: parallel_plate, radius: 0.015\nfluid:\n  density: 1\n");
   EXPECT_GE(e.details().where.line, 2);

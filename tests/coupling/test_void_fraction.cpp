@@ -154,6 +154,13 @@ TEST(VoidFraction, LocatorMirrorsPointsOutsideTheDomain) {
   EXPECT_FALSE(locator.locate({-0.003, -1e-3, 0.001}).mapped);
 }
 
+// Cells are found by z/Δz, which a plate-clustered axial grid does not have.
+TEST(VoidFraction, LocatorRejectsAStretchedAxialGrid) {
+  const fluid::CylindricalGrid g({.radius = 0.01, .gap = 0.002, .radial_cells = 6, .axial_cells = 4,
+                                  .axial_stretching = 1.5});
+  EXPECT_THROW(CellLocator{g}, std::invalid_argument);
+}
+
 TEST(VoidFraction, RejectsABadFloor) {
   EXPECT_THROW(VoidFractionField(grid(1), 0.0), std::invalid_argument);
   EXPECT_THROW(VoidFractionField(grid(1), 1.0), std::invalid_argument);

@@ -178,6 +178,36 @@ TEST(Grid, UniformGridHasEqualRadialWidths) {
   EXPECT_DOUBLE_EQ(g.azimuthal_width(), 2.0 * pi);
 }
 
+// Axial stretching (tanh map towards both plates): mirror-symmetric about mid-gap, cells grow
+// away from each plate, volumes still tile the cylinder, and the grid with half the cells has
+// every other face (so grid sequencing and Richardson pairs refine by exactly 2).
+TEST(Grid, AxialStretchingClustersSymmetricallyTowardsBothPlates) {
+  const auto stretched = [](int n_z, double beta) {
+    return CylindricalGrid({.radius = plate_radius, .gap = plate_gap, .radial_cells = 6, .axial_cells = n_z,
+                            .radial_grading = 0.5, .axial_stretching = beta});
+  };
+  const double beta = 1.5;
+  const CylindricalGrid g = stretched(16, beta), half = stretched(8, beta);
+  EXPECT_FALSE(g.is_axially_uniform());
+  const auto z = g.axial_faces();
+  EXPECT_EQ(z.front(), 0.0);
+  EXPECT_EQ(z.back(), plate_gap);
+  for (std::size_t k = 0; k <= 16; ++k) EXPECT_NEAR(z[k] + z[16 - k], plate_gap, 1e-15 * plate_gap) << k;
+  for (std::size_t k = 1; k < 8; ++k) EXPECT_GT(g.axial_width(k), g.axial_width(k - 1)) << k;
+  // Δz_mid/Δz_plate tends to cosh²β = 5.5 as N_z grows; on 16 cells it is already above 4.
+  EXPECT_GT(g.axial_width(7) / g.axial_width(0), 4.0);
+  EXPECT_LT(g.axial_width(7) / g.axial_width(0), std::cosh(beta) * std::cosh(beta));
+  for (std::size_t k = 0; k <= 8; ++k) EXPECT_NEAR(half.axial_faces()[k], z[2 * k], 1e-15 * plate_gap) << k;
+  for (std::size_t k = 0; k < 16; ++k) EXPECT_DOUBLE_EQ(g.axial_centres()[k], 0.5 * (z[k] + z[k + 1]));
+  double total = 0.0;
+  for (std::size_t i = 0; i < g.radial_cells(); ++i)
+    for (std::size_t k = 0; k < g.axial_cells(); ++k) total += g.cell_volume(i, k);
+  EXPECT_NEAR(total, pi * plate_radius * plate_radius * plate_gap, 1e-13 * plate_gap * plate_radius * plate_radius);
+  const CylindricalGrid uniform = stretched(10, 0.0);
+  EXPECT_TRUE(uniform.is_axially_uniform());
+  for (std::size_t k = 0; k < 10; ++k) EXPECT_NEAR(uniform.axial_width(k), plate_gap / 10, 1e-15);
+}
+
 TEST(Grid, InvalidParametersAreRejectedByName) {
   const auto message = [](CylindricalGrid::Params p) -> std::string {
     try {
@@ -214,6 +244,12 @@ TEST(Grid, InvalidParametersAreRejectedByName) {
   p = ok;
   p.radial_grading = std::numeric_limits<double>::infinity();
   EXPECT_THAT(message(p), HasSubstr("radial_grading"));
+  p = ok;
+  p.axial_stretching = -0.5;
+  EXPECT_THAT(message(p), AllOf(HasSubstr("axial_stretching"), HasSubstr(">= 0")));
+  p = ok;
+  p.axial_stretching = std::nan("");
+  EXPECT_THAT(message(p), HasSubstr("axial_stretching"));
 }
 
 }  // namespace

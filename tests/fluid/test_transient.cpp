@@ -498,6 +498,9 @@ TEST(Failures, InvalidInputIsRejectedByName) {
   p = params(4, 4, 4, true);
   p.max_courant = -1;
   EXPECT_THAT(message(p), HasSubstr("max_courant"));
+  p = params(4, 4, 4, true);  // its plate stencils assume equal wall cells
+  p.grid.axial_stretching = 1.5;
+  EXPECT_THAT(message(p), HasSubstr("axial_stretching"));
 
   TransientSolver solver(params(4, 4, 4, true));
   std::vector<double> eps(solver.grid().cell_count(), 1.0);

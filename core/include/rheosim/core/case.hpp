@@ -87,7 +87,11 @@ struct FluidSolverSettings {
   int radial_cells = 40;         // N_r
   int axial_cells = 8;           // N_z
   double radial_grading = 1.0;   // last/first radial cell width (< 1 refines at the rim)
+  double axial_stretching = 0.0; // β of the tanh clustering of axial cells towards both plates (0: uniform)
   bool inertia = true;           // false: creeping (Stokes) limit, where the closed forms hold
+  // With inertia: solve each point on half the cells first and report the Richardson torque
+  // T + (T − T_2h)/3 (second order in r and z); needs even cell counts >= 8.
+  bool extrapolate = false;
   double tolerance = 1e-10;      // relative change per Picard iteration
   int max_iterations = 500;
 };

@@ -7,7 +7,7 @@
 // u_θ on azimuthal faces (θ = const), u_z on axial faces (z = const).
 //
 // Cell (i, j, k) spans [r_i, r_{i+1}] × [θ_j, θ_{j+1}] × [z_k, z_{k+1}], with Δθ = 2π/N_θ and
-// uniform Δz = H/N_z. Exact finite-volume geometry of that annular sector:
+// Δz_k = z_{k+1} − z_k (uniform H/N_z unless stretched, below). Exact finite-volume geometry of that annular sector:
 //   volume                 V_ik = (Δθ/2)(r_{i+1}² − r_i²) Δz_k
 //   axial face (z = const) A_z,i = (Δθ/2)(r_{i+1}² − r_i²)          (so V = A_z Δz exactly)
 //   radial face (r = r_i)  A_r,ik = r_i Δθ Δz_k                      (a cylinder patch)
@@ -21,6 +21,14 @@
 //   r_i = R (q^i − 1)/(q^N_r − 1),   i = 0..N_r   (r_i = i R/N_r for g = 1).
 // g < 1 refines towards the rim, where the torque ∫ r τ_θz dA collects most of its weight.
 //
+// Axial stretching towards both plates, symmetric about mid-gap: with β >= 0,
+//   z_k = (H/2) [1 + tanh(β(2k/N_z − 1)) / tanh β],   k = 0..N_z   (z_k = k H/N_z for β = 0).
+// The faces are a smooth map of k/N_z, so neighbouring widths differ by O(N_z⁻²) (centred
+// differences stay second order) and the grid with N_z/2 cells has every other face of this
+// one (grid sequencing and Richardson pairs refine by exactly 2). Δz_mid/Δz_plate → cosh²β as
+// N_z grows (β = 1: 2.4, β = 1.5: 5.5). It resolves the thin plate layers of shear-thinning
+// fluids with inertia (docs/performance.md). Only the steady swirl solver supports β > 0.
+//
 // Parameters (SI):
 //   radius           R    [m]  > 0
 //   gap              H    [m]  > 0
@@ -28,6 +36,7 @@
 //   azimuthal_cells  N_θ  [-]  >= 1; 1 = axisymmetric (one sector of Δθ = 2π)
 //   axial_cells      N_z  [-]  >= 1
 //   radial_grading   g    [-]  > 0, default 1 (uniform)
+//   axial_stretching β    [-]  >= 0, default 0 (uniform)
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -43,6 +52,7 @@ class CylindricalGrid {
     int azimuthal_cells = 1;      // N_θ, >= 1; 1 = axisymmetric
     int axial_cells = 1;          // N_z, >= 1
     double radial_grading = 1.0;  // Δr_last/Δr_first, > 0; 1 = uniform
+    double axial_stretching = 0.0;  // β of the tanh clustering towards both plates, >= 0; 0 = uniform
   };
 
   // Throws std::invalid_argument naming the parameter and its valid range.
@@ -77,6 +87,7 @@ class CylindricalGrid {
   [[nodiscard]] double axial_face_area(std::size_t i) const;  // [m²]
   // The radial face i = 0 is the axis, a degenerate face of zero area.
   [[nodiscard]] static bool is_axis_face(std::size_t i) { return i == 0; }
+  [[nodiscard]] bool is_axially_uniform() const { return params_.axial_stretching == 0.0; }
 
  private:
   Params params_;
