@@ -1,8 +1,8 @@
 // LDD cavity benchmark (scripted; prints a table): milliseconds per time step for the seed's
 // cavities at 100² and 200² nodes on 1 and 2 threads, with the time per phase, next to the
 // seed's GPU figures (LDD §4.1: 12 ms/step square Casson cavity; §4.2: 26 ms/step skewed
-// power-law cavity), and the centre-line error against the finest resolution for the Newtonian
-// Re = 100 cavity run to steady state (and against Ghia et al. 1982 at x = 0.5, y = 0.5).
+// power-law cavity), and (full mode) `accuracy` for the Newtonian Re = 100 cavity at 25²–200²
+// on 2 threads: error against Ghia et al. (1982) and against the finest resolution.
 //
 //   build-ldd/bin/bench_ldd            # full table (several minutes)
 //   build-ldd/bin/bench_ldd --quick    # timings only, fewer steps
@@ -192,41 +192,6 @@ void accuracy(const AccuracyOptions& o) {
                 max_difference(profiles[r], profiles[r + 1]));
 }
 
-void convergence() {
-  omp_set_num_threads(2);
-  core::CavityScene scene;
-  scene.size = {1.0, 1.0};
-  scene.lid_velocity = 1.0;
-  std::vector<double> probes;
-  for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {0.5, k / 100.0});
-  for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {k / 100.0, 0.5});
-  std::vector<std::vector<double>> profiles;
-  const std::vector<int> resolutions{25, 50, 100, 200};
-  std::printf("\n| Re 100 Newtonian | steps to steady | t [s] | ms/step (2 threads) | u(0.5, 0.5) | v(0.5, 0.5) |\n"
-              "| --- | --- | --- | --- | --- | --- |\n");
-  for (int cells : resolutions) {
-    ldd::SolverParams p;
-    p.rheology = rheology("{model: newtonian, viscosity: 0.01}");
-    p.spacing = 1.0 / cells;
-    p.time_step = 5e-3;
-    const auto r = ldd::simulate_cavity(scene, p, 40.0, 1e-4, probes);
-    const std::vector<double> u_line(r.probe_velocity.begin(), r.probe_velocity.end());
-    profiles.push_back(u_line);
-    std::printf("| %d² | %zu | %.2f | %.1f | %.4f (Ghia −0.20581) | %.4f (Ghia 0.05454) |\n", cells, r.steps, r.time,
-                r.ms_per_step, u_line[2 * 50], u_line[2 * 151 + 1]);
-    std::fflush(stdout);
-  }
-  std::printf("\n| resolution | max |Δu|, |Δv| vs %d² over 202 centre-line points |\n| --- | --- |\n", resolutions.back());
-  for (std::size_t r = 0; r + 1 < profiles.size(); ++r) {
-    double error = 0;
-    for (std::size_t k = 0; k < 202; ++k) {
-      error = std::max(error, std::abs(profiles[r][2 * k] - profiles.back()[2 * k]));
-      error = std::max(error, std::abs(profiles[r][2 * k + 1] - profiles.back()[2 * k + 1]));
-    }
-    std::printf("| %d² | %.4f |\n", resolutions[r], error);
-  }
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -278,6 +243,11 @@ int main(int argc, char** argv) {
   for (const auto& s : scenarios)
     for (int cells : {100, 200})
       for (int threads : {1, 2}) time_steps(s, cells, threads, steps);
-  if (!quick) convergence();
+  if (!quick) {
+    AccuracyOptions o;
+    o.threads = 2;
+    o.resolutions = {25, 50, 100, 200};
+    accuracy(o);
+  }
   return 0;
 }
