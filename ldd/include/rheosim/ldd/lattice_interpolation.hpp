@@ -48,7 +48,7 @@ class QuadraticFit {
   // D_i for component `component` of a field with `stride` values per node.
   [[nodiscard]] std::array<double, terms> derivatives(const NeighbourList& neighbours, std::span<const double> field,
                                                       std::size_t stride, std::size_t component, std::size_t node) const;
-  [[nodiscard]] std::size_t linear_only_count() const;  // nodes that fell back to a linear fit
+  [[nodiscard]] std::size_t linear_only_count() const;  // nodes that fell back to a linear fit (or to none)
   [[nodiscard]] double support_radius() const { return support_radius_; }  // h [m]
 
  private:
