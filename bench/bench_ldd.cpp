@@ -1,13 +1,18 @@
 // LDD cavity benchmark (scripted; prints a table): milliseconds per time step for the seed's
 // cavities at 100² and 200² nodes on 1 and 2 threads, with the time per phase, next to the
 // seed's GPU figures (LDD §4.1: 12 ms/step square Casson cavity; §4.2: 26 ms/step skewed
-// power-law cavity), and the centre-line error against the finest resolution for the Newtonian
-// Re = 100 cavity run to steady state (and against Ghia et al. 1982 at x = 0.5, y = 0.5).
+// power-law cavity), and (full mode) `accuracy` for the Newtonian Re = 100 cavity at 25²–200²
+// on 2 threads: error against Ghia et al. (1982) and against the finest resolution.
 //
 //   build-ldd/bin/bench_ldd            # full table (several minutes)
 //   build-ldd/bin/bench_ldd --quick    # timings only, fewer steps
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
 //                                       # code path as `rheosim run`, without the other modules)
+//   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
+//                          [--dt S] [--end S] [--threads N] CELLS...
+//                                       # Newtonian cavity at each resolution to steady state: max
+//                                       # error against Ghia et al. (1982), differences between
+//                                       # resolutions and against the finest, wall and CPU ms/step
 //
 // Timings exclude the first step (which builds the operators and factorises the pressure matrix;
 // reported separately as "setup").
@@ -17,6 +22,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -80,39 +88,108 @@ void time_steps(const Scenario& s, int cells, int threads, int steps) {
   std::fflush(stdout);
 }
 
-void convergence() {
-  omp_set_num_threads(2);
-  core::CavityScene scene;
-  scene.size = {1.0, 1.0};
-  scene.lid_velocity = 1.0;
+struct GhiaPoint {
+  char line;          // 'u': vertical centre line (coordinate y), 'v': horizontal (coordinate x)
+  double coordinate;  // y or x, normalised
+  double re100, re1000;
+};
+
+std::vector<GhiaPoint> ghia() {
+  std::ifstream in(std::string(RHEOSIM_SOURCE_DIR) + "/tests/ldd/data/ghia1982_centerlines.csv");
+  std::vector<GhiaPoint> points;
+  std::string row;
+  while (std::getline(in, row)) {
+    if (row.empty() || row[0] == '#') continue;
+    std::replace(row.begin(), row.end(), ',', ' ');
+    std::istringstream fields(row);
+    GhiaPoint p{};
+    fields >> p.line >> p.coordinate >> p.re100 >> p.re1000;
+    points.push_back(p);
+  }
+  return points;
+}
+
+struct AccuracyOptions {
+  int reynolds = 100;
+  ldd::LatticeInterpolation interpolation = ldd::LatticeInterpolation::quadratic;
+  double dt = 5e-3, end = 80.0;
+  int threads = 1;
+  std::vector<int> resolutions;
+};
+
+// The 101 + 101 centre-line points, then Ghia's 34, as cavity fractions.
+std::vector<double> accuracy_probes(const std::vector<GhiaPoint>& points) {
   std::vector<double> probes;
   for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {0.5, k / 100.0});
   for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {k / 100.0, 0.5});
+  for (const auto& p : points) {
+    if (p.line == 'u')
+      probes.insert(probes.end(), {0.5, p.coordinate});
+    else
+      probes.insert(probes.end(), {p.coordinate, 0.5});
+  }
+  return probes;
+}
+
+double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = 0;
+  for (std::size_t k = 0; k < 202; ++k) {  // u on the vertical line, v on the horizontal one
+    d = std::max(d, std::abs(a[2 * k] - b[2 * k]));
+    d = std::max(d, std::abs(a[2 * k + 1] - b[2 * k + 1]));
+  }
+  return d;
+}
+
+void accuracy(const AccuracyOptions& o) {
+  omp_set_num_threads(o.threads);
+  const auto points = ghia();
+  const auto probes = accuracy_probes(points);
+  core::CavityScene scene;
+  scene.size = {1.0, 1.0};
+  scene.lid_velocity = 1.0;
+  const char* names[] = {"quadratic", "shepard", "gradient_corrected"};
+  std::printf("\nNewtonian cavity Re %d, interpolation %s, δt %g s, %d thread(s), steady residual 1e-4\n\n"
+              "| cells | steps | t [s] | status | wall ms/step | CPU ms/step | advection+interpolation ms/step | "
+              "u(0.5, 0.5) | v(0.5, 0.5) | max error vs Ghia | worst point |\n"
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+              o.reynolds, names[static_cast<int>(o.interpolation)], o.dt, o.threads);
   std::vector<std::vector<double>> profiles;
-  const std::vector<int> resolutions{25, 50, 100, 200};
-  std::printf("\n| Re 100 Newtonian | steps to steady | t [s] | ms/step (2 threads) | u(0.5, 0.5) | v(0.5, 0.5) |\n"
-              "| --- | --- | --- | --- | --- | --- |\n");
-  for (int cells : resolutions) {
+  for (int cells : o.resolutions) {
     ldd::SolverParams p;
-    p.rheology = rheology("{model: newtonian, viscosity: 0.01}");
+    p.rheology = rheology(o.reynolds == 1000 ? "{model: newtonian, viscosity: 0.001}" : "{model: newtonian, viscosity: 0.01}");
     p.spacing = 1.0 / cells;
-    p.time_step = 5e-3;
-    const auto r = ldd::simulate_cavity(scene, p, 40.0, 1e-4, probes);
-    const std::vector<double> u_line(r.probe_velocity.begin(), r.probe_velocity.end());
-    profiles.push_back(u_line);
-    std::printf("| %d² | %zu | %.2f | %.1f | %.4f (Ghia −0.20581) | %.4f (Ghia 0.05454) |\n", cells, r.steps, r.time,
-                r.ms_per_step, u_line[2 * 50], u_line[2 * 151 + 1]);
-    std::fflush(stdout);
-  }
-  std::printf("\n| resolution | max |Δu|, |Δv| vs %d² over 202 centre-line points |\n| --- | --- |\n", resolutions.back());
-  for (std::size_t r = 0; r + 1 < profiles.size(); ++r) {
-    double error = 0;
-    for (std::size_t k = 0; k < 202; ++k) {
-      error = std::max(error, std::abs(profiles[r][2 * k] - profiles.back()[2 * k]));
-      error = std::max(error, std::abs(profiles[r][2 * k + 1] - profiles.back()[2 * k + 1]));
+    p.time_step = o.dt;
+    p.interpolation = o.interpolation;
+    const std::clock_t cpu0 = std::clock();
+    const auto r = ldd::simulate_cavity(scene, p, o.end, 1e-4, probes);
+    const double cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC / static_cast<double>(std::max<std::size_t>(r.steps, 1));
+    double worst = 0;
+    std::string where;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const bool u_line = points[k].line == 'u';
+      const double computed = r.probe_velocity[2 * (202 + k) + (u_line ? 0 : 1)];
+      const double reference = o.reynolds == 1000 ? points[k].re1000 : points[k].re100;
+      if (std::abs(computed - reference) > worst) {
+        worst = std::abs(computed - reference);
+        char text[96];
+        std::snprintf(text, sizeof text, "%c at %s = %.4f (%.4f vs %.4f)", points[k].line, u_line ? "y" : "x",
+                      points[k].coordinate, computed, reference);
+        where = text;
+      }
     }
-    std::printf("| %d² | %.4f |\n", resolutions[r], error);
+    std::printf("| %d² | %zu | %.2f | %s (residual %.1e) | %.2f | %.2f | %.2f | %.4f | %.4f | %.4f | %s |\n", cells, r.steps, r.time,
+                r.diverged ? r.message.c_str() : (r.final_residual < 1e-4 ? "steady" : "not steady"), r.final_residual, r.ms_per_step, cpu_ms,
+                1e3 * r.phases.advection / static_cast<double>(std::max<std::size_t>(r.steps, 1)), r.probe_velocity[2 * 50],
+                r.probe_velocity[2 * 151 + 1], worst, where.c_str());
+    std::fflush(stdout);
+    profiles.push_back(r.probe_velocity);
   }
+  if (profiles.size() < 2) return;
+  std::printf("\n| cells | max |Δu|, |Δv| vs %d² (202 centre-line points) | vs the next finer |\n| --- | --- | --- |\n",
+              o.resolutions.back());
+  for (std::size_t r = 0; r + 1 < profiles.size(); ++r)
+    std::printf("| %d² | %.4f | %.4f |\n", o.resolutions[r], max_difference(profiles[r], profiles.back()),
+                max_difference(profiles[r], profiles[r + 1]));
 }
 
 }  // namespace
@@ -123,6 +200,36 @@ int main(int argc, char** argv) {
     const auto log = core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
     const auto outcome = ldd::run_case(c, argv[3], log);
     return outcome.status == "diverged" ? 1 : 0;
+  }
+  if (argc >= 2 && std::string(argv[1]) == "accuracy") {
+    AccuracyOptions o;
+    for (int a = 2; a < argc; ++a) {
+      const std::string arg = argv[a];
+      const bool has_value = a + 1 < argc;
+      if (arg == "--re" && has_value) {
+        o.reynolds = std::stoi(argv[++a]);
+      } else if (arg == "--interpolation" && has_value) {
+        const std::string name = argv[++a];
+        o.interpolation = name == "shepard"              ? ldd::LatticeInterpolation::shepard
+                          : name == "gradient_corrected" ? ldd::LatticeInterpolation::gradient_corrected
+                                                         : ldd::LatticeInterpolation::quadratic;
+      } else if (arg == "--dt" && has_value) {
+        o.dt = std::stod(argv[++a]);
+      } else if (arg == "--end" && has_value) {
+        o.end = std::stod(argv[++a]);
+      } else if (arg == "--threads" && has_value) {
+        o.threads = std::stoi(argv[++a]);
+      } else {
+        o.resolutions.push_back(std::stoi(arg));
+      }
+    }
+    if (o.resolutions.empty() || (o.reynolds != 100 && o.reynolds != 1000)) {
+      std::fprintf(stderr, "usage: bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected] "
+                           "[--dt S] [--end S] [--threads N] CELLS...\n");
+      return 2;
+    }
+    accuracy(o);
+    return 0;
   }
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
   const int steps = quick ? 20 : 200;
@@ -136,6 +243,11 @@ int main(int argc, char** argv) {
   for (const auto& s : scenarios)
     for (int cells : {100, 200})
       for (int threads : {1, 2}) time_steps(s, cells, threads, steps);
-  if (!quick) convergence();
+  if (!quick) {
+    AccuracyOptions o;
+    o.threads = 2;
+    o.resolutions = {25, 50, 100, 200};
+    accuracy(o);
+  }
   return 0;
 }

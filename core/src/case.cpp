@@ -352,6 +352,8 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     v.max_iterations = s->integer_or({"max_iterations", "iterations per linear solve", "-"}, v.max_iterations, 1, 1000000);
     v.reordering = s->choice_or({"reordering", "node reordering after advection", "-"}, v.reordering,
                                 {"lattice", "density"});
+    v.interpolation = s->choice_or({"interpolation", "lattice reordering: how the velocity returns to the lattice", "-"},
+                                   v.interpolation, {"quadratic", "shepard", "gradient_corrected"});
     v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"},
                                  v.max_courant, Range::open_closed(0.0, 100.0));
     v.pbd_sweeps = s->integer_or({"pbd_sweeps", "free surface: volume-keeping PBD sweeps per step", "-"}, v.pbd_sweeps, 0, 100);

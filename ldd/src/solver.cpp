@@ -352,9 +352,12 @@ StepStats Solver::step() {
   // 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler.
   t0 = Clock::now();
   pressure_ = std::move(new_pressure);
-  // ∇u_n on the pre-advection cloud, for carrying velocities along PBD shifts.
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
+  // ∇u_n on the pre-advection cloud, for carrying velocities along PBD shifts (and for the
+  // gradient-corrected interpolation); the quadratic interpolation fits its own.
+  const bool needs_velocity_gradient =
+      params_.reordering == Reordering::density || params_.interpolation == LatticeInterpolation::gradient_corrected;
+#pragma omp parallel for schedule(static) if (needs_velocity_gradient)
+  for (std::ptrdiff_t s = 0; s < (needs_velocity_gradient ? count : 0); ++s) {
     const auto i = static_cast<std::size_t>(s);
     double g[4] = {0, 0, 0, 0};
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
@@ -373,10 +376,23 @@ StepStats Solver::step() {
     if (!is_fluid(kinds_[j])) return 0.0;
     return ((1.0 + older_weight) * new_velocity_[2 * j + d] - older_weight * velocity_[2 * j + d]) * dt;
   };
-  if (params_.reordering == Reordering::lattice) {
+  if (params_.reordering == Reordering::lattice && params_.interpolation == LatticeInterpolation::quadratic) {
+    // Advect (eq. 20) and return to the lattice in one: each lattice place takes the velocity
+    // arriving from its departure point (lattice_interpolation.hpp). Walls advect with their
+    // own velocity (the lid's material moves along it).
+    if (lattice_fit_.empty()) lattice_fit_ = QuadraticFit(positions_, nb, support_radius_);
+    advection_velocity_.resize(2 * n);
+    for (std::size_t i = 0; i < 2 * n; ++i)
+      advection_velocity_[i] = (1.0 + older_weight) * new_velocity_[i] - older_weight * velocity_[i];
+    return_to_lattice(positions_, kinds_, nb, lattice_fit_, new_velocity_, advection_velocity_, dt, true, component_);
+    previous_velocity_.swap(velocity_);
+    velocity_.swap(component_);
+    first_step_ = false;
+    times_.advection += seconds_since(t0);
+  } else if (params_.reordering == Reordering::lattice) {
     // Advect (eq. 20), then reorder every node back onto its lattice place, interpolating the
-    // velocity there from the advected cloud (eq. 12 with a first-order gradient correction):
-    //   u(X_i) = Σ_j W(|X_i − x'_j|) (u_j + ⟨∇u⟩_j·(X_i − x'_j)) / Σ_j W,  x'_j = X_j + d_j,
+    // velocity there from the advected cloud (eq. 12, optionally with a gradient correction):
+    //   u(X_i) = Σ_j W(|X_i − x'_j|) (u_j + c ⟨∇u⟩_j·(X_i − x'_j)) / Σ_j W,  x'_j = X_j + d_j,
     // over j ∈ {i} ∪ N(i). The node spacing is kept exactly and the operators stay valid.
     component_.resize(2 * n);
 #pragma omp parallel for schedule(static)
@@ -394,7 +410,7 @@ StepStats Solver::step() {
         const double ry = positions_[2 * i + 1] - (positions_[2 * j + 1] + displacement(j, 1));
         const double w = weight(std::hypot(rx, ry), support_radius_);
         if (w <= 0) return;
-        const double c = params_.corrected_interpolation ? 1.0 : 0.0;
+        const double c = params_.interpolation == LatticeInterpolation::gradient_corrected ? 1.0 : 0.0;
         const double g[4] = {c * velocity_gradient_[4 * j], c * velocity_gradient_[4 * j + 1],
                              c * velocity_gradient_[4 * j + 2], c * velocity_gradient_[4 * j + 3]};
         wsum += w;

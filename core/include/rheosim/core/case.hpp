@@ -158,6 +158,7 @@ struct LddSolverSettings {
   double velocity_tolerance = 1e-8;     // BiCGStab relative residual of LDD eq. 19
   int max_iterations = 2000;            // per linear solve
   std::string reordering = "lattice";   // lattice | density (experimental)
+  std::string interpolation = "quadratic";  // lattice reordering: quadratic | shepard | gradient_corrected
   double max_courant = 1.0;             // stop (diverged) when max|u|δt/Δ exceeds this
   int pbd_sweeps = 3;                   // free-surface scenes: volume-keeping PBD sweeps per step
   double moment_rcond = 1e-3;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface

@@ -25,7 +25,7 @@
 //      throws DivergenceError and leaves the state of the last good step untouched;
 //   6. Lagrangian advection (eq. 20): x' = x + (3/2 u_n − 1/2 u_{n−1}) δt;
 //   7. reordering (see Reordering): by default every node returns to its lattice place and takes
-//      the velocity interpolated there from the advected cloud (eq. 12); the density-constraint
+//      the velocity arriving there (LatticeInterpolation, second order); the density-constraint
 //      PBD mode keeps the nodes Lagrangian (experimental).
 //
 // OpenMP parallelises every loop over nodes; reductions add per-thread blocks in order, so a
@@ -41,6 +41,7 @@
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/krylov.hpp"
+#include "rheosim/ldd/lattice_interpolation.hpp"
 #include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
 
@@ -48,7 +49,7 @@ namespace rheosim::ldd {
 
 // How nodes are reordered after the Lagrangian advection (eq. 20), LDD §3.2:
 //   lattice — every node goes back to its initial lattice place and its velocity is
-//             interpolated there (eq. 12 + gradient correction): the "significant reordering"
+//             interpolated there (LatticeInterpolation): the "significant reordering"
 //             case of the seed, taken every step. Node spacing is kept exactly, the operators
 //             are built once. The default, and the mode validated against Ghia et al.
 //   density — position-based dynamics (Macklin & Müller 2013): the nodes stay Lagrangian.
@@ -62,6 +63,16 @@ namespace rheosim::ldd {
 //             cavity the cloud opens a void/pile-up within ~0.2 L/U and the run diverges
 //             (docs/ldd.md).
 enum class Reordering { lattice, density };
+
+// How the lattice reordering carries the velocity back to the lattice (lattice_interpolation.hpp):
+//   quadratic          — semi-Lagrangian: node i's own quadratic Taylor polynomial evaluated at
+//                        its departure point, clamped to the upwind neighbours' range (second
+//                        order, no smoothing at zero displacement). The default;
+//   shepard            — eq. 12 at X_i over the advected cloud (first order; smooths by O(Δ²)
+//                        per step, a numerical viscosity ∝ Δ²/δt);
+//   gradient_corrected — eq. 12 plus ⟨∇u⟩_j·(X_i − x'_j), clamped (anti-diffusive ∝ Δ²/δt:
+//                        diverged at Re = 1000). Kept for the comparison in docs/ldd.md.
+enum class LatticeInterpolation { quadratic, shepard, gradient_corrected };
 
 struct SolverParams {
   double density = 1.0;                          // ρ [kg/m³], > 0
@@ -84,7 +95,7 @@ struct SolverParams {
   double neighbour_skin = 0.2;                   // search radius h + skin·Δ (PBD moves nodes)
   Reordering reordering = Reordering::lattice;   // see the header comment, step 7
   bool direct_pressure_preconditioner = true;    // lattice mode: sparse LU of the PPE as BiCGStab preconditioner
-  bool corrected_interpolation = false;          // lattice mode: eq. 12 + gradient term (2nd order, unstable at Re 1000)
+  LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice mode: see LatticeInterpolation
 
   void check() const;  // throws std::invalid_argument naming the field and its valid range
 };
@@ -168,6 +179,8 @@ class Solver {
   Operators operators_;
   bool operators_valid_ = false;
   std::unique_ptr<SparseFactorisation> pressure_lu_;  // lattice mode only
+  QuadraticFit lattice_fit_;                          // lattice mode, quadratic interpolation
+  std::vector<double> advection_velocity_;            // a of eq. 20 on every node
   PhaseTimes times_;
   // Work buffers reused across steps.
   KrylovWorkspace krylov_;
