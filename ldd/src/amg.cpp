@@ -1,5 +1,7 @@
 #include "rheosim/ldd/amg.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -34,8 +36,31 @@ struct Rows {
   [[nodiscard]] std::size_t nonzeros() const { return diagonal.size() + values.size(); }
 };
 
-Rows rows_of(const StencilMatrix& a) {
-  return Rows{a.diagonal, a.pattern->offsets, a.pattern->indices, a.off_diagonal};
+// Row-parallel loop (each row written by one thread: independent of the thread count).
+template <class Body>
+void for_rows(std::size_t n, Body&& body) {
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (n >= parallel_rows)
+  for (std::ptrdiff_t s = 0; s < count; ++s) body(static_cast<std::size_t>(s));
+}
+
+// The stencil matrix with every row scaled so that its diagonal is positive (or one, with
+// unit_diagonal): the LDD systems mix rows of both signs and units (the PPE's Laplacian rows have
+// a diagonal ~ −1/Δ², its wall rows +1), and an aggregate summing such rows would cancel or drop
+// some of them from the Galerkin operator.
+Rows scaled_rows_of(const StencilMatrix& a, bool unit_diagonal, std::vector<double>& row_scale) {
+  Rows out{a.diagonal, a.pattern->offsets, a.pattern->indices, a.off_diagonal};
+  const std::size_t n = out.size();
+  row_scale.resize(n);
+  for_rows(n, [&](std::size_t i) {
+    const double d = out.diagonal[i];
+    const double scale = d == 0.0 ? 1.0 : unit_diagonal ? 1.0 / d : (d < 0.0 ? -1.0 : 1.0);
+    row_scale[i] = scale;
+    if (scale == 1.0) return;
+    out.diagonal[i] *= scale;
+    for (std::size_t k = out.offsets[i]; k < out.offsets[i + 1]; ++k) out.values[k] *= scale;
+  });
+  return out;
 }
 
 Rows rows_of(const SparseRows& m) {
@@ -72,14 +97,6 @@ SparseRows sparse_of(const Rows& a) {
   return m;
 }
 
-// Row-parallel loop (each row written by one thread: independent of the thread count).
-template <class Body>
-void for_rows(std::size_t n, Body&& body) {
-  const auto count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static) if (n >= parallel_rows)
-  for (std::ptrdiff_t s = 0; s < count; ++s) body(static_cast<std::size_t>(s));
-}
-
 // Contiguous blocks, one per thread (one block below parallel_rows).
 template <class Body>
 void for_row_blocks(std::size_t n, Body&& body) {
@@ -101,8 +118,11 @@ void residual(const Rows& a, std::span<const double> b, std::span<const double> 
 void gauss_seidel(const Rows& a, std::span<const double> b, std::span<double> x, std::vector<double>& frozen,
                   bool forward) {
   const std::size_t n = a.size();
-  frozen.resize(n);
-  for_rows(n, [&](std::size_t i) { frozen[i] = x[i]; });
+  // One block reads only its own rows: nothing to freeze.
+  if (n >= parallel_rows && omp_get_max_threads() > 1) {
+    frozen.resize(n);
+    for_rows(n, [&](std::size_t i) { frozen[i] = x[i]; });
+  }
   for_row_blocks(n, [&](std::size_t begin, std::size_t end) {
     const auto relax = [&](std::size_t i) {
       if (a.diagonal[i] == 0.0) return;
@@ -248,6 +268,7 @@ struct AmgPreconditioner::Hierarchy {
     std::vector<double> b, x, residual, frozen;
   };
   std::vector<Level> levels;
+  std::vector<double> row_scale;  // level 0 is diag(row_scale) A (scaled_rows_of)
   Eigen::SparseLU<SparseColumns, Eigen::COLAMDOrdering<int>> coarse;
   bool coarse_factorised = false;
   std::size_t fine_nonzeros_at_setup = 0;
@@ -314,7 +335,7 @@ void AmgPreconditioner::setup(const StencilMatrix& a) {
     throw std::invalid_argument("AMG: the stencil matrix does not match its pattern");
   auto h = std::make_unique<Hierarchy>();
   h->levels.emplace_back();
-  h->levels.back().a = rows_of(a);
+  h->levels.back().a = scaled_rows_of(a, settings_.unit_diagonal, h->row_scale);
   h->fine_nonzeros_at_setup = h->levels.back().a.nonzeros();
   while (h->levels.size() < static_cast<std::size_t>(settings_.max_levels)) {
     Hierarchy::Level& level = h->levels.back();
@@ -356,7 +377,7 @@ bool AmgPreconditioner::prepare(const StencilMatrix& a) {
   if (full) {
     setup(a);
   } else {
-    hierarchy_->levels.front().a = rows_of(a);
+    hierarchy_->levels.front().a = scaled_rows_of(a, settings_.unit_diagonal, hierarchy_->row_scale);
   }
   ++calls_since_setup_;
   return full;
@@ -374,7 +395,11 @@ void AmgPreconditioner::apply(std::span<const double> r, std::span<double> z) {
   if (!hierarchy_) throw std::logic_error("AMG: apply() before setup()");
   if (r.size() != z.size() || r.size() != hierarchy_->levels.front().a.size())
     throw std::invalid_argument("AMG: vector sizes do not match the matrix");
-  hierarchy_->cycle(0, r, z, settings_);
+  // (S A)⁻¹ S r = A⁻¹ r with S = diag(row_scale).
+  Hierarchy::Level& fine = hierarchy_->levels.front();
+  fine.b.resize(r.size());
+  for_rows(r.size(), [&](std::size_t i) { fine.b[i] = hierarchy_->row_scale[i] * r[i]; });
+  hierarchy_->cycle(0, fine.b, z, settings_);
 }
 
 std::function<void(std::span<const double>, std::span<double>)> AmgPreconditioner::as_preconditioner() {

@@ -2,9 +2,11 @@
 // Algebraic multigrid (smoothed aggregation, Vaněk, Mandel & Brezina 1996) as a right
 // preconditioner for the LDD pressure (eq. 17) and velocity (eq. 19) systems.
 //
-// Set-up (serial, deterministic): the stencil matrix is assembled; strong connections
+// Set-up (serial, deterministic): the stencil matrix is assembled with every row scaled to a
+// positive diagonal (the PPE mixes Laplacian rows, diagonal < 0, with wall rows, diagonal > 0;
+// an aggregate summing both would cancel its Galerkin row); strong connections
 // |a_ij| ≥ θ √|a_ii a_jj| (in either direction, the matrices are not symmetric) are aggregated
-// greedily in node order; the tentative prolongator is piecewise constant on the aggregates and,
+// greedily in node order (θ halving per level); the tentative prolongator is piecewise constant on the aggregates and,
 // for smoothed aggregation, smoothed by one damped Jacobi step P = (I − ω D⁻¹A) P_tent with
 // ω = 4/(3 ρ(D⁻¹A)) (ρ by power iteration); restriction R = Pᵀ and Galerkin coarse operators
 // A_c = R A P, down to a coarsest level that is solved by dense LU. Rows without strong
@@ -34,11 +36,12 @@ namespace rheosim::ldd {
 struct AmgSettings {
   double strength_threshold = 0.08;  // θ of the strong-connection test
   bool smoothed = true;              // smoothed aggregation; false: plain (piecewise-constant) aggregation
+  bool unit_diagonal = false;        // scale rows to a unit diagonal (else only to a positive one)
   int pre_sweeps = 1;                // forward Gauss–Seidel sweeps per level before the coarse correction
   int post_sweeps = 1;               // backward sweeps after it
   std::size_t coarsest_size = 500;   // rows at or below which a level is solved directly
   int max_levels = 15;
-  int reuse_steps = 10;              // prepare(): full set-up at least every this many calls ...
+  int reuse_steps = 50;              // prepare(): full set-up at least every this many calls ...
   double reuse_growth = 1.5;         // ... or when a solve took more than this × the first solve's iterations
 
   void check() const;  // throws std::invalid_argument naming the field and its range
