@@ -115,8 +115,11 @@ FreeSurfaceParams free_surface_params(const core::LddCase& l) {
   p.max_courant = l.solver.max_courant;
   p.pbd_iterations = l.solver.pbd_sweeps;
   p.min_moment_rcond = l.solver.moment_rcond;
-  p.pressure_preconditioner = preconditioner_named(l.solver.pressure_preconditioner, p.pressure_preconditioner);
-  p.velocity_preconditioner = preconditioner_named(l.solver.velocity_preconditioner, p.velocity_preconditioner);
+  // auto: the per-step LU in 2D (robust; AMG-preconditioned 2D runs diverged with tight
+  // tolerances, docs/performance.md), AMG in 3D (where the LU is unusable and Jacobi slower).
+  const Preconditioner automatic = l.dimension == 3 ? Preconditioner::amg : Preconditioner::sparse_lu;
+  p.pressure_preconditioner = preconditioner_named(l.solver.pressure_preconditioner, automatic);
+  p.velocity_preconditioner = preconditioner_named(l.solver.velocity_preconditioner, automatic);
   p.pressure_amg.unit_diagonal = l.dimension == 3;  // measured: 3D slump PPE 55 → 12 iterations, 2D dam break 4 → 34
   return p;
 }

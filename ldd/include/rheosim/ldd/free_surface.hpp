@@ -145,12 +145,13 @@ struct FreeSurfaceParams {
   double wall_clearance = 0.5;                     // fluid nodes stay this far (units of Δ) off boundaries
   double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
   bool hydrostatic_start = true;
-  // BiCGStab preconditioners of the PPE and eq. 19: amg with the hierarchy reused over steps
-  // (amg.hpp; 2.5× faster than the LU in the 2D dam break, docs/performance.md), sparse_lu
-  // refactorised every step (2D only; in 3D its fill is unusable, >90 s/step at 85k nodes, and it
-  // falls back to Jacobi), or jacobi.
-  Preconditioner pressure_preconditioner = Preconditioner::amg;
-  Preconditioner velocity_preconditioner = Preconditioner::amg;
+  // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
+  // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg with the
+  // hierarchy reused over steps (amg.hpp; 2.3× faster in the 2D dam break but its runs are not
+  // yet as robust, 1.7× faster than Jacobi in the 3D slump: docs/performance.md), or jacobi.
+  // Case files: `auto` is sparse_lu in 2D and amg in 3D (run_free_surface.cpp).
+  Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
+  Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
   AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
   bool transpose_stress = false;                   // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)                   // initial p = ρ|g|·depth below the top fluid node
 
