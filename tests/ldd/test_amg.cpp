@@ -53,8 +53,8 @@ Problem poisson(int dimension, std::size_t cells) {
 }
 
 KrylovResult solve(const StencilMatrix& a, std::span<const double> b, std::vector<double>& x, AmgPreconditioner* amg,
-                   double tolerance = 1e-8) {
-  KrylovSettings settings{tolerance, 1e-300, 5000, {}};
+                   double tolerance = 1e-8, int max_iterations = 5000) {
+  KrylovSettings settings{tolerance, 1e-300, max_iterations, {}};
   if (amg) settings.preconditioner = amg->as_preconditioner();
   KrylovWorkspace work;
   x.assign(a.size(), 0.0);
@@ -62,7 +62,7 @@ KrylovResult solve(const StencilMatrix& a, std::span<const double> b, std::vecto
 }
 
 void expect_grid_independent(int dimension, std::size_t small_cells, std::size_t large_cells) {
-  int iterations[2] = {0, 0}, jacobi[2] = {0, 0};
+  int iterations[2] = {0, 0};
   std::size_t index = 0;
   for (std::size_t cells : {small_cells, large_cells}) {
     const Problem p = poisson(dimension, cells);
@@ -74,15 +74,16 @@ void expect_grid_independent(int dimension, std::size_t small_cells, std::size_t
     const auto result = solve(p.a, p.b, x, &amg);
     ASSERT_TRUE(result.converged) << cells << " cells: " << result.relative_residual;
     iterations[index] = result.iterations;
-    const auto plain = solve(p.a, p.b, x, nullptr);
-    ASSERT_TRUE(plain.converged);
-    jacobi[index] = plain.iterations;
+    if (cells == large_cells) {
+      // On the large grid Jacobi-preconditioned BiCGStab is not done in 4× as many iterations
+      // (its count grows ∝ cells).
+      const auto plain = solve(p.a, p.b, x, nullptr, 1e-8, 4 * result.iterations);
+      EXPECT_FALSE(plain.converged);
+    }
     ++index;
   }
-  // Jacobi's count grows with the grid (∝ cells); the multigrid count stays nearly flat.
-  EXPECT_GT(jacobi[1], jacobi[0] * 3 / 2);
+  // The multigrid count stays nearly flat while the grid grows 4× (2D: 16× the nodes).
   EXPECT_LE(iterations[1], iterations[0] + 3) << iterations[0] << " → " << iterations[1];
-  EXPECT_LT(iterations[1] * 4, jacobi[1]);
 }
 
 TEST(Amg, TwoDimensionalPoissonIterationsDoNotGrowWithTheGrid) { expect_grid_independent(2, 40, 160); }
@@ -137,7 +138,7 @@ Problem ldd_laplacian(const Cloud& c) {
 }
 
 TEST(Amg, LddLaplacianOnAJitteredCloudMatchesTheJacobiSolve) {
-  const Problem p = ldd_laplacian(jittered(80, 0.2, 7));
+  const Problem p = ldd_laplacian(jittered(66, 0.2, 7));  // 4 356 nodes: the parallel smoother path
   AmgPreconditioner amg;
   amg.setup(p.a);
   std::vector<double> with_amg, with_jacobi;
