@@ -3,15 +3,15 @@
 // preconditioner for the LDD pressure (eq. 17) and velocity (eq. 19) systems.
 //
 // Set-up (serial, deterministic): the stencil matrix is assembled with every row scaled to a
-// positive diagonal (the PPE mixes Laplacian rows, diagonal < 0, with wall rows, diagonal > 0;
-// an aggregate summing both would cancel its Galerkin row); strong connections
-// |a_ij| ≥ θ √|a_ii a_jj| (in either direction, the matrices are not symmetric) are aggregated
-// greedily in node order (θ halving per level); the tentative prolongator is piecewise constant on the aggregates and,
-// for smoothed aggregation, smoothed by one damped Jacobi step P = (I − ω D⁻¹A) P_tent with
-// ω = 4/(3 ρ(D⁻¹A)) (ρ by power iteration); restriction R = Pᵀ and Galerkin coarse operators
-// A_c = R A P, down to a coarsest level that is solved by dense LU. Rows without strong
-// connections (Dirichlet rows: walls, free-surface nodes) are left out of the aggregates; the
-// smoother solves them.
+// positive diagonal, or optionally a unit one (the PPE mixes Laplacian rows, diagonal < 0, with
+// wall rows, diagonal +1; an aggregate summing both would cancel its Galerkin row); strong
+// connections |a_ij| ≥ θ √|a_ii a_jj| (in either direction, the matrices are not symmetric; θ
+// halves per level) are aggregated greedily in node order; the tentative prolongator is
+// piecewise constant on the aggregates and, for smoothed aggregation, smoothed by one damped
+// Jacobi step P = (I − ω D⁻¹A_s) P_tent (A_s: the strong entries) with ω = 4/(3 ρ(D⁻¹A_s)) (ρ
+// by power iteration); restriction R = Pᵀ and Galerkin coarse operators A_c = R A P, down to a
+// coarsest level solved by sparse LU. Rows without off-diagonal entries (Dirichlet rows: walls,
+// free-surface nodes) are left out of the aggregates; the smoother solves them.
 //
 // apply() is one V-cycle from a zero guess with hybrid Gauss–Seidel smoothing: forward sweeps
 // before and backward sweeps after the coarse correction, Gauss–Seidel inside each thread's

@@ -146,10 +146,9 @@ struct FreeSurfaceParams {
   double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
   bool hydrostatic_start = true;
   // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
-  // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg with the
-  // hierarchy reused over steps (amg.hpp; 2.3× faster in the 2D dam break but its runs are not
-  // yet as robust, 1.7× faster than Jacobi in the 3D slump: docs/performance.md), or jacobi.
-  // Case files: `auto` is sparse_lu in 2D and amg in 3D (run_free_surface.cpp).
+  // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg (amg.hpp),
+  // or jacobi. Case files: `auto` is amg, with a fresh hierarchy every step in 2D and a reused one
+  // (and unit-diagonal PPE rows) in 3D (run_free_surface.cpp, docs/performance.md).
   Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
   Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
   AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
