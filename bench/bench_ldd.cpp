@@ -6,6 +6,9 @@
 //
 //   build-ldd/bin/bench_ldd            # full table (several minutes)
 //   build-ldd/bin/bench_ldd --quick    # timings only, fewer steps
+//   build-ldd/bin/bench_ldd --quick --pressure amg --velocity amg   # preconditioners of the
+//                                       # PPE / eq. 19 solves (jacobi | lu | amg; default lu / jacobi)
+//   build-ldd/bin/bench_ldd --quick --threads 1 --cells 200        # one thread count / resolution
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
 //                                       # code path as `rheosim run`, without the other modules)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
@@ -17,6 +20,7 @@
 // Timings exclude the first step (which builds the operators and factorises the pressure matrix;
 // reported separately as "setup").
 #include <omp.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -54,7 +58,28 @@ struct Scenario {
   double gpu_ms;      // seed's GPU ms/step
 };
 
-void time_steps(const Scenario& s, int cells, int threads, int steps) {
+struct Preconditioners {
+  ldd::Preconditioner pressure = ldd::SolverParams{}.pressure_preconditioner;
+  ldd::Preconditioner velocity = ldd::SolverParams{}.velocity_preconditioner;
+  ldd::AmgSettings amg;  // both systems
+};
+
+// Process CPU time [s]: under load from other jobs the wall clock overstates the work.
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+const char* name_of(ldd::Preconditioner p) {
+  switch (p) {
+    case ldd::Preconditioner::jacobi: return "jacobi";
+    case ldd::Preconditioner::sparse_lu: return "lu";
+    default: return "amg";
+  }
+}
+
+void time_steps(const Scenario& s, int cells, int threads, int steps, const Preconditioners& preconditioners) {
   omp_set_num_threads(threads);
   core::CavityScene scene;
   scene.size = {1.0, 1.0};
@@ -64,6 +89,9 @@ void time_steps(const Scenario& s, int cells, int threads, int steps) {
   p.rheology = rheology(s.rheology);
   p.spacing = 1.0 / cells;
   p.time_step = 1e-3;
+  p.pressure_preconditioner = preconditioners.pressure;
+  p.velocity_preconditioner = preconditioners.velocity;
+  p.pressure_amg = p.velocity_amg = preconditioners.amg;
   const ldd::Cavity cavity(scene, p.spacing);
   ldd::Solver solver(p, cavity.walls(), cavity.initial_cloud());
   const auto t0 = std::chrono::steady_clock::now();
@@ -71,6 +99,7 @@ void time_steps(const Scenario& s, int cells, int threads, int steps) {
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const ldd::PhaseTimes before = solver.phase_times();
   const auto t1 = std::chrono::steady_clock::now();
+  const double cpu_start = cpu_seconds();
   int pressure_iterations = 0, velocity_iterations = 0;
   for (int k = 0; k < steps; ++k) {
     const auto stats = solver.step();
@@ -78,10 +107,12 @@ void time_steps(const Scenario& s, int cells, int threads, int steps) {
     velocity_iterations += stats.velocity_iterations;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  const double cpu = cpu_seconds() - cpu_start;
   const ldd::PhaseTimes& a = solver.phase_times();
   const double per = 1e3 / steps;
-  std::printf("| %s | %d² (%zu nodes) | %d | %.1f | %.0f | %.2f s | %.1f / %.1f / %.1f / %.1f | %.1f / %.1f |\n", s.name,
-              cells, solver.node_count(), threads, 1e3 * seconds / steps, s.gpu_ms, setup,
+  std::printf("| %s | %d² (%zu nodes) | %s / %s | %d | %.1f | %.1f | %.0f | %.2f s | %.1f / %.1f / %.1f / %.1f | %.1f / %.1f |\n",
+              s.name, cells, solver.node_count(), name_of(preconditioners.pressure), name_of(preconditioners.velocity),
+              threads, 1e3 * seconds / steps, 1e3 * cpu / steps, s.gpu_ms, setup,
               per * (a.rheology - before.rheology), per * (a.pressure - before.pressure),
               per * (a.momentum - before.momentum), per * (a.advection - before.advection),
               static_cast<double>(pressure_iterations) / steps, static_cast<double>(velocity_iterations) / steps);
@@ -231,18 +262,43 @@ int main(int argc, char** argv) {
     accuracy(o);
     return 0;
   }
-  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  bool quick = false;
+  Preconditioners preconditioners;
+  std::vector<int> thread_counts{1, 2}, cell_counts{100, 200};
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--quick") {
+      quick = true;
+    } else if (arg == "--threads" && a + 1 < argc) {
+      thread_counts = {std::stoi(argv[++a])};
+    } else if (arg == "--amg-levels" && a + 1 < argc) {
+      preconditioners.amg.max_levels = std::stoi(argv[++a]);
+    } else if (arg == "--amg-unit-diagonal") {
+      preconditioners.amg.unit_diagonal = true;
+    } else if (arg == "--amg-plain") {
+      preconditioners.amg.smoothed = false;
+    } else if (arg == "--cells" && a + 1 < argc) {
+      cell_counts = {std::stoi(argv[++a])};
+    } else if ((arg == "--pressure" || arg == "--velocity") && a + 1 < argc) {
+      auto& target = arg == "--pressure" ? preconditioners.pressure : preconditioners.velocity;
+      target = ldd::preconditioner_named(argv[++a], target);
+    } else {
+      std::fprintf(stderr, "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] [--amg-levels N] [--amg-plain] [--amg-unit-diagonal] | run CASE OUT\n");
+      return 2;
+    }
+  }
   const int steps = quick ? 20 : 200;
   const std::vector<Scenario> scenarios{
       {"square, Casson Re 100 Bn 0.01", 0.0,
        "{model: casson, plastic_viscosity: 0.01, yield_stress: 1.0e-4, regularization: 1000}", 12},
       {"skewed 60°, power law n 1.5 Re 500", std::acos(-1.0) / 3, "{model: power_law, consistency: 0.002, index: 1.5}",
        26}};
-  std::printf("| case | nodes | threads | ms/step | seed GPU ms/step | setup | rheology / pressure / momentum / "
-              "advection ms | PPE / velocity iterations |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  std::printf("| case | nodes | PPE / velocity preconditioner | threads | ms/step | CPU ms/step | seed GPU ms/step | setup | "
+              "rheology / pressure / momentum / advection ms | PPE / velocity iterations |\n"
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const auto& s : scenarios)
-    for (int cells : {100, 200})
-      for (int threads : {1, 2}) time_steps(s, cells, threads, steps);
+    for (int cells : cell_counts)
+      for (int threads : thread_counts) time_steps(s, cells, threads, steps, preconditioners);
   if (!quick) {
     AccuracyOptions o;
     o.threads = 2;

@@ -359,6 +359,13 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     v.pbd_sweeps = s->integer_or({"pbd_sweeps", "free surface: volume-keeping PBD sweeps per step", "-"}, v.pbd_sweeps, 0, 100);
     v.moment_rcond = s->number_or({"moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
                                   v.moment_rcond, Range::open(0.0, 1.0));
+    v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
+                                             v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
+    v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},
+                                             v.velocity_preconditioner, {"auto", "jacobi", "lu", "amg"});
+    if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.velocity_preconditioner == "lu")
+      s->fail("velocity_preconditioner", "a cavity's velocity solve has no sparse-LU preconditioner",
+              "auto, jacobi or amg");
   }
   if (const auto o = root.optional_section({"output", "LDD output settings", "-"})) {
     out.output.frame_interval = o->number_or({"frame_interval", "time between VTK frames (0: end/20)", "s"},

@@ -177,6 +177,8 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
                                      FreeSurfaceCloud cloud)
     : params_(std::move(params)), dim_(params_.dimension), boundaries_(std::move(boundaries)) {
   params_.check();
+  pressure_amg_ = AmgPreconditioner(params_.pressure_amg);
+  velocity_amg_ = AmgPreconditioner(params_.velocity_amg);
   const auto dim = static_cast<std::size_t>(dim_);
   const std::size_t n = cloud.size();
   if (cloud.dimension != dim_ || cloud.positions.size() != dim * n || cloud.normals.size() != dim * n ||
@@ -615,18 +617,26 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
                                    params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
                                    params_.max_iterations, {}};
   LuPreconditioner momentum_lu;
-  if (params_.direct_preconditioner && dim_ == 2 && momentum_lu.factorise(momentum_matrix_))
+  if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 && momentum_lu.factorise(momentum_matrix_))
     velocity_settings.preconditioner = momentum_lu.apply();
+  const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
+  if (velocity_amg) {
+    velocity_amg_.prepare(momentum_matrix_);
+    velocity_settings.preconditioner = velocity_amg_.as_preconditioner();
+  }
   bool velocity_converged = true;
+  int most_velocity_iterations = 0;
   for (std::size_t d = 0; d < dim; ++d) {
     for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
     const auto result = bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
                                  velocity_settings, krylov_);
+    most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
     stats.velocity_residual = std::max(stats.velocity_residual, result.relative_residual);
     velocity_converged = velocity_converged && result.converged;
     for (std::size_t i = 0; i < n; ++i) new_velocity_[dim * i + d] = component_[i];
   }
+  if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
   times_.momentum += seconds_since(t0);
 
   // 4. PPE (eq. 17) for φ = p_n − p_{n−1}.
@@ -694,9 +704,15 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
                                    params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
                                    params_.max_iterations, {}};
   LuPreconditioner pressure_lu;
-  if (params_.direct_preconditioner && dim_ == 2 && pressure_lu.factorise(pressure_matrix_))
+  if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 && pressure_lu.factorise(pressure_matrix_))
     pressure_settings.preconditioner = pressure_lu.apply();
+  const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
+  if (pressure_amg) {
+    pressure_amg_.prepare(pressure_matrix_);
+    pressure_settings.preconditioner = pressure_amg_.as_preconditioner();
+  }
   const auto pressure_result = bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+  if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
   stats.pressure_iterations = pressure_result.iterations;
   stats.pressure_residual = pressure_result.relative_residual;
   // No tension: p_n = max(p_{n−1} + φ, p_atm). A free-surface fluid cannot pull on the void, and

@@ -10,32 +10,18 @@
 
 #include <fmt/format.h>
 
+#include "blocks.hpp"
+
 namespace rheosim::ldd {
 namespace {
+
+using detail::block_range;
+using detail::for_blocks;
 
 constexpr int max_blocks = 256;
 // |r̂·r| below this fraction of ‖r̂‖‖r‖ restarts BiCGStab with a new shadow residual.
 constexpr double restart_threshold = 1e-12;
 constexpr std::size_t padding = 8;  // doubles between partial sums: one cache line each
-
-// [begin, end) of block `t` out of `blocks` over n entries.
-std::pair<std::size_t, std::size_t> block_range(std::size_t n, int t, int blocks) {
-  const auto b = static_cast<std::size_t>(blocks);
-  const auto tt = static_cast<std::size_t>(t);
-  return {n * tt / b, n * (tt + 1) / b};
-}
-
-// Calls body(begin, end) on contiguous blocks, one per thread, in parallel. The split depends
-// only on n and the thread count.
-template <class Body>
-void for_blocks(std::size_t n, Body&& body) {
-#pragma omp parallel
-  {
-    const int blocks = omp_get_num_threads();
-    const auto [begin, end] = block_range(n, omp_get_thread_num(), blocks);
-    body(begin, end);
-  }
-}
 
 // Σ over blocks of partial(begin, end), added in block order.
 template <class Partial>
@@ -58,6 +44,13 @@ double block_sum(std::size_t n, Partial&& partial) {
 }
 
 }  // namespace
+
+Preconditioner preconditioner_named(std::string_view name, Preconditioner fallback) {
+  if (name == "jacobi") return Preconditioner::jacobi;
+  if (name == "lu") return Preconditioner::sparse_lu;
+  if (name == "amg") return Preconditioner::amg;
+  return fallback;
+}
 
 double parallel_dot(std::span<const double> a, std::span<const double> b) {
   if (a.size() != b.size()) throw std::invalid_argument("parallel_dot: sizes differ");

@@ -201,6 +201,8 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   params.interpolation = l.solver.interpolation == "shepard"              ? LatticeInterpolation::shepard
                          : l.solver.interpolation == "gradient_corrected" ? LatticeInterpolation::gradient_corrected
                                                                           : LatticeInterpolation::quadratic;
+  params.pressure_preconditioner = preconditioner_named(l.solver.pressure_preconditioner, params.pressure_preconditioner);
+  params.velocity_preconditioner = preconditioner_named(l.solver.velocity_preconditioner, params.velocity_preconditioner);
   params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;
   params.length_scale = cavity.width();
   Solver solver(params, cavity.walls(), cavity.initial_cloud());

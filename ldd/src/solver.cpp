@@ -83,6 +83,8 @@ void SolverParams::check() const {
   require(length_scale > 0, "length_scale", length_scale, "> 0 m");
   require(max_courant > 0, "max_courant", max_courant, "> 0");
   require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
+  if (velocity_preconditioner == Preconditioner::sparse_lu)
+    throw std::invalid_argument("LDD solver: velocity_preconditioner = sparse LU is not offered (jacobi or amg)");
 }
 
 Solver::Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud)
@@ -93,6 +95,8 @@ Solver::Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud)
       wall_velocities_(std::move(cloud.wall_velocities)),
       positions_(std::move(cloud.positions)) {
   params_.check();
+  pressure_amg_ = AmgPreconditioner(params_.pressure_amg);
+  velocity_amg_ = AmgPreconditioner(params_.velocity_amg);
   const std::size_t n = kinds_.size();
   if (positions_.size() != 2 * n || normals_.size() != 2 * n || wall_velocities_.size() != 2 * n)
     throw std::invalid_argument("LDD solver: node cloud arrays have inconsistent sizes");
@@ -227,19 +231,28 @@ StepStats Solver::step() {
   }
   new_velocity_.resize(2 * n);
   component_.resize(n);
-  const KrylovSettings velocity_settings{params_.velocity_tolerance, 1e-300, params_.max_iterations, {}};
-  // Jacobi: a sparse LU of an earlier step's momentum matrix as preconditioner was measured
-  // slower (μ(γ̇) changes too fast early in a run; each LU solve costs ~10 Jacobi iterations).
+  KrylovSettings velocity_settings{params_.velocity_tolerance, 1e-300, params_.max_iterations, {}};
+  // Jacobi by default: a sparse LU of an earlier step's momentum matrix as preconditioner was
+  // measured slower (μ(γ̇) changes too fast early in a run; each LU solve costs ~10 Jacobi
+  // iterations). AMG reuses its coarse levels while μ changes slowly (amg.hpp).
+  const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
+  if (velocity_amg) {
+    velocity_amg_.prepare(momentum_matrix_);
+    velocity_settings.preconditioner = velocity_amg_.as_preconditioner();
+  }
   double velocity_residual = 0;
   bool velocity_converged = true;
+  int most_velocity_iterations = 0;
   for (std::size_t d = 0; d < 2; ++d) {
     for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[2 * i + d];
     const auto result = bicgstab(momentum_matrix_, d == 0 ? rhs_ : rhs_y_, component_, velocity_settings, krylov_);
+    most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
     velocity_residual = std::max(velocity_residual, result.relative_residual);
     velocity_converged = velocity_converged && result.converged;
     for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
   }
+  if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
   stats.velocity_residual = velocity_residual;
   times_.momentum += seconds_since(t0);
 
@@ -297,15 +310,26 @@ StepStats Solver::step() {
                                          params_.pressure_tolerance * divergence_scale * std::sqrt(static_cast<double>(n)),
                                          params_.max_iterations, {}};
   KrylovSettings settings_with_preconditioner = pressure_settings;
-  if (params_.reordering == Reordering::lattice && params_.direct_pressure_preconditioner) {
+  if (params_.reordering == Reordering::lattice && params_.pressure_preconditioner == Preconditioner::sparse_lu) {
     if (!pressure_lu_) {
       pressure_lu_ = factorise(pressure_matrix_);
-      if (!pressure_lu_) params_.direct_pressure_preconditioner = false;  // fall back to Jacobi
+      if (!pressure_lu_) params_.pressure_preconditioner = Preconditioner::jacobi;  // fall back to Jacobi
     }
     if (pressure_lu_) settings_with_preconditioner.preconditioner = lu_preconditioner(pressure_lu_.get());
   }
+  // AMG: in lattice mode the matrix is constant, so the first set-up serves the whole run.
+  const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
+  if (pressure_amg) {
+    if (params_.reordering == Reordering::lattice) {
+      if (!pressure_amg_.ready()) pressure_amg_.setup(pressure_matrix_);
+    } else {
+      pressure_amg_.prepare(pressure_matrix_);
+    }
+    settings_with_preconditioner.preconditioner = pressure_amg_.as_preconditioner();
+  }
   const KrylovResult pressure_result =
       bicgstab(pressure_matrix_, rhs_, increment_, settings_with_preconditioner, krylov_);
+  if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
   stats.pressure_iterations = pressure_result.iterations;
   stats.pressure_residual = pressure_result.relative_residual;
   gradient(nb, ops, increment_, pressure_gradient_);

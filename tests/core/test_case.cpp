@@ -212,6 +212,19 @@ TEST(Case, LddSceneKeysDependOnTheType) {
   EXPECT_THAT(e.details().problem, HasSubstr("unknown key"));
 }
 
+TEST(Case, LddPreconditionersAreCheckedWithTheirLine) {
+  const Case c = parse_case(cavity_case + "solver: {pressure_preconditioner: amg}\n", "amg.yaml");
+  EXPECT_EQ(std::get<LddCase>(c.spec).solver.pressure_preconditioner, "amg");
+  EXPECT_EQ(std::get<LddCase>(c.spec).solver.velocity_preconditioner, "auto");
+  const auto typo = parse_error(cavity_case + "solver: {pressure_preconditioner: multigrid}\n");
+  EXPECT_EQ(typo.details().key_path, "solver.pressure_preconditioner");
+  EXPECT_EQ(typo.details().where.line, 10);
+  // A cavity's velocity solve has no sparse-LU preconditioner.
+  const auto lu = parse_error(cavity_case + "solver: {velocity_preconditioner: lu}\n");
+  EXPECT_EQ(lu.details().key_path, "solver.velocity_preconditioner");
+  EXPECT_EQ(lu.details().where.line, 10);
+}
+
 TEST(Case, EveryShippedCaseValidates) {
   const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
   std::set<std::string> kinds;

@@ -125,6 +125,37 @@ TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {
   EXPECT_EQ(stats.splash_nodes, 0U);
 }
 
+// The AMG preconditioners (reused hierarchy) give the sparse-LU run's hydrostatic column to the
+// solver tolerance, and repeat bit for bit. ~1 800 nodes, so the hierarchy has coarse levels.
+TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
+  const double dx = 0.005;
+  const auto run = [&](Preconditioner preconditioner) {
+    FreeSurfaceScene scene = column_scene(column(0.15, 0.3), dx);
+    FreeSurfaceParams p = column_params(dx, 1e-3, 5.0);
+    p.pressure_tolerance = 1e-9;
+    p.velocity_tolerance = 1e-9;
+    p.pressure_preconditioner = p.velocity_preconditioner = preconditioner;
+    FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
+    FreeSurfaceStats stats;
+    for (int k = 0; k < 8; ++k) stats = s.step();
+    if (preconditioner == Preconditioner::amg) {
+      EXPECT_LT(stats.pressure_iterations, 30);
+      EXPECT_LT(stats.velocity_iterations, 30);
+    }
+    return std::vector<double>(s.pressure().begin(), s.pressure().end());
+  };
+  const auto lu = run(Preconditioner::sparse_lu);
+  const auto a = run(Preconditioner::amg), b = run(Preconditioner::amg);
+  ASSERT_EQ(a.size(), lu.size());
+  const double scale = 1000 * 9.81 * 0.3;  // ρ g H
+  double worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i], b[i]) << "entry " << i;
+    worst = std::max(worst, std::abs(a[i] - lu[i]));
+  }
+  EXPECT_LT(worst, 1e-5 * scale);
+}
+
 // Criterion (4), the failure of the first coarse slump (docs/ldd.md): a node on the floor whose
 // kernel support (h = 1.6 Δ) holds only floor wall nodes, while fluid nodes at 1.75 Δ — inside the
 // 1.9 Δ detection radius, outside h — cover every upward direction and the floor normal removes

@@ -162,6 +162,8 @@ struct LddSolverSettings {
   double max_courant = 1.0;             // stop (diverged) when max|u|δt/Δ exceeds this
   int pbd_sweeps = 3;                   // free-surface scenes: volume-keeping PBD sweeps per step
   double moment_rcond = 1e-3;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
+  std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
+  std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
 };
 
 // output: — what a run writes and how often (all optional).

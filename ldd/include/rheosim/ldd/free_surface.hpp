@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "rheosim/core/rheology.hpp"
+#include "rheosim/ldd/amg.hpp"
 #include "rheosim/ldd/krylov.hpp"
 #include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
@@ -144,8 +145,13 @@ struct FreeSurfaceParams {
   double wall_clearance = 0.5;                     // fluid nodes stay this far (units of Δ) off boundaries
   double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
   bool hydrostatic_start = true;
-  bool direct_preconditioner = true;              // 2D: sparse LU (refactorised each step) as BiCGStab
-                                                   // preconditioner; 3D always Jacobi (LU fill: >90 s/step at 85k nodes)
+  // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
+  // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg (amg.hpp),
+  // or jacobi. Case files: `auto` is amg, with a fresh hierarchy every step in 2D and a reused one
+  // (and unit-diagonal PPE rows) in 3D (run_free_surface.cpp, docs/performance.md).
+  Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
+  Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
+  AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
   bool transpose_stress = false;                   // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)                   // initial p = ρ|g|·depth below the top fluid node
 
   void check() const;  // throws std::invalid_argument naming the field and its range
@@ -219,6 +225,7 @@ class FreeSurfaceSolver {
   Operators operators_;
   PhaseTimes times_;
   KrylovWorkspace krylov_;
+  AmgPreconditioner pressure_amg_, velocity_amg_;
   StencilMatrix pressure_matrix_, momentum_matrix_;
   std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, increment_gradient_;
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <functional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "rheosim/ldd/neighbours.hpp"
@@ -28,6 +29,12 @@ struct StencilMatrix {
   // out = A x (parallel, deterministic).
   void multiply(std::span<const double> x, std::span<double> out) const;
 };
+
+// Preconditioner of an LDD linear system (a solver setting): 1/diagonal, a sparse LU, or one
+// AMG V-cycle (amg.hpp).
+enum class Preconditioner { jacobi, sparse_lu, amg };
+// "jacobi" | "lu" | "amg" as in case files; "auto" (or anything else) gives `fallback`.
+[[nodiscard]] Preconditioner preconditioner_named(std::string_view name, Preconditioner fallback);
 
 struct KrylovSettings {
   double relative_tolerance = 1e-8;   // stop when ‖b − A x‖₂ <= tol · ‖b‖₂ ...

@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "rheosim/core/rheology.hpp"
+#include "rheosim/ldd/amg.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/krylov.hpp"
 #include "rheosim/ldd/lattice_interpolation.hpp"
@@ -94,7 +95,11 @@ struct SolverParams {
   double max_courant = 1.0;                      // stop when max|u| δt/Δ exceeds this
   double neighbour_skin = 0.2;                   // search radius h + skin·Δ (PBD moves nodes)
   Reordering reordering = Reordering::lattice;   // see the header comment, step 7
-  bool direct_pressure_preconditioner = true;    // lattice mode: sparse LU of the PPE as BiCGStab preconditioner
+  // PPE: sparse LU (lattice mode: factorised once; density mode falls back to Jacobi), AMG or Jacobi.
+  Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
+  // Eq. 19: Jacobi or AMG (hierarchy reused over steps, amg.hpp); a sparse LU is not offered.
+  Preconditioner velocity_preconditioner = Preconditioner::jacobi;
+  AmgSettings pressure_amg, velocity_amg;        // when the preconditioner is amg
   LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice mode: see LatticeInterpolation
 
   void check() const;  // throws std::invalid_argument naming the field and its valid range
@@ -181,6 +186,7 @@ class Solver {
   std::unique_ptr<SparseFactorisation> pressure_lu_;  // lattice mode only
   QuadraticFit lattice_fit_;                          // lattice mode, quadratic interpolation
   std::vector<double> advection_velocity_;            // a of eq. 20 on every node
+  AmgPreconditioner pressure_amg_, velocity_amg_;
   PhaseTimes times_;
   // Work buffers reused across steps.
   KrylovWorkspace krylov_;

@@ -1,0 +1,417 @@
+#include "rheosim/ldd/amg.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+#include <fmt/format.h>
+
+#include "blocks.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+using SparseRows = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+using SparseColumns = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+// Below this many rows a level's loops run on one thread: the parallel region costs more than
+// the work (and the split still depends only on the size and the thread count).
+constexpr std::size_t parallel_rows = 4096;
+constexpr int power_iterations = 15;  // for ρ(D⁻¹A) in the prolongator damping
+
+// A square matrix stored like a StencilMatrix: diagonal apart, then the off-diagonal entries of
+// each row.
+struct Rows {
+  std::vector<double> diagonal;
+  std::vector<std::size_t> offsets;  // rows + 1
+  std::vector<std::size_t> columns;
+  std::vector<double> values;
+  [[nodiscard]] std::size_t size() const { return diagonal.size(); }
+  [[nodiscard]] std::size_t nonzeros() const { return diagonal.size() + values.size(); }
+};
+
+// Row-parallel loop (each row written by one thread: independent of the thread count).
+template <class Body>
+void for_rows(std::size_t n, Body&& body) {
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) if (n >= parallel_rows)
+  for (std::ptrdiff_t s = 0; s < count; ++s) body(static_cast<std::size_t>(s));
+}
+
+// The stencil matrix with every row scaled so that its diagonal is positive (or one, with
+// unit_diagonal): the LDD systems mix rows of both signs and units (the PPE's Laplacian rows have
+// a diagonal ~ −1/Δ², its wall rows +1), and an aggregate summing such rows would cancel or drop
+// some of them from the Galerkin operator.
+Rows scaled_rows_of(const StencilMatrix& a, bool unit_diagonal, std::vector<double>& row_scale) {
+  Rows out{a.diagonal, a.pattern->offsets, a.pattern->indices, a.off_diagonal};
+  const std::size_t n = out.size();
+  row_scale.resize(n);
+  for_rows(n, [&](std::size_t i) {
+    const double d = out.diagonal[i];
+    const double scale = d == 0.0 ? 1.0 : unit_diagonal ? 1.0 / d : (d < 0.0 ? -1.0 : 1.0);
+    row_scale[i] = scale;
+    if (scale == 1.0) return;
+    out.diagonal[i] *= scale;
+    for (std::size_t k = out.offsets[i]; k < out.offsets[i + 1]; ++k) out.values[k] *= scale;
+  });
+  return out;
+}
+
+Rows rows_of(const SparseRows& m) {
+  const auto n = static_cast<std::size_t>(m.rows());
+  Rows out;
+  out.diagonal.assign(n, 0.0);
+  out.offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (SparseRows::InnerIterator it(m, static_cast<Eigen::Index>(i)); it; ++it) {
+      const auto j = static_cast<std::size_t>(it.col());
+      if (j == i) {
+        out.diagonal[i] += it.value();
+      } else if (it.value() != 0.0) {
+        out.columns.push_back(j);
+        out.values.push_back(it.value());
+      }
+    }
+    out.offsets[i + 1] = out.columns.size();
+  }
+  return out;
+}
+
+SparseRows sparse_of(const Rows& a) {
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(a.nonzeros());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    entries.emplace_back(static_cast<int>(i), static_cast<int>(i), a.diagonal[i]);
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+      if (a.values[k] != 0.0) entries.emplace_back(static_cast<int>(i), static_cast<int>(a.columns[k]), a.values[k]);
+  }
+  const auto n = static_cast<Eigen::Index>(a.size());
+  SparseRows m(n, n);
+  m.setFromTriplets(entries.begin(), entries.end());
+  return m;
+}
+
+// Contiguous blocks, one per thread (one block below parallel_rows).
+template <class Body>
+void for_row_blocks(std::size_t n, Body&& body) {
+  if (n < parallel_rows) return body(std::size_t{0}, n);
+  detail::for_blocks(n, body);
+}
+
+// out = b − A x.
+void residual(const Rows& a, std::span<const double> b, std::span<const double> x, std::span<double> out) {
+  for_rows(a.size(), [&](std::size_t i) {
+    double sum = b[i] - a.diagonal[i] * x[i];
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) sum -= a.values[k] * x[a.columns[k]];
+    out[i] = sum;
+  });
+}
+
+// One hybrid Gauss–Seidel sweep on A x = b: Gauss–Seidel inside each block of rows (forward or
+// backward), the previous sweep's values (`frozen`) for columns in other blocks.
+void gauss_seidel(const Rows& a, std::span<const double> b, std::span<double> x, std::vector<double>& frozen,
+                  bool forward) {
+  const std::size_t n = a.size();
+  // One block reads only its own rows: nothing to freeze.
+  if (n >= parallel_rows && omp_get_max_threads() > 1) {
+    frozen.resize(n);
+    for_rows(n, [&](std::size_t i) { frozen[i] = x[i]; });
+  }
+  for_row_blocks(n, [&](std::size_t begin, std::size_t end) {
+    const auto relax = [&](std::size_t i) {
+      if (a.diagonal[i] == 0.0) return;
+      double sum = b[i];
+      for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+        const std::size_t j = a.columns[k];
+        sum -= a.values[k] * (j >= begin && j < end ? x[j] : frozen[j]);
+      }
+      x[i] = sum / a.diagonal[i];
+    };
+    if (forward) {
+      for (std::size_t i = begin; i < end; ++i) relax(i);
+    } else {
+      for (std::size_t i = end; i-- > begin;) relax(i);
+    }
+  });
+}
+
+// Strong connections, symmetrised (j strong for i or i strong for j); rows without any
+// off-diagonal entry (Dirichlet rows) take part in none.
+std::vector<std::vector<std::size_t>> strong_connections(const Rows& a, double threshold) {
+  const std::size_t n = a.size();
+  std::vector<std::uint8_t> dirichlet(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool coupled = false;
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1] && !coupled; ++k) coupled = a.values[k] != 0.0;
+    dirichlet[i] = coupled ? 0 : 1;
+  }
+  std::vector<std::vector<std::size_t>> strong(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (dirichlet[i]) continue;
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+      const std::size_t j = a.columns[k];
+      if (j == i || dirichlet[j] || a.values[k] == 0.0) continue;
+      if (std::abs(a.values[k]) >= threshold * std::sqrt(std::abs(a.diagonal[i] * a.diagonal[j]))) {
+        strong[i].push_back(j);
+        strong[j].push_back(i);
+      }
+    }
+  }
+  for (auto& s : strong) {
+    std::sort(s.begin(), s.end());
+    s.erase(std::unique(s.begin(), s.end()), s.end());
+  }
+  return strong;
+}
+
+constexpr std::ptrdiff_t unassigned = -1;
+
+// Greedy aggregation (Vaněk et al. 1996): 1) roots whose strong neighbourhood is still free
+// become aggregates; 2) the rest join a neighbouring aggregate of step 1; 3) what is left forms
+// aggregates of its free neighbourhood. Nodes without strong connections stay unassigned.
+std::vector<std::ptrdiff_t> aggregate(const std::vector<std::vector<std::size_t>>& strong, std::size_t& count) {
+  const std::size_t n = strong.size();
+  std::vector<std::ptrdiff_t> of(n, unassigned);
+  std::ptrdiff_t next = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (of[i] != unassigned || strong[i].empty()) continue;
+    if (std::any_of(strong[i].begin(), strong[i].end(), [&](std::size_t j) { return of[j] != unassigned; })) continue;
+    of[i] = next;
+    for (std::size_t j : strong[i]) of[j] = next;
+    ++next;
+  }
+  const std::vector<std::ptrdiff_t> first = of;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (of[i] != unassigned) continue;
+    for (std::size_t j : strong[i])
+      if (first[j] != unassigned) {
+        of[i] = first[j];
+        break;
+      }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (of[i] != unassigned || strong[i].empty()) continue;
+    of[i] = next;
+    for (std::size_t j : strong[i])
+      if (of[j] == unassigned) of[j] = next;
+    ++next;
+  }
+  count = static_cast<std::size_t>(next);
+  return of;
+}
+
+// ρ(D⁻¹A_s) by power iteration, A_s = diagonal + strong entries (deterministic start vector).
+double spectral_radius(const Rows& a, const std::vector<std::vector<std::size_t>>& strong) {
+  const std::size_t n = a.size();
+  std::vector<double> v(n), w(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = 1.0 + static_cast<double>(i % 7) / 7.0;
+  double radius = 1.0;
+  for (int it = 0; it < power_iterations; ++it) {
+    double norm_v = 0, norm_w = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = a.diagonal[i] * v[i];
+      for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+        if (std::binary_search(strong[i].begin(), strong[i].end(), a.columns[k])) sum += a.values[k] * v[a.columns[k]];
+      w[i] = a.diagonal[i] != 0.0 ? sum / a.diagonal[i] : 0.0;
+      norm_v += v[i] * v[i];
+      norm_w += w[i] * w[i];
+    }
+    if (norm_w == 0.0) return 1.0;
+    radius = std::sqrt(norm_w / norm_v);
+    const double scale = 1.0 / std::sqrt(norm_w);
+    for (std::size_t i = 0; i < n; ++i) v[i] = w[i] * scale;
+  }
+  return radius;
+}
+
+// Prolongator: piecewise constant on the aggregates, smoothed by P = (I − ω D⁻¹A_s) P_tent.
+SparseRows prolongator(const Rows& a, const std::vector<std::vector<std::size_t>>& strong,
+                       const std::vector<std::ptrdiff_t>& of, std::size_t aggregates, bool smoothed) {
+  const std::size_t n = a.size();
+  std::vector<Eigen::Triplet<double>> entries;
+  if (!smoothed) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), 1.0);
+  } else {
+    const double omega = 4.0 / 3.0 / spectral_radius(a, strong);
+    entries.reserve(4 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), 1.0);
+      if (a.diagonal[i] == 0.0) continue;
+      const double factor = -omega / a.diagonal[i];
+      if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), factor * a.diagonal[i]);
+      for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+        const std::size_t j = a.columns[k];
+        if (of[j] == unassigned || !std::binary_search(strong[i].begin(), strong[i].end(), j)) continue;
+        entries.emplace_back(static_cast<int>(i), static_cast<int>(of[j]), factor * a.values[k]);
+      }
+    }
+  }
+  SparseRows p(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(aggregates));
+  p.setFromTriplets(entries.begin(), entries.end());  // sums duplicates
+  p.prune(0.0);
+  return p;
+}
+
+}  // namespace
+
+struct AmgPreconditioner::Hierarchy {
+  struct Level {
+    Rows a;
+    SparseRows p, r;  // to / from the next level (empty on the coarsest)
+    std::vector<double> b, x, residual, frozen;
+  };
+  std::vector<Level> levels;
+  std::vector<double> row_scale;  // level 0 is diag(row_scale) A (scaled_rows_of)
+  Eigen::SparseLU<SparseColumns, Eigen::COLAMDOrdering<int>> coarse;
+  bool coarse_factorised = false;
+  std::size_t fine_nonzeros_at_setup = 0;
+  std::size_t coarse_nonzeros = 0;  // Σ over levels ≥ 1
+
+  void cycle(std::size_t l, std::span<const double> b, std::span<double> x, const AmgSettings& s) {
+    Level& level = levels[l];
+    const std::size_t n = level.a.size();
+    if (l + 1 == levels.size()) {
+      if (coarse_factorised) {
+        const Eigen::Map<const Eigen::VectorXd> in(b.data(), static_cast<Eigen::Index>(n));
+        Eigen::Map<Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(n)) = coarse.solve(in);
+        return;
+      }
+      std::fill(x.begin(), x.end(), 0.0);  // coarsening stalled and no LU: smooth only
+      for (int k = 0; k < s.pre_sweeps + s.post_sweeps; ++k) gauss_seidel(level.a, b, x, level.frozen, k % 2 == 0);
+      return;
+    }
+    std::fill(x.begin(), x.end(), 0.0);
+    for (int k = 0; k < s.pre_sweeps; ++k) gauss_seidel(level.a, b, x, level.frozen, true);
+    level.residual.resize(n);
+    residual(level.a, b, x, level.residual);
+    Level& next = levels[l + 1];
+    const std::size_t m = next.a.size();
+    next.b.resize(m);
+    next.x.resize(m);
+    for_rows(m, [&](std::size_t i) {
+      double sum = 0;
+      for (SparseRows::InnerIterator it(level.r, static_cast<Eigen::Index>(i)); it; ++it)
+        sum += it.value() * level.residual[static_cast<std::size_t>(it.col())];
+      next.b[i] = sum;
+    });
+    cycle(l + 1, next.b, next.x, s);
+    for_rows(n, [&](std::size_t i) {
+      double sum = 0;
+      for (SparseRows::InnerIterator it(level.p, static_cast<Eigen::Index>(i)); it; ++it)
+        sum += it.value() * next.x[static_cast<std::size_t>(it.col())];
+      x[i] += sum;
+    });
+    for (int k = 0; k < s.post_sweeps; ++k) gauss_seidel(level.a, b, x, level.frozen, false);
+  }
+};
+
+void AmgSettings::check() const {
+  const auto fail = [](const char* field, double value, const char* range) {
+    throw std::invalid_argument(fmt::format("AMG: {} = {} is out of range, expected {}", field, value, range));
+  };
+  if (!(strength_threshold >= 0 && strength_threshold < 1)) fail("strength_threshold", strength_threshold, "[0, 1)");
+  if (pre_sweeps < 0 || post_sweeps < 0 || pre_sweeps + post_sweeps < 1)
+    fail("pre_sweeps + post_sweeps", pre_sweeps + post_sweeps, ">= 1, each >= 0");
+  if (coarsest_size < 1) fail("coarsest_size", static_cast<double>(coarsest_size), ">= 1");
+  if (max_levels < 1) fail("max_levels", max_levels, ">= 1");
+  if (reuse_steps < 1) fail("reuse_steps", reuse_steps, ">= 1");
+  if (!(reuse_growth >= 1)) fail("reuse_growth", reuse_growth, ">= 1");
+}
+
+AmgPreconditioner::AmgPreconditioner(AmgSettings settings) : settings_(settings) { settings_.check(); }
+AmgPreconditioner::~AmgPreconditioner() = default;
+AmgPreconditioner::AmgPreconditioner(AmgPreconditioner&&) noexcept = default;
+AmgPreconditioner& AmgPreconditioner::operator=(AmgPreconditioner&&) noexcept = default;
+
+void AmgPreconditioner::setup(const StencilMatrix& a) {
+  if (a.pattern == nullptr || a.off_diagonal.size() != a.pattern->pair_count() || a.pattern->node_count() != a.size())
+    throw std::invalid_argument("AMG: the stencil matrix does not match its pattern");
+  auto h = std::make_unique<Hierarchy>();
+  h->levels.emplace_back();
+  h->levels.back().a = scaled_rows_of(a, settings_.unit_diagonal, h->row_scale);
+  h->fine_nonzeros_at_setup = h->levels.back().a.nonzeros();
+  while (h->levels.size() < static_cast<std::size_t>(settings_.max_levels)) {
+    Hierarchy::Level& level = h->levels.back();
+    const std::size_t n = level.a.size();
+    if (n <= settings_.coarsest_size) break;
+    // θ halves per level: Galerkin operators of smoothed aggregation have wider, weaker stencils.
+    const double threshold = settings_.strength_threshold * std::pow(0.5, static_cast<double>(h->levels.size() - 1));
+    const auto strong = strong_connections(level.a, threshold);
+    std::size_t aggregates = 0;
+    const auto of = aggregate(strong, aggregates);
+    // Nothing to coarsen, or too little gained for a level's cost.
+    if (aggregates == 0 || 10 * aggregates > 9 * n) break;
+    level.p = prolongator(level.a, strong, of, aggregates, settings_.smoothed);
+    level.r = level.p.transpose();
+    const SparseRows fine = sparse_of(level.a);
+    const SparseRows fine_times_p = fine * level.p;
+    const SparseRows coarse = level.r * fine_times_p;
+    Hierarchy::Level next;
+    next.a = rows_of(coarse);
+    h->levels.push_back(std::move(next));
+  }
+  for (std::size_t l = 1; l < h->levels.size(); ++l) h->coarse_nonzeros += h->levels[l].a.nonzeros();
+  const Hierarchy::Level& last = h->levels.back();
+  if (last.a.size() <= 20 * settings_.coarsest_size) {
+    const SparseColumns coarse = sparse_of(last.a);
+    h->coarse.compute(coarse);
+    h->coarse_factorised = h->coarse.info() == Eigen::Success;
+  }
+  hierarchy_ = std::move(h);
+  ++setups_;
+  calls_since_setup_ = 0;
+  reference_iterations_ = -1;
+  setup_due_ = false;
+}
+
+bool AmgPreconditioner::prepare(const StencilMatrix& a) {
+  const bool full = setup_due_ || !hierarchy_ || calls_since_setup_ >= settings_.reuse_steps ||
+                    hierarchy_->levels.front().a.size() != a.size();
+  if (full) {
+    setup(a);
+  } else {
+    hierarchy_->levels.front().a = scaled_rows_of(a, settings_.unit_diagonal, hierarchy_->row_scale);
+  }
+  ++calls_since_setup_;
+  return full;
+}
+
+void AmgPreconditioner::record_iterations(int iterations) {
+  if (reference_iterations_ < 0) {
+    reference_iterations_ = iterations;
+    return;
+  }
+  if (static_cast<double>(iterations) > settings_.reuse_growth * std::max(reference_iterations_, 1)) setup_due_ = true;
+}
+
+void AmgPreconditioner::apply(std::span<const double> r, std::span<double> z) {
+  if (!hierarchy_) throw std::logic_error("AMG: apply() before setup()");
+  if (r.size() != z.size() || r.size() != hierarchy_->levels.front().a.size())
+    throw std::invalid_argument("AMG: vector sizes do not match the matrix");
+  // (S A)⁻¹ S r = A⁻¹ r with S = diag(row_scale).
+  Hierarchy::Level& fine = hierarchy_->levels.front();
+  fine.b.resize(r.size());
+  for_rows(r.size(), [&](std::size_t i) { fine.b[i] = hierarchy_->row_scale[i] * r[i]; });
+  hierarchy_->cycle(0, fine.b, z, settings_);
+}
+
+std::function<void(std::span<const double>, std::span<double>)> AmgPreconditioner::as_preconditioner() {
+  return [this](std::span<const double> r, std::span<double> z) { apply(r, z); };
+}
+
+bool AmgPreconditioner::ready() const { return hierarchy_ != nullptr; }
+std::size_t AmgPreconditioner::levels() const { return hierarchy_ ? hierarchy_->levels.size() : 0; }
+std::size_t AmgPreconditioner::rows(std::size_t level) const { return hierarchy_->levels.at(level).a.size(); }
+double AmgPreconditioner::operator_complexity() const {
+  if (!hierarchy_) return 0;
+  return 1.0 + static_cast<double>(hierarchy_->coarse_nonzeros) / static_cast<double>(hierarchy_->fine_nonzeros_at_setup);
+}
+
+}  // namespace rheosim::ldd

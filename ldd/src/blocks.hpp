@@ -1,0 +1,31 @@
+#pragma once
+// Deterministic OpenMP work split shared by the Krylov solver and the AMG preconditioner: node
+// ranges are contiguous blocks, one per thread, that depend only on the size and the thread
+// count, so partial results can be combined in block order (no atomics, no reduction clauses).
+#include <omp.h>
+
+#include <cstddef>
+#include <utility>
+
+namespace rheosim::ldd::detail {
+
+// [begin, end) of block `t` out of `blocks` over n entries.
+inline std::pair<std::size_t, std::size_t> block_range(std::size_t n, int t, int blocks) {
+  const auto b = static_cast<std::size_t>(blocks);
+  const auto tt = static_cast<std::size_t>(t);
+  return {n * tt / b, n * (tt + 1) / b};
+}
+
+// Calls body(begin, end) on contiguous blocks, one per thread, in parallel. The split depends
+// only on n and the thread count.
+template <class Body>
+void for_blocks(std::size_t n, Body&& body) {
+#pragma omp parallel
+  {
+    const int blocks = omp_get_num_threads();
+    const auto [begin, end] = block_range(n, omp_get_thread_num(), blocks);
+    body(begin, end);
+  }
+}
+
+}  // namespace rheosim::ldd::detail
