@@ -55,6 +55,7 @@ struct CellSettings {
   bool plate_lubrication = true;  // false: the plates bound the cell for contacts only
   double lubrication_cutoff = NearFieldSettings{}.lubrication_cutoff;  // h_c/ā
   double repulsion_ratio = 0.0;  // F_R0 / (6πμa²γ̇); > 0 adds the `repulsion` term (λ = 0.05 ā)
+  double repulsion_force = 0.0;  // F_R0 [N] when > 0 (instead of the ratio): fixed over rates
   double youngs_modulus = 1e6;  // [Pa] soft: δt = 0.2 t_R = 3.5e-6 s = 3.5e-4/γ̇; overlaps below 1 % of d
   std::uint64_t seed = 1;
 };
@@ -95,9 +96,10 @@ CellResult run_cell(const CellSettings& c) {
   NearFieldSettings settings;
   settings.models = c.models;
   settings.lubrication_cutoff = c.lubrication_cutoff;
-  if (c.repulsion_ratio > 0.0) {
+  if (c.repulsion_force > 0.0 || c.repulsion_ratio > 0.0) {
     settings.models.emplace_back("repulsion");
-    settings.repulsion_force = c.repulsion_ratio * 6.0 * pi * c.viscosity * a * a * c.rate;
+    settings.repulsion_force =
+        c.repulsion_force > 0.0 ? c.repulsion_force : c.repulsion_ratio * 6.0 * pi * c.viscosity * a * a * c.rate;
   }
   NearFieldScene scene;
   scene.periodic = {true, true, false};
@@ -310,7 +312,8 @@ TEST(ValidateNearFieldShearCell, DISABLED_ViscosityCurveStudy) {
 // two-rate Bingham fit τ = τ_y,s + η_p,s γ̇ at Bingham numbers 100 and 33, against
 // Chateau, Ovarlez & Trung (J. Rheol. 52 (2008) 489): τ_y,s/τ_y = √((1 − φ) η_r(φ)), with η_r(φ)
 // the same model's Newtonian relative viscosity (RHEOSIM_NF_ETA_R, comma list matching the φs;
-// default: the γ̇ = 100 study values of docs/hydrodynamics.md).
+// default: the γ̇ = 100 study values of docs/hydrodynamics.md). RHEOSIM_NF_REPULSION = r adds the
+// repulsion with F_R0 = r · 6πa² τ(100 1/s), the same force at both rates.
 TEST(ValidateNearFieldShearCell, DISABLED_YieldStressStudy) {
   const auto phis = env_list("RHEOSIM_NF_PHIS", {0.1, 0.2, 0.3});
   const auto eta_r = env_list("RHEOSIM_NF_ETA_R", {1.408, 2.390, 4.211});
@@ -327,6 +330,9 @@ TEST(ValidateNearFieldShearCell, DISABLED_YieldStressStudy) {
       c.skip_strain = 0.3 * c.strain;
       c.rheology_yaml = fmt::format("model: bingham\nplastic_viscosity: {}\nyield_stress: {}\nregularization: 1.0e4\n",
                                     plastic_viscosity, yield_stress);
+      const double a = 0.5 * c.diameter;
+      c.repulsion_force = env_number("RHEOSIM_NF_REPULSION", 0.0) * 6.0 * pi * a * a *
+                          (yield_stress + plastic_viscosity * rates.front());
       const CellResult r = run_cell(c);
       print(fmt::format("bingham γ̇ = {} 1/s", rate).c_str(), r);
       stress.push_back(r.eta_r * r.matrix_stress);
