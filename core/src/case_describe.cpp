@@ -120,6 +120,10 @@ std::string describe(const Case& c) {
     out += fmt::format("  solver: {} reordering, PPE tolerance {}, velocity tolerance {}, threads {}\n",
                        l.solver.reordering, l.solver.pressure_tolerance, l.solver.velocity_tolerance,
                        l.solver.threads == 0 ? std::string("default") : std::to_string(l.solver.threads));
+    out += fmt::format("  preconditioners: PPE {}, velocity {} (auto: the scene's default, docs/ldd.md)\n",
+                       l.solver.pressure_preconditioner, l.solver.velocity_preconditioner);
+    if (std::holds_alternative<CavityScene>(l.scene) && l.solver.reordering == "lattice")
+      out += fmt::format("  lattice interpolation: {}\n", l.solver.interpolation);
     if (!std::holds_alternative<CavityScene>(l.scene))
       out += fmt::format("  free surface: {} PBD sweeps per step, moment-matrix rcond {}\n", l.solver.pbd_sweeps,
                          l.solver.moment_rcond);
