@@ -27,13 +27,12 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <filesystem>
 
+#include "data/ghia1982.hpp"  // tests/ldd/data
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/domain.hpp"
@@ -119,26 +118,9 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
   std::fflush(stdout);
 }
 
-struct GhiaPoint {
-  char line;          // 'u': vertical centre line (coordinate y), 'v': horizontal (coordinate x)
-  double coordinate;  // y or x, normalised
-  double re100, re1000;
-};
+using ldd::reference::GhiaPoint;
 
-std::vector<GhiaPoint> ghia() {
-  std::ifstream in(std::string(RHEOSIM_SOURCE_DIR) + "/tests/ldd/data/ghia1982_centerlines.csv");
-  std::vector<GhiaPoint> points;
-  std::string row;
-  while (std::getline(in, row)) {
-    if (row.empty() || row[0] == '#') continue;
-    std::replace(row.begin(), row.end(), ',', ' ');
-    std::istringstream fields(row);
-    GhiaPoint p{};
-    fields >> p.line >> p.coordinate >> p.re100 >> p.re1000;
-    points.push_back(p);
-  }
-  return points;
-}
+std::vector<GhiaPoint> ghia() { return ldd::reference::ghia1982(RHEOSIM_SOURCE_DIR); }
 
 struct AccuracyOptions {
   int reynolds = 100;
@@ -153,12 +135,8 @@ std::vector<double> accuracy_probes(const std::vector<GhiaPoint>& points) {
   std::vector<double> probes;
   for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {0.5, k / 100.0});
   for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {k / 100.0, 0.5});
-  for (const auto& p : points) {
-    if (p.line == 'u')
-      probes.insert(probes.end(), {0.5, p.coordinate});
-    else
-      probes.insert(probes.end(), {p.coordinate, 0.5});
-  }
+  const auto ghia_probes = ldd::reference::ghia_probe_fractions(points);
+  probes.insert(probes.end(), ghia_probes.begin(), ghia_probes.end());
   return probes;
 }
 

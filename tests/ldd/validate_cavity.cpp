@@ -14,47 +14,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "rheosim/core/case.hpp"
+#include "data/ghia1982.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
 namespace {
 
-struct GhiaPoint {
-  char line;          // 'u': vertical centre line (coordinate y), 'v': horizontal (coordinate x)
-  double coordinate;  // y or x, normalised
-  double re100, re1000;
-};
+using reference::GhiaPoint;
 
-std::vector<GhiaPoint> ghia() {
-  std::ifstream in(std::string(RHEOSIM_SOURCE_DIR) + "/tests/ldd/data/ghia1982_centerlines.csv");
-  std::vector<GhiaPoint> points;
-  std::string row;
-  while (std::getline(in, row)) {
-    if (row.empty() || row[0] == '#') continue;
-    std::replace(row.begin(), row.end(), ',', ' ');
-    std::istringstream fields(row);
-    GhiaPoint p{};
-    fields >> p.line >> p.coordinate >> p.re100 >> p.re1000;
-    points.push_back(p);
-  }
-  return points;
-}
+std::vector<GhiaPoint> ghia() { return reference::ghia1982(RHEOSIM_SOURCE_DIR); }
 
 std::vector<double> probe_fractions(const std::vector<GhiaPoint>& points) {
-  std::vector<double> f;
-  for (const auto& p : points) {
-    if (p.line == 'u')
-      f.insert(f.end(), {0.5, p.coordinate});
-    else
-      f.insert(f.end(), {p.coordinate, 0.5});
-  }
-  return f;
+  return reference::ghia_probe_fractions(points);
 }
 
 class RheologyFromYaml {
