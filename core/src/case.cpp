@@ -361,7 +361,7 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
                                   v.moment_rcond, Range::open(0.0, 1.0));
     v.surface_moment_rcond = s->number_or(
         {"surface_moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
-        v.moment_rcond, Range::open(0.0, 1.0));  // unset: the same threshold for both, as before the split
+        v.surface_moment_rcond, Range::open(0.0, 1.0));
     v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},

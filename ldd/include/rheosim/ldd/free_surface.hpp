@@ -135,9 +135,9 @@ struct FreeSurfaceParams {
   double surface_offset = 0.3;                     // |c_i|/Δ above which a node is on the surface
   double surface_count = 0.7;                      // n_i/n₀ below which a node is on the surface
   double surface_cone_angle = 35;                  // [°] half-angle of the empty-cone test
-  double min_moment_rcond = 1e-3;                  // λ_min/λ_max of eq. 13's moment matrix below which it is
+  double min_moment_rcond = 0.03;                  // λ_min/λ_max of eq. 13's moment matrix below which it is
                                                    // pseudo-inverted (weak directions dropped)
-  double surface_moment_rcond = 1e-3;              // λ_min/λ_max below which the node counts as surface
+  double surface_moment_rcond = 0.01;              // λ_min/λ_max below which the node counts as surface
   double surface_fluid_weight = 0.1;               // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   double neighbour_skin = 0.3;                     // search radius = h + skin·Δ (also the detection radius)
   int pbd_iterations = 3;                          // PBD sweeps per step (0: none)
