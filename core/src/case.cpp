@@ -357,8 +357,11 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"},
                                  v.max_courant, Range::open_closed(0.0, 100.0));
     v.pbd_sweeps = s->integer_or({"pbd_sweeps", "free surface: volume-keeping PBD sweeps per step", "-"}, v.pbd_sweeps, 0, 100);
-    v.moment_rcond = s->number_or({"moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
+    v.moment_rcond = s->number_or({"moment_rcond", "free surface: moment-matrix conditioning below which it is pseudo-inverted", "-"},
                                   v.moment_rcond, Range::open(0.0, 1.0));
+    v.surface_moment_rcond = s->number_or(
+        {"surface_moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
+        v.surface_moment_rcond, Range::open(0.0, 1.0));
     v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},

@@ -161,6 +161,7 @@ void FreeSurfaceParams::check() const {
   require(surface_offset > 0 && surface_offset < 1, "surface_offset", surface_offset, "(0, 1)");
   require(surface_count > 0 && surface_count < 1, "surface_count", surface_count, "(0, 1)");
   require(min_moment_rcond > 0 && min_moment_rcond < 1, "min_moment_rcond", min_moment_rcond, "(0, 1)");
+  require(surface_moment_rcond > 0 && surface_moment_rcond < 1, "surface_moment_rcond", surface_moment_rcond, "(0, 1)");
   require(surface_fluid_weight >= 0 && surface_fluid_weight < 1, "surface_fluid_weight", surface_fluid_weight, "[0, 1)");
   require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle, "(0, 90) degrees");
   require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
@@ -385,11 +386,12 @@ void FreeSurfaceSolver::classify() {
     // Fluid support: wall pressures are extrapolated from the fluid (the PPE's wall rows), so a
     // node whose kernel sees mostly wall nodes has no pressure level of its own — as interior it
     // formed a floating block with its walls (the slump cake's edge reached 9·10⁶ Pa, docs/ldd.md).
-    // Degenerate stencil: the moment matrix (eq. 13) needed its pseudo-inverse, i.e. the
-    // neighbours do not span all directions — the node is at an edge of the fluid. As interior its
-    // gradient along the weak direction, amplified by 1/λ_min, drove the δt = 1e-3 slump's
-    // pressure correction to 40 m/s in one step (docs/ldd.md).
-    const bool degenerate = operators_.guarded.size() == kinds_.size() && (operators_.guarded[i] & 1U) != 0;
+    // Degenerate stencil: the neighbours (eq. 13's moment matrix) do not span all directions —
+    // the node is at an edge of the fluid. A bound of its own, lower than the pseudo-inverse's: a
+    // flattened interior stencil needs its weak direction dropped, not p = p_atm, which next to
+    // hydrostatic neighbours kicks it by δt·g·h/Δ (the δt = 1e-2 slump, docs/ldd.md).
+    const bool degenerate =
+        operators_.conditioning.size() == kinds_.size() && operators_.conditioning[i] < params_.surface_moment_rcond;
     const bool thin_support = fluid_weight < weight_limit || degenerate;
     const bool surface = empty_cone || thin_support || offset > offset_limit ||
                          static_cast<double>(within_search) < count_limit;

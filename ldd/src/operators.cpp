@@ -73,6 +73,7 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
   }
   Eigen::Map<Vec>(&ops.offset[i * D]) = offset;
   ops.guarded[i] = guard;
+  ops.conditioning[i] = lambda_max > 0 ? std::max(lambda_min, 0.0) / lambda_max : 0.0;
 }
 
 void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
@@ -106,6 +107,7 @@ Operators build_operators(std::span<const double> positions, int dimension, cons
   ops.laplacian.resize(neighbours.pair_count());
   ops.offset.resize(n * dim);
   ops.guarded.resize(n);
+  ops.conditioning.resize(n);
   const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t i = 0; i < count; ++i) {

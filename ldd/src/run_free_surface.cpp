@@ -115,6 +115,7 @@ FreeSurfaceParams free_surface_params(const core::LddCase& l) {
   p.max_courant = l.solver.max_courant;
   p.pbd_iterations = l.solver.pbd_sweeps;
   p.min_moment_rcond = l.solver.moment_rcond;
+  p.surface_moment_rcond = l.solver.surface_moment_rcond;
   // auto: AMG (docs/performance.md: 3.4× faster than the per-step LU in the 2 mm dam break, 1.7×
   // faster than Jacobi in the slump). Measured choices: in 2D a fresh hierarchy every step (a
   // reused one raised the velocity iterations 10 → 16.5 and the coarse dam break diverged with

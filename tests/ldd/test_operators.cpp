@@ -11,6 +11,7 @@
 //   7.37e-4 for N = 16, 32, 64 (order 2.00); jittered cloud 7.0e-2, 2.0e-2, 2.3e-2 (stagnates).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -225,6 +226,19 @@ TEST(Operators, GuardsNearSingularMomentMatrix) {
   EXPECT_NEAR(g[3], 0.0, 1e-12);
   EXPECT_EQ(g[6], 0.0);
   EXPECT_EQ(b.ops.guarded_count(), 4U);
+}
+
+// The per-node λ_min/λ_max that the free-surface flag reads: 1 on a symmetric 2D stencil (the
+// moment matrix is a multiple of I), 0 on the collinear one, the weighted ratio when one axis is shorter.
+TEST(Operators, RecordsMomentMatrixConditioning) {
+  const std::vector<double> cross{0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 1.0, 0.0, -1.0};
+  EXPECT_NEAR(build(cross, 2, 1.6).ops.conditioning[0], 1.0, 1e-12);
+  const std::vector<double> flat{0.0, 0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.5, 0.0, -0.5};
+  // W(0.5)·0.5² / W(1)·1² with W = (1 − r/1.6)³.
+  const double expected = std::pow(1.0 - 0.5 / 1.6, 3) * 0.25 / std::pow(1.0 - 1.0 / 1.6, 3);
+  EXPECT_NEAR(build(flat, 2, 1.6).ops.conditioning[0], std::min(expected, 1.0 / expected), 1e-12);
+  const std::vector<double> line{0.0, 0.0, 1.0, 0.0, 2.0, 0.0};
+  EXPECT_EQ(build(line, 2, 1.6).ops.conditioning[1], 0.0);
 }
 
 // Solves ∇²f = s with Dirichlet f on the square's edge; returns the max nodal error.

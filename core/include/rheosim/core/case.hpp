@@ -161,7 +161,8 @@ struct LddSolverSettings {
   std::string interpolation = "quadratic";  // lattice reordering: quadratic | shepard | gradient_corrected
   double max_courant = 1.0;             // stop (diverged) when max|u|δt/Δ exceeds this
   int pbd_sweeps = 3;                   // free-surface scenes: volume-keeping PBD sweeps per step
-  double moment_rcond = 1e-3;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
+  double moment_rcond = 0.03;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
+  double surface_moment_rcond = 0.01;   // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
   std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
   std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
 };

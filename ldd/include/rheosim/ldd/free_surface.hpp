@@ -37,8 +37,8 @@
 //   * fluid support: Σ_fluid W_ij < surface_fluid_weight·(ρ₀ − W(0)) — wall pressures are
 //     extrapolated from the fluid, so a node seeing mostly walls has no pressure level of its own
 //     (as interior it floated with its wall nodes to 9·10⁶ Pa in the slump),
-//   * degenerate stencil: λ_min/λ_max of the moment matrix (eq. 13) < min_moment_rcond (it is then
-//     pseudo-inverted; the neighbours do not span space),
+//   * degenerate stencil: λ_min/λ_max of the moment matrix (eq. 13) < surface_moment_rcond (the
+//     neighbours do not span space; below min_moment_rcond it is pseudo-inverted, see docs/ldd.md),
 // and a splash node when it has fewer than dimension + 1 neighbours within h. A full
 // neighbourhood, including one cut by a wall (the wall nodes stand in for the missing fluid),
 // passes all five; a flat surface fails the first two (|c_i| ≈ 0.6 Δ on a square lattice).
@@ -135,8 +135,9 @@ struct FreeSurfaceParams {
   double surface_offset = 0.3;                     // |c_i|/Δ above which a node is on the surface
   double surface_count = 0.7;                      // n_i/n₀ below which a node is on the surface
   double surface_cone_angle = 35;                  // [°] half-angle of the empty-cone test
-  double min_moment_rcond = 1e-3;                  // λ_min/λ_max of eq. 13's moment matrix below which it is
-                                                   // pseudo-inverted and the node counts as surface
+  double min_moment_rcond = 0.03;                  // λ_min/λ_max of eq. 13's moment matrix below which it is
+                                                   // pseudo-inverted (weak directions dropped)
+  double surface_moment_rcond = 0.01;              // λ_min/λ_max below which the node counts as surface
   double surface_fluid_weight = 0.1;               // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   double neighbour_skin = 0.3;                     // search radius = h + skin·Δ (also the detection radius)
   int pbd_iterations = 3;                          // PBD sweeps per step (0: none)

@@ -60,6 +60,7 @@ struct Operators {
   std::vector<double> laplacian;     // per pair: coefficient a_ij of f_ij         (eq. 15)
   std::vector<double> offset;        // per node, dimension values: o_i            (eq. 16)
   std::vector<std::uint8_t> guarded; // per node: bit 0 moment-matrix guard, bit 1 Laplacian guard
+  std::vector<double> conditioning;  // per node: λ_min/λ_max of the moment matrix (0 without neighbours)
 
   [[nodiscard]] std::size_t node_count() const { return guarded.size(); }
   [[nodiscard]] std::size_t guarded_count() const;
