@@ -73,14 +73,6 @@ void check_settings(const NearFieldSettings& s) {
   if (!(s.solver_tolerance > 0.0 && s.solver_tolerance <= 1e-3))
     throw std::invalid_argument(
         fmt::format("hydrodynamics.solver_tolerance = {}, expected 0 < tolerance <= 1e-3", s.solver_tolerance));
-  if (!(s.repulsion_force >= 0.0 && std::isfinite(s.repulsion_force)))
-    throw std::invalid_argument(
-        fmt::format("hydrodynamics.repulsion_force = {}, expected >= 0 (F_R0 in N)", s.repulsion_force));
-  if (!(s.repulsion_length >= 1e-3 && s.repulsion_length <= s.lubrication_cutoff / 5.0))
-    throw std::invalid_argument(fmt::format(
-        "hydrodynamics.repulsion_length = {}, expected 1e-3 <= λ/ā <= lubrication_cutoff/5 = {} (the force is "
-        "evaluated on the lubrication gap list, so it must have decayed to e⁻⁵ by the cutoff)",
-        s.repulsion_length, s.lubrication_cutoff / 5.0));
   if (s.max_solver_iterations < 1)
     throw std::invalid_argument(
         fmt::format("hydrodynamics.max_solver_iterations = {}, expected >= 1", s.max_solver_iterations));
@@ -614,10 +606,19 @@ std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSetti
                                               fmt::join(near_field_model_names(), ", ")));
     it->second(terms);
   }
-  if (terms.repulsion && !terms.lubrication)
-    throw std::invalid_argument("hydrodynamics: 'repulsion' needs 'lubrication' (it acts on the lubrication gap list)");
-  if (terms.repulsion && !(settings.repulsion_force > 0.0))
-    throw std::invalid_argument("hydrodynamics: 'repulsion' needs repulsion_force > 0 (F_R0 in N)");
+  // The repulsion settings only bind when the term is on (its length is bounded by the cutoff).
+  if (terms.repulsion) {
+    if (!terms.lubrication)
+      throw std::invalid_argument("hydrodynamics: 'repulsion' needs 'lubrication' (it acts on the lubrication gap list)");
+    if (!(settings.repulsion_force > 0.0 && std::isfinite(settings.repulsion_force)))
+      throw std::invalid_argument(fmt::format("hydrodynamics.repulsion_force = {}, expected > 0 (F_R0 in N)",
+                                              settings.repulsion_force));
+    if (!(settings.repulsion_length >= 1e-3 && settings.repulsion_length <= settings.lubrication_cutoff / 5.0))
+      throw std::invalid_argument(fmt::format(
+          "hydrodynamics.repulsion_length = {}, expected 1e-3 <= λ/ā <= lubrication_cutoff/5 = {} (the force is "
+          "evaluated on the lubrication gap list, so it must have decayed to e⁻⁵ by the cutoff)",
+          settings.repulsion_length, settings.lubrication_cutoff / 5.0));
+  }
   return std::make_unique<CombinedNearField>(settings, terms, std::move(matrix));
 }
 

@@ -80,6 +80,11 @@ TEST(NearFieldRegistry, ChecksRanges) {
   s.repulsion_force = 1e-9;
   s.repulsion_length = 0.2;  // > cutoff/5
   EXPECT_THROW((void)make_near_field_model(s, newtonian(1.0)), std::invalid_argument);
+  // Without the term its settings do not bind: a short cutoff is fine with the default length.
+  NearFieldSettings short_cutoff;
+  short_cutoff.models = {"lubrication", "stresslet"};
+  short_cutoff.lubrication_cutoff = 0.1;
+  EXPECT_NO_THROW((void)make_near_field_model(short_cutoff, newtonian(1.0)));
 }
 
 std::string case_with_hydrodynamics(const std::string& block) {
