@@ -218,10 +218,7 @@ int main(int argc, char** argv) {
       if (arg == "--re" && has_value) {
         o.reynolds = std::stoi(argv[++a]);
       } else if (arg == "--interpolation" && has_value) {
-        const std::string name = argv[++a];
-        o.interpolation = name == "shepard"              ? ldd::LatticeInterpolation::shepard
-                          : name == "gradient_corrected" ? ldd::LatticeInterpolation::gradient_corrected
-                                                         : ldd::LatticeInterpolation::quadratic;
+        o.interpolation = ldd::lattice_interpolation_named(argv[++a]);
       } else if (arg == "--dt" && has_value) {
         o.dt = std::stod(argv[++a]);
       } else if (arg == "--end" && has_value) {

@@ -198,9 +198,7 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   params.max_iterations = l.solver.max_iterations;
   params.max_courant = l.solver.max_courant;
   params.reordering = l.solver.reordering == "density" ? Reordering::density : Reordering::lattice;
-  params.interpolation = l.solver.interpolation == "shepard"              ? LatticeInterpolation::shepard
-                         : l.solver.interpolation == "gradient_corrected" ? LatticeInterpolation::gradient_corrected
-                                                                          : LatticeInterpolation::quadratic;
+  params.interpolation = lattice_interpolation_named(l.solver.interpolation);
   params.pressure_preconditioner = preconditioner_named(l.solver.pressure_preconditioner, params.pressure_preconditioner);
   params.velocity_preconditioner = preconditioner_named(l.solver.velocity_preconditioner, params.velocity_preconditioner);
   params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;

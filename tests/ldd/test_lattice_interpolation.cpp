@@ -13,6 +13,7 @@
 #include "rheosim/ldd/lattice_interpolation.hpp"
 #include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
+#include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -59,6 +60,13 @@ double fit_error(const Cloud& c) {
     for (std::size_t t = 0; t < 5; ++t) error = std::max(error, std::abs(d[t] - exact[t]));
   }
   return error;  // exact second derivatives: the fluid nodes did not fall back to a linear fit
+}
+
+TEST(LatticeInterpolationNamed, MapsTheCaseFileNames) {
+  EXPECT_EQ(lattice_interpolation_named("quadratic"), LatticeInterpolation::quadratic);
+  EXPECT_EQ(lattice_interpolation_named("shepard"), LatticeInterpolation::shepard);
+  EXPECT_EQ(lattice_interpolation_named("gradient_corrected"), LatticeInterpolation::gradient_corrected);
+  EXPECT_EQ(lattice_interpolation_named("anything else"), LatticeInterpolation::quadratic);
 }
 
 TEST(QuadraticFit, ExactForQuadraticsOnSquareSkewedAndJitteredClouds) {
