@@ -54,13 +54,18 @@ std::string describe_rheometer(const RheometerCase& r) {
                            list({s->volume_fractions.begin(), s->volume_fractions.begin() + s->classes}));
     }
     if (const auto& h = p->hydrodynamics; h.any())
-      out += fmt::format("  near-field hydrodynamics:{}{}{}{}, roughness δ/ā {}, lubrication cutoff h/ā {}{}\n",
+      out += fmt::format("  near-field hydrodynamics:{}{}{}{}, roughness δ/ā {}, lubrication cutoff h/ā {}{}{}\n",
                          h.lubrication ? " lubrication" : "", h.single_particle ? " stresslet" : "",
                          h.stokes_drag ? " stokes_drag" : "", h.repulsion ? " repulsion" : "", h.roughness,
                          h.lubrication_cutoff,
                          h.repulsion ? fmt::format(", repulsion F_R0 {} N, λ/ā {}", h.repulsion_force,
                                                    h.repulsion_length)
-                                     : std::string{});
+                                     : std::string{},
+                         h.single_particle ? fmt::format(", stresslet viscosity {}",
+                                                         h.stresslet_viscosity == StressletViscosity::secant
+                                                             ? "secant"
+                                                             : "homogenized")
+                                           : std::string{});
   } else {
     out += "  particles: none (single phase)\n";
   }

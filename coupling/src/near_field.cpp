@@ -263,6 +263,16 @@ class CombinedNearField final : public NearFieldModel {
   [[nodiscard]] System assemble(const ParticleSnapshot& p, const NearFieldScene& scene, const AmbientFlow& ambient,
                                 std::span<const double> velocities, NearFieldResult* result) const;
   void apply_resistance(const System& s, std::span<const double> v, std::span<double> out) const;  // out = R v
+  // μ_S of the stresslet at the ambient shear rate, μ = μ(γ̇) (NearFieldSettings::stresslet_viscosity).
+  // Chateau, Ovarlez & Trung's homogenisation evaluates the matrix at the liquid's mean square
+  // local rate γ̇_loc = γ̇ √(η_r/(1 − φ)); to first order in φ that gives
+  // τ(γ̇)(1 + (0.75 + 1.75 n)φ) with n = 1 + d ln μ/d ln γ̇, i.e. Einstein's 2.5φ with
+  // μ_S = 0.3 μ + 0.7 dτ/dγ̇ = μ + 0.7 γ̇ dμ/dγ̇ (a plastic matrix, n → 0: 0.75φ).
+  [[nodiscard]] double stresslet_viscosity(double mu, double shear_rate) const {
+    if (settings_.stresslet_viscosity == core::StressletViscosity::secant || !(shear_rate > 0.0)) return mu;
+    const double tangent = mu + shear_rate * matrix_->viscosity_derivative(shear_rate);
+    return std::isfinite(tangent) ? 0.3 * mu + 0.7 * std::max(tangent, 0.0) : mu;
+  }
 
   NearFieldSettings settings_;
   Terms terms_;
@@ -316,7 +326,7 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
           s.blocks[36 * i + 7 * (3 + k)] += s.rotation[i];
         }
         if (result != nullptr) {
-          const double stresslet = 20.0 / 3.0 * pi * mu * a * a * a;
+          const double stresslet = 20.0 / 3.0 * pi * stresslet_viscosity(mu, ambient_shear_rate(i)) * a * a * a;
           for (std::size_t c = 0; c < 6; ++c) result->stresslet_sum[c] += stresslet * f.strain_rate[c];
           const Vector3 x = position(p, i);
           result->stresslet_axial_moment += stresslet * (x[0] * f.strain_rate[5] - x[1] * f.strain_rate[4]);
@@ -584,6 +594,7 @@ NearFieldSettings near_field_settings(const core::Hydrodynamics& h) {
   s.lubrication_cutoff = h.lubrication_cutoff;
   s.repulsion_force = h.repulsion_force;
   s.repulsion_length = h.repulsion_length;
+  s.stresslet_viscosity = h.stresslet_viscosity;
   return s;
 }
 

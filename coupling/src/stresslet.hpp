@@ -4,7 +4,8 @@
 // ω∞ = ½ ∇×u∞, in a liquid of viscosity μ = μ(√(2E∞:E∞)) (issue 9 item 2):
 //   torque     T = −8πμa³ (Ω − ω∞)            (Kim & Karrila 1991, §2.4: rotlet of a sphere)
 //   stresslet  S = (20/3)πμa³ E∞              (Batchelor & Green, J. Fluid Mech. 56 (1972) 375;
-//                                             Einstein: n·S = 2.5 φ · 2μE∞, so η_r = 1 + 2.5φ)
+//                                             Einstein: n·S = 2.5 φ · 2μE∞, so η_r = 1 + 2.5φ;
+//                                             a shear-thinning matrix: μ → μ_S, near_field.hpp)
 //   drag       F = −6πμa (U − u∞(x))          (stokes_drag only: Stokes' law on the ambient
 //                                             flow, for cells with an imposed flow and no
 //                                             fluid solver; CFD-DEM has Di Felice drag instead)

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 #include <variant>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -156,6 +157,31 @@ TEST(NearFieldCaseKeys, ParsesTheRepulsion) {
   EXPECT_NE(core::describe(c).find("repulsion F_R0 2e-09 N, λ/ā 0.02"), std::string::npos) << core::describe(c);
 }
 
+TEST(NearFieldCaseKeys, ParsesTheStressletViscosity) {
+  const auto parse = [](const std::string& block) {
+    return std::get<core::RheometerCase>(core::parse_case(case_with_hydrodynamics(block), "case.yaml").spec)
+        .particles->hydrodynamics;
+  };
+  EXPECT_EQ(parse("  hydrodynamics: {model: stresslet}\n").stresslet_viscosity, core::StressletViscosity::homogenized);
+  const auto h = parse("  hydrodynamics: {model: stresslet, stresslet_viscosity: secant}\n");
+  EXPECT_EQ(h.stresslet_viscosity, core::StressletViscosity::secant);
+  EXPECT_EQ(near_field_settings(h).stresslet_viscosity, core::StressletViscosity::secant);
+  EXPECT_NE(core::describe(core::parse_case(case_with_hydrodynamics("  hydrodynamics: {model: stresslet, "
+                                                                    "stresslet_viscosity: secant}\n"),
+                                            "case.yaml"))
+                .find("stresslet viscosity secant"),
+            std::string::npos);
+  try {
+    (void)parse("  hydrodynamics: {model: stresslet, stresslet_viscosity: tangent}\n");
+    ADD_FAILURE() << "an unknown stresslet_viscosity was accepted";
+  } catch (const core::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("stresslet_viscosity"), std::string::npos) << what;
+    EXPECT_NE(what.find("homogenized"), std::string::npos) << what;
+    EXPECT_NE(what.find("case.yaml:"), std::string::npos) << what;
+  }
+}
+
 TEST(NearField, NoneAddsNothing) {
   const auto m = model({"none"});
   const std::vector<double> x{0, 0, 0, 2.0001e-4, 0, 0}, v{0, 0, 1, 0, 0, -1}, w(6, 0.0), r{1e-4, 1e-4};
@@ -167,25 +193,54 @@ TEST(NearField, NoneAddsNothing) {
 }
 
 // Single sphere at rest in simple shear u = γ̇ z e_x: torque 8πμa³ ω∞ with ω∞ = (0, γ̇/2, 0),
-// stresslet (20/3)πμa³E∞ with E∞_xz = γ̇/2; μ of a power-law matrix at the ambient γ̇.
+// stresslet (20/3)πμ_S a³E∞ with E∞_xz = γ̇/2; μ of a power-law matrix at the ambient γ̇.
+// μ_S: `secant` μ; `homogenized` 0.3 μ + 0.7 dτ/dγ̇ = (0.3 + 0.7 n) μ (near_field.hpp).
 TEST(NearField, SingleSphereTorqueAndStressletAreStokes) {
   const auto doc = core::Document::from_string("model: power_law\nconsistency: 2.0\nindex: 0.5\n", "rheology");
-  NearFieldSettings s;
-  s.models = {"stresslet"};
-  const auto m = make_near_field_model(s, core::make_rheology(doc.root()));
-  const double a = 1e-4, rate = 40.0;
-  const double mu = 2.0 * std::pow(rate, -0.5);
-  const std::vector<double> x{0, 0, 3e-4}, v(3, 0.0), w(3, 0.0), r{a};
-  NearFieldResult res;
-  res.reset(1, 0);
-  m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, {}, simple_shear(rate), res);
-  EXPECT_NEAR(res.torques[1], 8.0 * pi * mu * a * a * a * rate / 2.0, 1e-12 * mu * a * a * a * rate);
-  EXPECT_EQ(res.torques[0], 0.0);
-  EXPECT_EQ(res.forces[0], 0.0);  // no drag in `stresslet`
-  const double s_xz = 20.0 / 3.0 * pi * mu * a * a * a * rate / 2.0;
-  EXPECT_NEAR(res.stresslet_sum[4], s_xz, 1e-12 * s_xz);
-  EXPECT_NEAR(res.particle_stress[4], s_xz, 1e-12 * s_xz);
-  for (int c : {0, 1, 2, 3, 5}) EXPECT_EQ(res.stresslet_sum[static_cast<std::size_t>(c)], 0.0);
+  for (const auto& [mode, factor] : {std::pair{core::StressletViscosity::secant, 1.0},
+                                    std::pair{core::StressletViscosity::homogenized, 0.3 + 0.7 * 0.5}}) {
+    NearFieldSettings s;
+    s.models = {"stresslet"};
+    s.stresslet_viscosity = mode;
+    const auto m = make_near_field_model(s, core::make_rheology(doc.root()));
+    const double a = 1e-4, rate = 40.0;
+    const double mu = 2.0 * std::pow(rate, -0.5);
+    const std::vector<double> x{0, 0, 3e-4}, v(3, 0.0), w(3, 0.0), r{a};
+    NearFieldResult res;
+    res.reset(1, 0);
+    m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, {}, simple_shear(rate), res);
+    EXPECT_NEAR(res.torques[1], 8.0 * pi * mu * a * a * a * rate / 2.0, 1e-12 * mu * a * a * a * rate);
+    EXPECT_EQ(res.torques[0], 0.0);
+    EXPECT_EQ(res.forces[0], 0.0);  // no drag in `stresslet`
+    const double s_xz = factor * 20.0 / 3.0 * pi * mu * a * a * a * rate / 2.0;
+    EXPECT_NEAR(res.stresslet_sum[4], s_xz, 1e-9 * s_xz);
+    EXPECT_NEAR(res.particle_stress[4], s_xz, 1e-9 * s_xz);
+    for (int c : {0, 1, 2, 3, 5}) EXPECT_EQ(res.stresslet_sum[static_cast<std::size_t>(c)], 0.0);
+  }
+}
+
+// A Bingham matrix far above its yield (γ̇ with τ_y ≫ μ_p γ̇): the homogenised stresslet tends to
+// 0.3 of the secant one, so the particles add 0.75φ τ_y to the yield stress, not 2.5φ τ_y.
+TEST(NearField, HomogenizedStressletOfAPlasticMatrix) {
+  const auto doc = core::Document::from_string(
+      "model: bingham\nplastic_viscosity: 0.01\nyield_stress: 100.0\nregularization: 1.0e4\n", "rheology");
+  const auto matrix = core::make_rheology(doc.root());
+  const double a = 1e-4, rate = 10.0;  // Bn = τ_y/(μ_p γ̇) = 1000
+  double secant = 0.0, homogenized = 0.0;
+  for (const auto mode : {core::StressletViscosity::secant, core::StressletViscosity::homogenized}) {
+    NearFieldSettings s;
+    s.models = {"stresslet"};
+    s.stresslet_viscosity = mode;
+    NearFieldResult res;
+    res.reset(1, 0);
+    const std::vector<double> x{0, 0, 3e-4}, v(3, 0.0), w(3, 0.0), r{a};
+    make_near_field_model(s, matrix)->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r},
+                                               {}, simple_shear(rate), res);
+    (mode == core::StressletViscosity::secant ? secant : homogenized) = res.stresslet_sum[4];
+  }
+  const double n = 0.01 * rate / (100.0 + 0.01 * rate);  // d ln τ/d ln γ̇
+  EXPECT_NEAR(secant, 20.0 / 3.0 * pi * matrix->viscosity(rate) * a * a * a * rate / 2.0, 1e-12 * secant);
+  EXPECT_NEAR(homogenized / secant, 0.3 + 0.7 * n, 1e-6);
 }
 
 TEST(NearField, StokesDragOnAmbientFlow) {

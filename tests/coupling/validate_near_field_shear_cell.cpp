@@ -56,6 +56,7 @@ struct CellSettings {
   double lubrication_cutoff = NearFieldSettings{}.lubrication_cutoff;  // h_c/ā
   double repulsion_ratio = 0.0;  // F_R0 / (6πμa²γ̇); > 0 adds the `repulsion` term (λ = 0.05 ā)
   double repulsion_force = 0.0;  // F_R0 [N] when > 0 (instead of the ratio): fixed over rates
+  core::StressletViscosity stresslet_viscosity = core::StressletViscosity::homogenized;
   double youngs_modulus = 1e6;  // [Pa] soft: δt = 0.2 t_R = 3.5e-6 s = 3.5e-4/γ̇; overlaps below 1 % of d
   std::uint64_t seed = 1;
 };
@@ -96,6 +97,7 @@ CellResult run_cell(const CellSettings& c) {
   NearFieldSettings settings;
   settings.models = c.models;
   settings.lubrication_cutoff = c.lubrication_cutoff;
+  settings.stresslet_viscosity = c.stresslet_viscosity;
   if (c.repulsion_force > 0.0 || c.repulsion_ratio > 0.0) {
     settings.models.emplace_back("repulsion");
     settings.repulsion_force =
@@ -313,7 +315,8 @@ TEST(ValidateNearFieldShearCell, DISABLED_ViscosityCurveStudy) {
 // Chateau, Ovarlez & Trung (J. Rheol. 52 (2008) 489): τ_y,s/τ_y = √((1 − φ) η_r(φ)), with η_r(φ)
 // the same model's Newtonian relative viscosity (RHEOSIM_NF_ETA_R, comma list matching the φs;
 // default: the γ̇ = 100 study values of docs/hydrodynamics.md). RHEOSIM_NF_REPULSION = r adds the
-// repulsion with F_R0 = r · 6πa² τ(100 1/s), the same force at both rates.
+// repulsion with F_R0 = r · 6πa² τ(100 1/s), the same force at both rates; RHEOSIM_NF_STRESSLET =
+// secant uses the secant viscosity in the stresslet (default: homogenized, docs/hydrodynamics.md).
 TEST(ValidateNearFieldShearCell, DISABLED_YieldStressStudy) {
   const auto phis = env_list("RHEOSIM_NF_PHIS", {0.1, 0.2, 0.3});
   const auto eta_r = env_list("RHEOSIM_NF_ETA_R", {1.408, 2.390, 4.211});
@@ -331,6 +334,8 @@ TEST(ValidateNearFieldShearCell, DISABLED_YieldStressStudy) {
       c.rheology_yaml = fmt::format("model: bingham\nplastic_viscosity: {}\nyield_stress: {}\nregularization: 1.0e4\n",
                                     plastic_viscosity, yield_stress);
       const double a = 0.5 * c.diameter;
+      const char* stresslet = std::getenv("RHEOSIM_NF_STRESSLET");
+      if (stresslet != nullptr && std::string(stresslet) == "secant") c.stresslet_viscosity = core::StressletViscosity::secant;
       c.repulsion_force = env_number("RHEOSIM_NF_REPULSION", 0.0) * 6.0 * pi * a * a *
                           (yield_stress + plastic_viscosity * rates.front());
       const CellResult r = run_cell(c);

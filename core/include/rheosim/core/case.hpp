@@ -51,6 +51,12 @@ struct SizeDistribution {
 // 1.0e-3, lubrication_cutoff: 0.5}`; model is `none` or terms joined by '+': lubrication,
 // stresslet (= single_particle), stokes_drag. Absent: none (the seed's drag-only model).
 // Trivially copyable, like SizeDistribution (flags instead of a list of names).
+// The matrix viscosity in the stresslet (docs/hydrodynamics.md): `homogenized` weights the
+// secant and tangent viscosities so that a dilute suspension in a generalized-Newtonian liquid
+// follows Chateau, Ovarlez & Trung (J. Rheol. 52 (2008) 489), η ≈ τ(γ̇)(1 + (0.75 + 1.75 n)φ),
+// n = d ln τ/d ln γ̇; `secant` is the Newtonian stresslet with μ(γ̇) (2.5φ at any n).
+enum class StressletViscosity { homogenized, secant };
+
 struct Hydrodynamics {
   bool lubrication = false;       // pair and plate lubrication
   bool single_particle = false;   // torque and stresslet in the ambient flow
@@ -60,6 +66,7 @@ struct Hydrodynamics {
   double lubrication_cutoff = 0.5;  // h_c/ā, in (roughness, 1]
   double repulsion_force = 0.0;   // F_R0 [N], > 0 with repulsion
   double repulsion_length = 0.05;   // λ/ā, in [1e-3, lubrication_cutoff/5]
+  StressletViscosity stresslet_viscosity = StressletViscosity::homogenized;  // with the stresslet
   [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag || repulsion; }
 };
 

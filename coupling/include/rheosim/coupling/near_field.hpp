@@ -154,6 +154,9 @@ struct NearFieldSettings {
   double lubrication_cutoff = 0.5;    // h_c/ā: lubrication acts for h < h_c, in (roughness, 1]
   double repulsion_force = 0.0;       // F_R0 [N], > 0 with `repulsion`
   double repulsion_length = 0.05;     // λ/ā, in [1e-3, lubrication_cutoff/5] (the force is cut with the gap list)
+  // The matrix viscosity μ_S in the stresslet (20/3)πμ_S a³E∞ (core::StressletViscosity):
+  // homogenized μ_S = μ + 0.7 γ̇ dμ/dγ̇ (0.3 secant + 0.7 tangent), secant μ_S = μ(γ̇).
+  core::StressletViscosity stresslet_viscosity = core::StressletViscosity::homogenized;
   double solver_tolerance = 1.0e-7;   // residual / |right-hand side| of the implicit solve, in (0, 1e-3]
   int max_solver_iterations = 500;
 };
