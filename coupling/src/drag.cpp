@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "drag/di_felice.hpp"
+#include "drag/schiller_naumann.hpp"
 
 namespace rheosim::coupling {
 namespace {
@@ -59,7 +60,10 @@ void check_equal_sizes(std::size_t particles, std::size_t coefficients) {
 }
 
 // The one list of built-in laws; a new law is added here and nowhere else.
-void add_builtin_drag_models(DragRegistry& registry) { core::add<DiFelice>(registry); }
+void add_builtin_drag_models(DragRegistry& registry) {
+  core::add<DiFelice>(registry);
+  core::add<SchillerNaumann>(registry);
+}
 
 DragRegistry builtin_drag_models() {
   DragRegistry registry;

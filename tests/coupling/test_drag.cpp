@@ -51,8 +51,8 @@ DragInput particle_at_reynolds(double reynolds, double void_fraction) {
 
 double norm(const Vector3& v) { return std::hypot(v[0], v[1], v[2]); }
 
-TEST(Drag, RegistryHasDiFelice) {
-  EXPECT_THAT(builtin_drag_models().names(), ElementsAre("di_felice"));
+TEST(Drag, RegistryHasDiFeliceAndSchillerNaumann) {
+  EXPECT_THAT(builtin_drag_models().names(), ElementsAre("di_felice", "schiller_naumann"));
   EXPECT_EQ(di_felice()->name(), "di_felice");
 }
 
@@ -190,6 +190,26 @@ TEST(Drag, InvalidInputIsRejectedByName) {
   in = ok;
   in.fluid_velocity[1] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THAT(message(in), HasSubstr("fluid_velocity"));
+}
+
+// Schiller–Naumann: the isolated sphere, Stokes at low Re, 1 + 0.15 Re^0.687 above, no voidage
+// function (the same β at any ε), Newton's C_d = 0.44 beyond Re = 1000.
+TEST(Drag, SchillerNaumannIsTheIsolatedSphere) {
+  const auto doc = core::Document::from_string("model: schiller_naumann\n", "drag.yaml");
+  const auto model = make_drag_model(doc.root());
+  EXPECT_EQ(model->name(), "schiller_naumann");
+  const double stokes = 3.0 * pi * viscosity * diameter;
+  for (const double void_fraction : {1.0, 0.7, 0.4}) {
+    // particle_at_reynolds sets ε ρ d |w|/η; the law's Re has no ε.
+    const auto at = [&](double reynolds) { return particle_at_reynolds(reynolds * void_fraction, void_fraction); };
+    EXPECT_NEAR(model->exchange_coefficient(at(1e-9)), stokes, 1e-6 * stokes) << void_fraction;
+    EXPECT_NEAR(model->exchange_coefficient(at(1.0)), 1.15 * stokes, 1e-12 * stokes) << void_fraction;
+    EXPECT_NEAR(model->exchange_coefficient(at(100.0)), (1.0 + 0.15 * std::pow(100.0, 0.687)) * stokes,
+                1e-12 * stokes);
+    // Newton's regime: F = (π/8) 0.44 ρ d² w², so β = 0.44 Re/24 × Stokes.
+    EXPECT_NEAR(model->exchange_coefficient(at(4000.0)), 0.44 * 4000.0 / 24.0 * stokes, 1e-12 * 100 * stokes);
+  }
+  EXPECT_EQ(norm(model->force(particle_with_slip({0.0, 0.0, 0.0}, 0.6))), 0.0);
 }
 
 }  // namespace

@@ -154,7 +154,8 @@ double env_or(const char* name, double fallback) {
 
 // Study (not run by make test): one coupled shear-cell point with the near field at the seed's
 // particles softened by RHEOSIM_NF_SOFTENING, φ = RHEOSIM_NF_PHI, cell RHEOSIM_NF_CELL m,
-// RHEOSIM_NF_STRAIN strain units, lubrication cutoff RHEOSIM_NF_CUTOFF (h_c/ā), printing the stress parts and the running stress per strain unit.
+// RHEOSIM_NF_STRAIN strain units, lubrication cutoff RHEOSIM_NF_CUTOFF (h_c/ā), drag law RHEOSIM_NF_DRAG
+// (default di_felice), printing the stress parts and the running stress per strain unit.
 TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   ShearCellPointSettings s;
   s.gap = env_or("RHEOSIM_NF_GAP", 5e-4);
@@ -166,6 +167,7 @@ TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, s.particles.youngs_modulus, 0.33});
   s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));
   s.shear_rate = env_or("RHEOSIM_NF_RATE", 100.0);
+  if (const char* drag = std::getenv("RHEOSIM_NF_DRAG"); drag != nullptr) s.drag = drag;  // e.g. schiller_naumann
   s.axial_cells = std::max(2, static_cast<int>(std::lround(s.gap / 2.5e-4)));  // cells 1.25 d tall
   const double strain = env_or("RHEOSIM_NF_STRAIN", 20.0);
   s.steady = {.strain_window = 2.0, .relative_tolerance = 1e-9, .min_strain = strain, .max_strain = strain};
