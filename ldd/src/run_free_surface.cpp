@@ -170,6 +170,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
                                                                         {"max_pbd_shift", ""}})
     columns.push_back(col);
   core::CsvTable history(columns);
+  const std::string probe_file = dam_break ? "front.csv" : slump ? "spread.csv" : "column.csv";
   std::vector<double> front_t, front_x;
   nlohmann::ordered_json probes = nlohmann::ordered_json::array();
   const double volume0 = solver.fluid_volume();
@@ -231,6 +232,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     if (k % frame_every == 0) {
       frames.push_back({solver.time(), write_frame(solver, out_dir, static_cast<int>(frames.size()))});
       write_frame_indexes(out_dir, frames);
+      core::write_csv(out_dir / probe_file, history);  // a run stopped from outside keeps its probes so far
     }
   }
   if (outcome.status == "diverged")
@@ -241,7 +243,6 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   if (frames.back().time != solver.time() || outcome.status == "diverged")
     frames.push_back({solver.time(), write_frame(solver, out_dir, static_cast<int>(frames.size()))});
   write_frame_indexes(out_dir, frames);
-  const std::string probe_file = dam_break ? "front.csv" : slump ? "spread.csv" : "column.csv";
   core::write_csv(out_dir / probe_file, history);
 
   outcome.steps = solver.steps();
