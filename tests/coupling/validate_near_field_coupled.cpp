@@ -168,7 +168,8 @@ TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
   s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));
   s.shear_rate = env_or("RHEOSIM_NF_RATE", 100.0);
   if (const char* drag = std::getenv("RHEOSIM_NF_DRAG"); drag != nullptr) s.drag = drag;  // e.g. schiller_naumann
-  s.axial_cells = std::max(2, static_cast<int>(std::lround(s.gap / 2.5e-4)));  // cells 1.25 d tall
+  // Fluid cells RHEOSIM_NF_AXIAL_CELL diameters tall (default 1.25).
+  s.axial_cells = std::max(2, static_cast<int>(std::lround(s.gap / (env_or("RHEOSIM_NF_AXIAL_CELL", 1.25) * 2e-4))));
   const double strain = env_or("RHEOSIM_NF_STRAIN", 20.0);
   s.steady = {.strain_window = 2.0, .relative_tolerance = 1e-9, .min_strain = strain, .max_strain = strain};
   auto hydrodynamics = lubrication_and_stresslet();
