@@ -36,8 +36,11 @@ std::size_t index(const fluid::CylindricalGrid& g, std::size_t i, std::size_t j,
   return (i * g.azimuthal_cells() + j) * g.axial_cells() + k;
 }
 
+// Every drag law is also a force model (schiller_naumann is not one of the seed's).
 TEST(Forces, RegistryHasTheSeedModels) {
-  EXPECT_THAT(builtin_force_models().names(), ElementsAre("di_felice", "pressure_gradient", "viscous"));
+  EXPECT_THAT(builtin_force_models().names(),
+              ElementsAre("di_felice", "pressure_gradient", "schiller_naumann", "viscous"));
+  EXPECT_EQ(make_force_model("schiller_naumann")->name(), "schiller_naumann");
   for (const std::string& name : seed_force_models()) EXPECT_EQ(make_force_model(name)->name(), name);
   EXPECT_ANY_THROW((void)make_force_model("stokes_drag"));
 }
