@@ -11,8 +11,8 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#include <variant>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
