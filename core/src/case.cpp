@@ -173,12 +173,12 @@ Hydrodynamics read_hydrodynamics(const Section& s) {
     out.repulsion_length = s.number_or({"repulsion_length", "repulsion decay length λ/ā", "-"}, out.repulsion_length,
                                        Range::closed(1e-3, out.lubrication_cutoff / 5.0));
   }
-  if (out.single_particle)
-    out.stresslet_viscosity =
-        s.choice_or({"stresslet_viscosity", "matrix viscosity in the stresslet", "-"}, "homogenized",
-                    {"homogenized", "secant"}) == "secant"
-            ? StressletViscosity::secant
-            : StressletViscosity::homogenized;
+  if (out.single_particle) {
+    const std::string stresslet_viscosity =
+        s.choice_or({"stresslet_viscosity", "matrix viscosity in the stresslet", "-"}, name_of(out.stresslet_viscosity),
+                    {name_of(StressletViscosity::homogenized), name_of(StressletViscosity::secant)});
+    if (stresslet_viscosity == name_of(StressletViscosity::secant)) out.stresslet_viscosity = StressletViscosity::secant;
+  }
   return out;
 }
 

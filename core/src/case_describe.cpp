@@ -61,10 +61,7 @@ std::string describe_rheometer(const RheometerCase& r) {
                          h.repulsion ? fmt::format(", repulsion F_R0 {} N, λ/ā {}", h.repulsion_force,
                                                    h.repulsion_length)
                                      : std::string{},
-                         h.single_particle ? fmt::format(", stresslet viscosity {}",
-                                                         h.stresslet_viscosity == StressletViscosity::secant
-                                                             ? "secant"
-                                                             : "homogenized")
+                         h.single_particle ? fmt::format(", stresslet viscosity {}", name_of(h.stresslet_viscosity))
                                            : std::string{});
   } else {
     out += "  particles: none (single phase)\n";

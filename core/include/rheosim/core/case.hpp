@@ -56,6 +56,10 @@ struct SizeDistribution {
 // follows Chateau, Ovarlez & Trung (J. Rheol. 52 (2008) 489), η ≈ τ(γ̇)(1 + (0.75 + 1.75 n)φ),
 // n = d ln τ/d ln γ̇; `secant` is the Newtonian stresslet with μ(γ̇) (2.5φ at any n).
 enum class StressletViscosity { homogenized, secant };
+// Its YAML name ("homogenized", "secant"), the one mapping for the reader and describe().
+[[nodiscard]] constexpr const char* name_of(StressletViscosity v) {
+  return v == StressletViscosity::secant ? "secant" : "homogenized";
+}
 
 struct Hydrodynamics {
   bool lubrication = false;       // pair and plate lubrication
