@@ -368,6 +368,12 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     v.surface_moment_rcond = s->number_or(
         {"surface_moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
         v.surface_moment_rcond, Range::open(0.0, 1.0));
+    v.gradient = s->choice_or(
+        {"gradient", "gradient operator (centred: about the neighbours' centroid; renormalised: LDD eq. 14)", "-"},
+        v.gradient, {"auto", "centred", "renormalised"});
+    if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.gradient == "centred")
+      s->fail("gradient", "a cavity's wall rows impose n·∇p through the wall node's own gradient, which the centred gradient leaves out",
+              "auto or renormalised");
     v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},

@@ -127,8 +127,9 @@ std::string describe(const Case& c) {
     if (std::holds_alternative<CavityScene>(l.scene) && l.solver.reordering == "lattice")
       out += fmt::format("  lattice interpolation: {}\n", l.solver.interpolation);
     if (!std::holds_alternative<CavityScene>(l.scene))
-      out += fmt::format("  free surface: {} PBD sweeps per step, moment-matrix rcond {} (pseudo-inverse), {} (surface)\n",
-                         l.solver.pbd_sweeps, l.solver.moment_rcond, l.solver.surface_moment_rcond);
+      out += fmt::format("  free surface: {} PBD sweeps per step, moment-matrix rcond {} (pseudo-inverse), {} (surface), {} gradient\n",
+                         l.solver.pbd_sweeps, l.solver.moment_rcond, l.solver.surface_moment_rcond,
+                         l.solver.gradient == "renormalised" ? "renormalised (eq. 14)" : "centred");
   }
   return out;
 }

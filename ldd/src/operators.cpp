@@ -15,6 +15,25 @@ namespace {
 // cancelled and the offset correction is dropped for the node.
 constexpr double min_laplacian_denominator_fraction = 0.05;
 
+// (Σ W x xᵀ)⁻¹ (eq. 13); near-singular (λ_min/λ_max < rcond): the pseudo-inverse on the
+// well-determined directions only, so a gradient stays exact along the directions the neighbours
+// span and is zero across them (`pseudo` set). `conditioning` = λ_min/λ_max (0 for a zero matrix).
+template <int D>
+Eigen::Matrix<double, D, D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, double rcond, bool& pseudo,
+                                            double& conditioning) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> eigen(moment);
+  const double lambda_max = eigen.eigenvalues().maxCoeff();
+  const double lambda_min = eigen.eigenvalues().minCoeff();
+  pseudo = !(lambda_max > 0 && lambda_min >= rcond * lambda_max);
+  conditioning = lambda_max > 0 ? std::max(lambda_min, 0.0) / lambda_max : 0.0;
+  if (!pseudo) return moment.inverse();
+  Vec inverse_eigenvalues = Vec::Zero();
+  for (int d = 0; d < D; ++d)
+    if (lambda_max > 0 && eigen.eigenvalues()[d] >= rcond * lambda_max) inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
+  return eigen.eigenvectors() * inverse_eigenvalues.asDiagonal() * eigen.eigenvectors().transpose();
+}
+
 template <int D>
 void build_node(std::size_t i, std::span<const double> x, const NeighbourList& nb, const OperatorSettings& settings,
                 Operators& ops) {
@@ -27,37 +46,41 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
 
   Mat moment = Mat::Zero();
   Vec offset = Vec::Zero();
+  double weight_sum = 0;
   for (std::size_t k = begin; k < end; ++k) {
     const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
     const double w = weight(xij.norm(), h);
     ops.weights[k] = w;
     moment.noalias() += w * xij * xij.transpose();  // eq. 13 (before inversion)
     offset += w * xij;                              // eq. 16
+    weight_sum += w;
   }
   std::uint8_t guard = 0;
-  Mat b;
-  const Eigen::SelfAdjointEigenSolver<Mat> eigen(moment);
-  const double lambda_max = eigen.eigenvalues().maxCoeff();
-  const double lambda_min = eigen.eigenvalues().minCoeff();
-  if (lambda_max > 0 && lambda_min >= settings.min_moment_rcond * lambda_max) {
-    b = moment.inverse();  // eq. 13
-  } else {
-    // Near-singular: pseudo-inverse on the well-determined directions only. The gradient stays
-    // exact along the directions the neighbours span and is zero across them.
-    guard |= 1U;
-    Vec inverse_eigenvalues = Vec::Zero();
-    for (int d = 0; d < D; ++d)
-      if (lambda_max > 0 && eigen.eigenvalues()[d] >= settings.min_moment_rcond * lambda_max)
-        inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
-    b = eigen.eigenvectors() * inverse_eigenvalues.asDiagonal() * eigen.eigenvectors().transpose();
-  }
+  bool pseudo = false;
+  double conditioning = 0;
+  const Mat b = guarded_inverse<D>(moment, settings.min_moment_rcond, pseudo, conditioning);  // eq. 13
+  if (pseudo) guard |= 1U;
   const Vec b_offset = b * offset;
+  // Gradient coefficients W_ij G_i (x_ij − c_i): eq. 14 about the node itself (c_i = 0, G_i = B_i)
+  // or, centred, the least-squares plane through the neighbours with a free intercept (c_i their
+  // weighted centroid o_i/Σ W_ij, G_i the inverse of the moment about it), whose coefficients sum
+  // to zero: the node's own value does not enter its gradient.
+  Vec centre = Vec::Zero();
+  Mat gradient_b = b;
+  if (settings.centred_gradient && weight_sum > 0) {
+    centre = offset / weight_sum;
+    bool centred_pseudo = false;
+    double centred_conditioning = 0;
+    gradient_b = guarded_inverse<D>(moment - weight_sum * centre * centre.transpose(), settings.min_moment_rcond,
+                                    centred_pseudo, centred_conditioning);
+    if (centred_pseudo) guard |= 1U;
+  }
 
   double denominator = 0, plain_denominator = 0;
   for (std::size_t k = begin; k < end; ++k) {
     const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
     const double w = ops.weights[k];
-    Eigen::Map<Vec>(&ops.gradient[k * D]) = w * (b * xij);  // eq. 14 coefficient
+    Eigen::Map<Vec>(&ops.gradient[k * D]) = w * (gradient_b * (xij - centre));  // eq. 14 coefficient
     const double r2 = xij.squaredNorm();
     denominator += w * r2 * (1.0 - xij.dot(b_offset));
     plain_denominator += w * r2;
@@ -73,7 +96,7 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
   }
   Eigen::Map<Vec>(&ops.offset[i * D]) = offset;
   ops.guarded[i] = guard;
-  ops.conditioning[i] = lambda_max > 0 ? std::max(lambda_min, 0.0) / lambda_max : 0.0;
+  ops.conditioning[i] = conditioning;  // of eq. 13's moment (free-surface detection reads it)
 }
 
 void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,

@@ -116,6 +116,7 @@ FreeSurfaceParams free_surface_params(const core::LddCase& l) {
   p.pbd_iterations = l.solver.pbd_sweeps;
   p.min_moment_rcond = l.solver.moment_rcond;
   p.surface_moment_rcond = l.solver.surface_moment_rcond;
+  p.centred_gradient = l.solver.gradient != "renormalised";
   // auto: AMG (docs/performance.md: 3.4× faster than the per-step LU in the 2 mm dam break, 1.7×
   // faster than Jacobi in the slump). Measured choices: in 2D a fresh hierarchy every step (a
   // reused one raised the velocity iterations 10 → 16.5 and the coarse dam break diverged with
@@ -305,6 +306,7 @@ DamBreakResult simulate_dam_break(const core::DamBreakScene& scene, const FreeSu
   const double volume0 = solver.fluid_volume();
   r.times.push_back(0.0);
   r.front.push_back(mass_front(solver));
+  r.kinetic_energy.push_back(solver.kinetic_energy());
   const auto total_steps = static_cast<std::size_t>(std::llround(end_time / params.time_step));
   double seconds = 0;
   for (std::size_t k = 1; k <= total_steps; ++k) {
@@ -319,6 +321,7 @@ DamBreakResult simulate_dam_break(const core::DamBreakScene& scene, const FreeSu
     if (r.diverged) break;
     r.times.push_back(solver.time());
     r.front.push_back(mass_front(solver));
+    r.kinetic_energy.push_back(solver.kinetic_energy());
     if (k % 20 == 0 || k == total_steps)
       r.volume_drift = std::max(r.volume_drift, std::abs(solver.fluid_volume() / volume0 - 1));
   }

@@ -225,6 +225,19 @@ TEST(Case, LddPreconditionersAreCheckedWithTheirLine) {
   EXPECT_EQ(lu.details().where.line, 10);
 }
 
+TEST(Case, LddGradientIsCheckedAgainstTheScene) {
+  EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case, "c.yaml").spec).solver.gradient, "auto");
+  EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case + "solver: {gradient: renormalised}\n", "c.yaml").spec).solver.gradient,
+            "renormalised");
+  // A cavity's wall rows need the wall node's own value in its gradient.
+  const auto centred = parse_error(cavity_case + "solver: {gradient: centred}\n");
+  EXPECT_EQ(centred.details().key_path, "solver.gradient");
+  EXPECT_EQ(centred.details().where.line, 10);
+  EXPECT_THAT(centred.details().expected, HasSubstr("renormalised"));
+  const auto typo = parse_error(cavity_case + "solver: {gradient: centered}\n");
+  EXPECT_EQ(typo.details().key_path, "solver.gradient");
+}
+
 TEST(Case, EveryShippedCaseValidates) {
   const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
   std::set<std::string> kinds;

@@ -174,6 +174,7 @@ struct LddSolverSettings {
   int pbd_sweeps = 3;                   // free-surface scenes: volume-keeping PBD sweeps per step
   double moment_rcond = 0.03;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
   double surface_moment_rcond = 0.01;   // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
+  std::string gradient = "auto";        // auto | centred | renormalised (auto: centred for free-surface scenes, eq. 14 for cavities)
   std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
   std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
 };

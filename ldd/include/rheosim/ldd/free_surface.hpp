@@ -42,6 +42,7 @@
 // and a splash node when it has fewer than dimension + 1 neighbours within h. A full
 // neighbourhood, including one cut by a wall (the wall nodes stand in for the missing fluid),
 // passes all five; a flat surface fails the first two (|c_i| ≈ 0.6 Δ on a square lattice).
+#include <algorithm>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -138,6 +139,7 @@ struct FreeSurfaceParams {
   double min_moment_rcond = 0.03;                  // λ_min/λ_max of eq. 13's moment matrix below which it is
                                                    // pseudo-inverted (weak directions dropped)
   double surface_moment_rcond = 0.01;              // λ_min/λ_max below which the node counts as surface
+  bool centred_gradient = true;                    // operators.hpp: no self-coupling of ⟨∇p⟩ and ⟨∇·u⟩ (docs/ldd.md)
   double surface_fluid_weight = 0.1;               // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   double neighbour_skin = 0.3;                     // search radius = h + skin·Δ (also the detection radius)
   int pbd_iterations = 3;                          // PBD sweeps per step (0: none)
@@ -145,7 +147,7 @@ struct FreeSurfaceParams {
   double pbd_max_shift = 0.05;                     // per sweep, units of Δ
   double wall_clearance = 0.5;                     // fluid nodes stay this far (units of Δ) off boundaries
   double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
-  bool hydrostatic_start = true;
+  bool hydrostatic_start = true;                   // initial p = ρ|g|·depth below the top fluid node
   // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
   // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg (amg.hpp),
   // or jacobi. Case files: `auto` is amg, with a fresh hierarchy every step in 2D and a reused one
@@ -153,7 +155,12 @@ struct FreeSurfaceParams {
   Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
   Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
   AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
-  bool transpose_stress = false;                   // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)                   // initial p = ρ|g|·depth below the top fluid node
+  // Diagnostic: when > 0, every step also runs this many power iterations of its linearised
+  // step map (u, p) → (u', p') — predictor, PPE and correction on the step's own matrices, without
+  // advection or the no-tension clip — and reports the growth per step in
+  // FreeSurfaceStats::step_map_growth (≤ 1: perturbations do not grow). Costs ~3 solves each.
+  int stability_probe_iterations = 0;
+  bool transpose_stress = false;                   // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)
 
   void check() const;  // throws std::invalid_argument naming the field and its range
 };
@@ -167,6 +174,10 @@ struct FreeSurfaceStats {
   std::size_t surface_nodes = 0, splash_nodes = 0;
   std::size_t positivity_guarded = 0;  // nodes whose Laplacian dropped the offset correction
   double max_pbd_shift = 0;  // units of Δ
+  // FreeSurfaceParams::stability_probe_iterations > 0: largest growth factor per step of the
+  // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
+  double step_map_growth = 0;
+  std::size_t step_map_node = 0;
 };
 
 class FreeSurfaceSolver {
@@ -192,6 +203,9 @@ class FreeSurfaceSolver {
   [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= FreeNode::splash; }
 
+  // From the next step on, probe the linearised step map with this many power iterations per
+  // step (FreeSurfaceParams::stability_probe_iterations; 0: off).
+  void set_stability_probe(int iterations) { params_.stability_probe_iterations = std::max(iterations, 0); }
   // Re-runs the free-surface detection on the current cloud (kinds() then holds the result).
   void classify();
   // Fluid volume [m^d]: Σ Δ^d ρ₀/ρ_i over interior nodes + Δ^d per surface/splash node (a node's
@@ -208,6 +222,10 @@ class FreeSurfaceSolver {
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
   void reorder(std::span<const double> velocity_gradient);
+  // Power iteration of the linearised step map on this step's matrices: growth per step and the
+  // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
+  void probe_step_map(const KrylovSettings& velocity_settings, const KrylovSettings& pressure_settings,
+                      FreeSurfaceStats& stats);
   [[nodiscard]] double kernel_density(std::size_t node) const;
 
   FreeSurfaceParams params_;

@@ -10,6 +10,9 @@
 //   Laplacian    ⟨∇²f⟩_i = 2d Σ_j W_ij f_ij (1 − x_ij·B_i o_i)
 //                          / Σ_j W_ij |x_ij|² (1 − x_ij·B_i o_i)                  (LDD eq. 15)
 //   offset       o_i = Σ_j W_ij x_ij                                              (LDD eq. 16)
+//   centred gradient (OperatorSettings::centred_gradient, a departure used by the free-surface
+//                solver): ⟨∇f⟩_i = C_i Σ_j W_ij f_ij (x_ij − c_i),  c_i = o_i / Σ_j W_ij,
+//                C_i = (Σ_j W_ij (x_ij − c_i)(x_ij − c_i)ᵀ)⁻¹
 //
 // The gradient is exact for linear fields on any cloud whose moment matrix is invertible. The
 // Laplacian is exact for quadratics on symmetric lattices (o_i = 0); on disordered clouds its
@@ -50,6 +53,13 @@ namespace rheosim::ldd {
 struct OperatorSettings {
   double support_radius = 0;         // h [m], > 0; pairs farther apart than h get W = 0
   double min_moment_rcond = 1e-3;    // guard threshold on λ_min/λ_max of Σ W x xᵀ
+  // Gradient about the neighbours' weighted centroid c_i = o_i / Σ W_ij instead of x_i (see
+  // above): coefficients W_ij (Σ W (x_ij − c_i)(x_ij − c_i)ᵀ)⁻¹ (x_ij − c_i), still exact for
+  // linear fields, identical to eq. 14 where o_i = 0, and summing to zero, so f_i itself does not
+  // enter ⟨∇f⟩_i. Eq. 14's coefficients sum to B_i o_i ≠ 0 on one-sided stencils, which couples
+  // a node's pressure to its own velocity and its own divergence (docs/ldd.md, "Small time steps
+  // gain energy"). Not for wall rows that impose n·∇p through the wall node's own gradient.
+  bool centred_gradient = false;
 };
 
 // Per-pair coefficients aligned with a NeighbourList (pair k = neighbour offsets[i] + m of i).

@@ -93,6 +93,7 @@ struct DamBreakResult {
   bool diverged = false;
   std::string message;
   std::vector<double> times, front;      // every step [s], [m]
+  std::vector<double> kinetic_energy;    // every step [J/m]
   std::vector<double> front_at_table1;   // interpolated at DamBreakReference::times
   PhaseTimes phases;
 };
