@@ -462,6 +462,80 @@ void FreeSurfaceSolver::keep_laplacian_positive() {
   laplacian_guarded_ = guarded;
 }
 
+// previous_pressure_: p_{n−1} evaluated on the current cloud and classification before the
+// momentum predictor (pressure_ itself is kept until the step passes its divergence checks).
+// Where the classification or the geometry changed, last step's value is not a pressure the
+// node can have now:
+//   * surface, splash and idle wall nodes: p = p_atm = 0. Left at its old value, a node that had
+//     just turned surface kept its hydrostatic pressure until the PPE set φ = −p_{n−1}, and the
+//     projection kicked it by δt/ρ · p/Δ — inviscid, unseen by the implicit viscous solve (the
+//     viscous time ρΔ²/μ is far below δt in the slump and the dam break);
+//   * nodes that have just turned interior: Shepard over their neighbours of known pressure
+//     (interior before and now, or surface) with the hydrostatic offset, as a wall node's —
+//     instead of the 0 they had as surface nodes. Only the first item made the opposite jump
+//     (0 → ρgh, inviscid) the one left, so nodes flickering between the two kinds pushed their
+//     neighbours outwards every cycle: the Δ = 10 mm dam break's front ran 24–31 % ahead;
+//   * wall nodes: re-extrapolated from the fluid as in the PPE's wall rows (φ = 0 there at rest).
+//     A moved wall node (the rising mould, δz = v δt) otherwise kept a pressure off by ρ g δz —
+//     a Neumann source over the whole mould that the PPE can drain only through the small top
+//     surface: φ ≈ −10 kPa in the 50 000-node slump at δt = 1e-2, clipped to p = 0 everywhere.
+void FreeSurfaceSolver::impose_boundary_pressure() {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
+  const double rho = params_.density;
+  const std::vector<double>& g = params_.gravity;
+  std::vector<double>& p = previous_pressure_;
+  p = pressure_;
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (kinds_[i] == FreeNode::surface || kinds_[i] == FreeNode::splash || kinds_[i] == FreeNode::idle_wall) p[i] = 0.0;
+  const bool history = last_kinds_.size() == kinds_.size();
+  // Shepard average of p_j + ρ g·(x_i − x_j) over the neighbours j that pass `use`; p = 0 (no
+  // tension) when there are none.
+  const auto extrapolate = [&](std::size_t i, const auto& use, bool& any_interior) {
+    double wsum = 0, source = 0;
+    any_interior = false;
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      if (!use(j)) continue;
+      any_interior = any_interior || (kinds_[j] == FreeNode::interior && ops.weights[k] > 0);
+      double hydrostatic = 0;
+      for (std::size_t d = 0; d < dim; ++d) hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
+      wsum += ops.weights[k];
+      source += ops.weights[k] * (p[j] + hydrostatic);
+    }
+    return wsum > 0 ? std::max(source / wsum, 0.0) : 0.0;
+  };
+  const auto known = [&](std::size_t j) {
+    return kinds_[j] == FreeNode::surface || (kinds_[j] == FreeNode::interior && last_kinds_[j] == FreeNode::interior);
+  };
+  const auto newly_interior = [&](std::size_t i) {
+    return history && kinds_[i] == FreeNode::interior && last_kinds_[i] != FreeNode::interior;
+  };
+  // Two passes, so that each reads only values the other does not write.
+  std::vector<double> estimate(kinds_.size(), 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    bool any_interior = false;
+    if (newly_interior(i)) estimate[i] = extrapolate(i, known, any_interior);
+  }
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (newly_interior(i)) p[i] = estimate[i];
+  // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 when the wall node
+  // sees no interior node (it stands above the fluid).
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
+    bool below_surface = false;
+    const double value = extrapolate(
+        i, [&](std::size_t j) { return kinds_[j] == FreeNode::interior || kinds_[j] == FreeNode::surface; }, below_surface);
+    p[i] = below_surface ? value : 0.0;
+  }
+}
+
 void FreeSurfaceSolver::keep_off_boundaries(std::size_t i, double t, std::span<double> velocity) {
   const auto dim = static_cast<std::size_t>(dim_);
   const double clearance = params_.wall_clearance * params_.spacing;
@@ -586,6 +660,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   operators_ = build_operators(positions_, dim_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient});
   keep_laplacian_positive();
   const Operators& ops = operators_;
+  last_kinds_ = kinds_;
   classify();
   stats.positivity_guarded = laplacian_guarded_;
   for (std::size_t i = 0; i < n; ++i) {
@@ -646,7 +721,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   // 3. Semi-implicit momentum (eq. 19), one solve per component.
   t0 = Clock::now();
   pressure_gradient_.resize(dim * n);
-  gradient(nb, ops, pressure_, pressure_gradient_);
+  impose_boundary_pressure();
+  gradient(nb, ops, previous_pressure_, pressure_gradient_);
   momentum_matrix_.pattern = &nb;
   momentum_matrix_.diagonal.resize(n);
   momentum_matrix_.off_diagonal.resize(nb.pair_count());
@@ -681,7 +757,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
       if (boundary) boundary->velocity(next_time, std::span<double>(v, dim));
       if (boundary && boundary->slip()) {
         // Free slip: the wall's normal velocity plus the tangential part of the fluid's (Shepard
-        // average of the fluid neighbours' u_{n−1}, eq. 12).
+        // average of the fluid neighbours' u_{n−1}, eq. 12); the fluid's own normal velocity
+        // where it leaves the wall (unilateral contact, below).
         double mean[3] = {0, 0, 0}, wsum = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
@@ -696,7 +773,11 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
             mean[d] = mean[d] / wsum - v[d];
             relative_normal += mean[d] * normal[d];
           }
-          for (std::size_t d = 0; d < dim; ++d) v[d] += mean[d] - relative_normal * normal[d];
+          // Unilateral contact: a wall can push the fluid but not pull it. Where the fluid's
+          // normal velocity leaves the wall (relative_normal > 0, e.g. the rising mould's wall
+          // receding from resting concrete) the wall node takes the fluid's whole velocity.
+          const double held = relative_normal > 0 ? 0.0 : relative_normal;
+          for (std::size_t d = 0; d < dim; ++d) v[d] += mean[d] - held * normal[d];
         }
       }
       for (std::size_t d = 0; d < dim; ++d) rhs_[d * n + i] = v[d];
@@ -779,16 +860,16 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
           if (w == 0) continue;
           double hydrostatic = 0;
           for (std::size_t d = 0; d < dim; ++d) hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
-          source += w * (pressure_[j] + hydrostatic);
+          source += w * (previous_pressure_[j] + hydrostatic);
         }
         pressure_matrix_.diagonal[i] = 1.0;
-        rhs_[i] = source - pressure_[i];
+        rhs_[i] = source - previous_pressure_[i];
         break;
       }
       default:  // surface, splash, idle wall: p_n = p_atm = 0
         for (std::size_t k = begin; k < end; ++k) pressure_matrix_.off_diagonal[k] = 0.0;
         pressure_matrix_.diagonal[i] = 1.0;
-        rhs_[i] = -pressure_[i];
+        rhs_[i] = -previous_pressure_[i];
     }
   }
   increment_.assign(n, 0.0);
@@ -813,8 +894,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   // bound; the velocity is corrected with the increment actually applied.
   std::vector<double> new_pressure(n);
   for (std::size_t i = 0; i < n; ++i) {
-    new_pressure[i] = std::max(pressure_[i] + increment_[i], 0.0);
-    increment_[i] = new_pressure[i] - pressure_[i];
+    new_pressure[i] = std::max(previous_pressure_[i] + increment_[i], 0.0);
+    increment_[i] = new_pressure[i] - previous_pressure_[i];
   }
   increment_gradient_.resize(dim * n);
   gradient(nb, ops, increment_, increment_gradient_);

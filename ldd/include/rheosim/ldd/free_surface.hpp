@@ -7,15 +7,23 @@
 // One call to FreeSurfaceSolver::step():
 //   1. operators (eqs. 13–16) on the current cloud; free-surface detection (see below);
 //   2. ∇u (eq. 14), E (eq. 4), γ̇ = √(2E:E) (eq. 5), μ(γ̇);
-//   3. semi-implicit momentum (eq. 19) with the previous pressure and gravity:
+//   3. semi-implicit momentum (eq. 19) with the previous pressure and gravity, p_{n−1} first put
+//      on the current classification and geometry (p = 0 on surface, splash and idle wall nodes;
+//      nodes that have just turned interior extrapolated from their neighbours; wall pressures
+//      re-extrapolated as in the PPE's wall rows), so that a node that has changed kind or a wall
+//      node that has moved is seen by the implicit viscous solve rather than corrected by the
+//      inviscid projection alone (impose_boundary_pressure, docs/ldd.md):
 //        ρ u* − δt ∇·(μ∇u*) = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + ρ g)
 //      with the pair viscosity ½(μ_i + μ_j) on eq. 15's coefficients. Departure: eq. 18's
 //      explicit 2E∇μ (and the cavity solver's explicit ∇·(μ(∇u)ᵀ)) is left out by default (it is
-//      unstable for δt μ_max/(ρΔ²) ≫ 1, see transpose_stress); wall nodes Dirichlet (no slip at the wall's velocity), splash
+//      unstable for δt μ_max/(ρΔ²) ≫ 1, see transpose_stress); wall nodes Dirichlet (no slip at the wall's velocity;
+//      free-slip walls: the fluid's tangential velocity and the wall's normal one, or the fluid's
+//      whole velocity where it moves away from the wall — a wall pushes but never pulls), splash
 //      nodes ballistic (u* = u + δt g, no coupling);
 //   4. PPE (eq. 17) for the increment φ = p_n − p_{n−1}: interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, wall
 //      nodes n·⟨∇φ⟩ = ρ n·g − n·⟨∇p_{n−1}⟩, corner wall nodes Shepard (eq. 12), free-surface and
-//      splash nodes φ = −p_{n−1} (so p_n = 0), wall nodes without fluid neighbours φ = −p_{n−1};
+//      splash nodes φ = −p_{n−1} (so p_n = 0; φ = 0 after step 3's update), wall nodes without fluid
+//      neighbours φ = −p_{n−1};
 //      then u_n = u* − δt/ρ ⟨∇φ⟩ on interior and surface nodes;
 //   5. divergence checks (NaN, Courant number, failed solves): DivergenceError, state unchanged;
 //   6. advection (eq. 20), moving walls move, fluid nodes are kept wall_clearance·Δ off the walls;
@@ -221,6 +229,7 @@ class FreeSurfaceSolver {
   void rebuild_neighbours();
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
+  void impose_boundary_pressure();  // previous_pressure_ from pressure_
   void reorder(std::span<const double> velocity_gradient);
   // Power iteration of the linearised step map on this step's matrices: growth per step and the
   // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
@@ -231,7 +240,7 @@ class FreeSurfaceSolver {
   FreeSurfaceParams params_;
   int dim_;
   std::vector<std::shared_ptr<const Boundary>> boundaries_;
-  std::vector<FreeNode> kinds_;
+  std::vector<FreeNode> kinds_, last_kinds_;  // last_kinds_: the classification of the previous step
   std::vector<std::uint8_t> corner_;
   std::vector<int> boundary_of_;
   std::vector<double> normals_, probe_directions_;
@@ -247,6 +256,7 @@ class FreeSurfaceSolver {
   AmgPreconditioner pressure_amg_, velocity_amg_;
   StencilMatrix pressure_matrix_, momentum_matrix_;
   std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, increment_gradient_;
+  std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
   std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
 };
