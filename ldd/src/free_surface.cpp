@@ -758,7 +758,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
       if (boundary && boundary->slip()) {
         // Free slip: the wall's normal velocity plus the tangential part of the fluid's (Shepard
         // average of the fluid neighbours' u_{n−1}, eq. 12); the fluid's own normal velocity
-        // where it leaves the wall (unilateral contact, below).
+        // where it leaves the wall (below).
         double mean[3] = {0, 0, 0}, wsum = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
@@ -774,8 +774,11 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
             relative_normal += mean[d] * normal[d];
           }
           // Unilateral contact: a wall can push the fluid but not pull it. Where the fluid's
-          // normal velocity leaves the wall (relative_normal > 0, e.g. the rising mould's wall
-          // receding from resting concrete) the wall node takes the fluid's whole velocity.
+          // normal velocity leaves the wall (relative_normal > 0: the rising mould's slanted side
+          // receding from resting concrete, or concrete sinking away from its overhang) the wall
+          // node takes the fluid's whole velocity. Imposing the recession (0.0164 m/s on the
+          // mould) demanded an expansion of 0.4 /s that only suction could supply, and the
+          // no-tension clip turned that into p = 0 in the whole cake (docs/ldd.md).
           const double held = relative_normal > 0 ? 0.0 : relative_normal;
           for (std::size_t d = 0; d < dim; ++d) v[d] += mean[d] - held * normal[d];
         }
