@@ -208,8 +208,7 @@ StepStats Solver::step() {
   momentum_matrix_.pattern = &nb;
   momentum_matrix_.diagonal.resize(n);
   momentum_matrix_.off_diagonal.resize(nb.pair_count());
-  rhs_.resize(n);
-  rhs_y_.resize(n);
+  momentum_rhs_.resize(2 * n);  // interleaved x, y like the velocity
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
@@ -217,8 +216,8 @@ StepStats Solver::step() {
     if (kinds_[i] != NodeKind::fluid) {  // no-slip Dirichlet row
       for (std::size_t k = begin; k < end; ++k) momentum_matrix_.off_diagonal[k] = 0.0;
       momentum_matrix_.diagonal[i] = 1.0;
-      rhs_[i] = wall_velocities_[2 * i];
-      rhs_y_[i] = wall_velocities_[2 * i + 1];
+      momentum_rhs_[2 * i] = wall_velocities_[2 * i];
+      momentum_rhs_[2 * i + 1] = wall_velocities_[2 * i + 1];
       continue;
     }
     // Implicit ∇·(μ∇u) with the pair viscosity ½(μ_i + μ_j) on the eq. 15 coefficients.
@@ -232,8 +231,8 @@ StepStats Solver::step() {
     // Explicit ∇·(μ(∇u)ᵀ) (eq. 14 on each component): with ∇·u = 0 this is eq. 18's 2E∇μ − μ∇²u
     // + ∇·(μ∇u), i.e. the explicit remainder of ∇·τ.
     const double fx = transpose_stress_divergence_[2 * i], fy = transpose_stress_divergence_[2 * i + 1];
-    rhs_[i] = rho * velocity_[2 * i] + dt * (-pressure_gradient_[2 * i] + rho * params_.gravity[0] + fx);
-    rhs_y_[i] = rho * velocity_[2 * i + 1] + dt * (-pressure_gradient_[2 * i + 1] + rho * params_.gravity[1] + fy);
+    momentum_rhs_[2 * i] = rho * velocity_[2 * i] + dt * (-pressure_gradient_[2 * i] + rho * params_.gravity[0] + fx);
+    momentum_rhs_[2 * i + 1] = rho * velocity_[2 * i + 1] + dt * (-pressure_gradient_[2 * i + 1] + rho * params_.gravity[1] + fy);
   }
   new_velocity_.resize(2 * n);
   component_.resize(n);
@@ -249,14 +248,28 @@ StepStats Solver::step() {
   double velocity_residual = 0;
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
-  for (std::size_t d = 0; d < 2; ++d) {
-    for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[2 * i + d];
-    const auto result = bicgstab(momentum_matrix_, d == 0 ? rhs_ : rhs_y_, component_, velocity_settings, krylov_);
+  const auto record = [&](const KrylovResult& result) {
     most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
     velocity_residual = std::max(velocity_residual, result.relative_residual);
     velocity_converged = velocity_converged && result.converged;
-    for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
+  };
+  if (velocity_amg) {
+    rhs_.resize(n);  // one component at a time
+    for (std::size_t d = 0; d < 2; ++d) {
+      for (std::size_t i = 0; i < n; ++i) {
+        component_[i] = velocity_[2 * i + d];
+        rhs_[i] = momentum_rhs_[2 * i + d];
+      }
+      record(bicgstab(momentum_matrix_, rhs_, component_, velocity_settings, krylov_));
+      for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
+    }
+  } else {
+    // Jacobi: both components in one pass over the stencil (bit-identical to two solves).
+    std::copy(velocity_.begin(), velocity_.end(), new_velocity_.begin());
+    for (const KrylovResult& result :
+         bicgstab_jacobi_pair(momentum_matrix_, momentum_rhs_, new_velocity_, velocity_settings, pair_krylov_))
+      record(result);
   }
   if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
   stats.velocity_residual = velocity_residual;
@@ -270,6 +283,7 @@ StepStats Solver::step() {
   pressure_matrix_.pattern = &nb;
   pressure_matrix_.diagonal.resize(n);
   pressure_matrix_.off_diagonal.resize(nb.pair_count());
+  rhs_.resize(n);
   double max_divergence = 0;
 #pragma omp parallel for schedule(static) reduction(max : max_divergence)
   for (std::ptrdiff_t s = 0; s < count; ++s) {

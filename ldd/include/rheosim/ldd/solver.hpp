@@ -194,8 +194,9 @@ class Solver {
   PhaseTimes times_;
   // Work buffers reused across steps.
   KrylovWorkspace krylov_;
+  PairKrylovWorkspace pair_krylov_;
   StencilMatrix pressure_matrix_, momentum_matrix_;
-  std::vector<double> velocity_gradient_, viscosity_gradient_, divergence_, rhs_, rhs_y_, pressure_gradient_;
+  std::vector<double> velocity_gradient_, viscosity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
   std::vector<double> new_velocity_, component_, shift_, increment_;
   std::vector<double> transpose_stress_divergence_, stress_component_, stress_gradient_;
 };
