@@ -117,7 +117,7 @@ class DivergenceError : public std::runtime_error {
 };
 
 struct StepStats {
-  int pressure_iterations = 0;
+  int pressure_iterations = 0;   // BiCGStab iterations; a direct LU solve (lattice mode) counts as 1
   double pressure_residual = 0;   // relative
   int velocity_iterations = 0;    // both components
   double velocity_residual = 0;   // relative, the larger of the two
