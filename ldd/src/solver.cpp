@@ -180,7 +180,7 @@ StepStats Solver::step() {
   stats.guarded_nodes = ops.guarded_count();
   times_.operators += seconds_since(t0);
 
-  // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇), ∇μ, ∇·u.
+  // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇).
   t0 = Clock::now();
   velocity_gradient_.resize(4 * n);  // per node: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y
   divergence_.resize(n);
@@ -202,26 +202,15 @@ StepStats Solver::step() {
     shear_rate_[i] = std::sqrt(2.0 * (g[0] * g[0] + g[3] * g[3] + 2.0 * shear_xy * shear_xy));  // eq. 5
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
-  viscosity_gradient_.resize(2 * n);
-  gradient(nb, ops, viscosity_, viscosity_gradient_);
-  // ∇·(μ(∇u)ᵀ): x row = ∂x(μ ∂u/∂x) + ∂y(μ ∂v/∂x), y row = ∂x(μ ∂u/∂y) + ∂y(μ ∂v/∂y).
-  transpose_stress_divergence_.assign(2 * n, 0.0);
-  stress_component_.resize(n);
-  stress_gradient_.resize(2 * n);
-  for (std::size_t c = 0; c < 4; ++c) {  // c: 0 μu_x, 1 μu_y, 2 μv_x, 3 μv_y
-    for (std::size_t i = 0; i < n; ++i) stress_component_[i] = viscosity_[i] * velocity_gradient_[4 * i + c];
-    gradient(nb, ops, stress_component_, stress_gradient_);
-    const std::size_t row = (c == 0 || c == 2) ? 0 : 1;        // ∂/∂x of u or v → x row
-    const std::size_t direction = (c == 0 || c == 1) ? 0 : 1;  // derivative of the u or v entry
-    for (std::size_t i = 0; i < n; ++i) transpose_stress_divergence_[2 * i + row] += stress_gradient_[2 * i + direction];
-  }
   times_.rheology += seconds_since(t0);
 
   // 3. Semi-implicit momentum (eq. 19) with the previous pressure, one solve per component:
   //    ρ u* − δt μ⟨∇²u*⟩ = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + F_ext + 2E⟨∇μ⟩); no-slip Dirichlet rows.
+  //    One pass over the neighbour pairs forms ⟨∇p_{n−1}⟩ (eq. 14, every node: the wall rows of
+  //    the PPE use it), the explicit ∇·(μ(∇u)ᵀ) and the implicit matrix, each sum in the order
+  //    of the separate operator passes it replaces (the same bits).
   t0 = Clock::now();
   pressure_gradient_.resize(2 * n);
-  gradient(nb, ops, pressure_, pressure_gradient_);
   momentum_matrix_.pattern = &nb;
   momentum_matrix_.diagonal.resize(n);
   momentum_matrix_.off_diagonal.resize(nb.pair_count());
@@ -230,26 +219,53 @@ StepStats Solver::step() {
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    const double p_i = pressure_[i];
+    double px = 0, py = 0;
     if (kinds_[i] != NodeKind::fluid) {  // no-slip Dirichlet row
-      for (std::size_t k = begin; k < end; ++k) momentum_matrix_.off_diagonal[k] = 0.0;
+      for (std::size_t k = begin; k < end; ++k) {
+        const double dp = pressure_[nb.indices[k]] - p_i;
+        px += ops.gradient[2 * k] * dp;
+        py += ops.gradient[2 * k + 1] * dp;
+        momentum_matrix_.off_diagonal[k] = 0.0;
+      }
+      pressure_gradient_[2 * i] = px;
+      pressure_gradient_[2 * i + 1] = py;
       momentum_matrix_.diagonal[i] = 1.0;
       momentum_rhs_[2 * i] = wall_velocities_[2 * i];
       momentum_rhs_[2 * i + 1] = wall_velocities_[2 * i + 1];
       continue;
     }
-    // Implicit ∇·(μ∇u) with the pair viscosity ½(μ_i + μ_j) on the eq. 15 coefficients.
-    double sum = 0;
+    // ∇·(μ(∇u)ᵀ): x row = ∂x(μ ∂u/∂x) + ∂y(μ ∂v/∂x), y row = ∂x(μ ∂u/∂y) + ∂y(μ ∂v/∂y), eq. 14 on
+    // the stress components τ_c = μ g_c (g: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y).
+    const double mu_i = viscosity_[i];
+    const double* g_i = &velocity_gradient_[4 * i];
+    const double tau_i[4] = {mu_i * g_i[0], mu_i * g_i[1], mu_i * g_i[2], mu_i * g_i[3]};
+    double dx_tau0 = 0, dx_tau1 = 0, dy_tau2 = 0, dy_tau3 = 0, sum = 0;
     for (std::size_t k = begin; k < end; ++k) {
-      const double coefficient = dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
+      const std::size_t j = nb.indices[k];
+      const double cx = ops.gradient[2 * k], cy = ops.gradient[2 * k + 1];
+      const double dp = pressure_[j] - p_i;
+      px += cx * dp;
+      py += cy * dp;
+      const double mu_j = viscosity_[j];
+      const double* g_j = &velocity_gradient_[4 * j];
+      dx_tau0 += cx * (mu_j * g_j[0] - tau_i[0]);
+      dx_tau1 += cx * (mu_j * g_j[1] - tau_i[1]);
+      dy_tau2 += cy * (mu_j * g_j[2] - tau_i[2]);
+      dy_tau3 += cy * (mu_j * g_j[3] - tau_i[3]);
+      // Implicit ∇·(μ∇u) with the pair viscosity ½(μ_i + μ_j) on the eq. 15 coefficients.
+      const double coefficient = dt * 0.5 * (mu_i + mu_j) * ops.laplacian[k];
       momentum_matrix_.off_diagonal[k] = -coefficient;
       sum += coefficient;
     }
+    pressure_gradient_[2 * i] = px;
+    pressure_gradient_[2 * i + 1] = py;
     momentum_matrix_.diagonal[i] = rho + sum;
     // Explicit ∇·(μ(∇u)ᵀ) (eq. 14 on each component): with ∇·u = 0 this is eq. 18's 2E∇μ − μ∇²u
-    // + ∇·(μ∇u), i.e. the explicit remainder of ∇·τ.
-    const double fx = transpose_stress_divergence_[2 * i], fy = transpose_stress_divergence_[2 * i + 1];
-    momentum_rhs_[2 * i] = rho * velocity_[2 * i] + dt * (-pressure_gradient_[2 * i] + rho * params_.gravity[0] + fx);
-    momentum_rhs_[2 * i + 1] = rho * velocity_[2 * i + 1] + dt * (-pressure_gradient_[2 * i + 1] + rho * params_.gravity[1] + fy);
+    // + ∇·(μ∇u), i.e. the explicit remainder of ∇·τ. (0.0 + …: the separate passes' sums started at 0.)
+    const double fx = 0.0 + dx_tau0 + dy_tau2, fy = 0.0 + dx_tau1 + dy_tau3;
+    momentum_rhs_[2 * i] = rho * velocity_[2 * i] + dt * (-px + rho * params_.gravity[0] + fx);
+    momentum_rhs_[2 * i + 1] = rho * velocity_[2 * i + 1] + dt * (-py + rho * params_.gravity[1] + fy);
   }
   new_velocity_.resize(2 * n);
   component_.resize(n);

@@ -4,7 +4,7 @@
 //   1. operators (eqs. 13–16) on the current cloud (built once in the lattice reordering mode,
 //      where the cloud returns to the same places every step);
 //   2. explicit velocity gradient (eq. 14), strain rate E (eq. 4), shear rate γ̇ (eq. 5),
-//      viscosity μ(γ̇) from the rheology law, ∇μ, and the explicit stress term ∇·(μ(∇u)ᵀ);
+//      viscosity μ(γ̇) from the rheology law, and the explicit stress term ∇·(μ(∇u)ᵀ);
 //   3. semi-implicit momentum (eq. 19) with the previous pressure, one matrix-free BiCGStab
 //      solve per component, no-slip Dirichlet rows on wall nodes (the lid moves):
 //        ρ u* − δt ∇·(μ∇u*) = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + F_ext + ∇·(μ(∇u)ᵀ)_{n−1}).
@@ -196,9 +196,8 @@ class Solver {
   KrylovWorkspace krylov_;
   PairKrylovWorkspace pair_krylov_;
   StencilMatrix pressure_matrix_, momentum_matrix_;
-  std::vector<double> velocity_gradient_, viscosity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
+  std::vector<double> velocity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
   std::vector<double> new_velocity_, component_, shift_, increment_;
-  std::vector<double> transpose_stress_divergence_, stress_component_, stress_gradient_;
 };
 
 }  // namespace rheosim::ldd
