@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -200,8 +202,22 @@ std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::sp
     throw std::invalid_argument(fmt::format("bicgstab_jacobi_pair: sizes do not match a {}-row stencil matrix", n));
   if (settings.preconditioner) throw std::invalid_argument("bicgstab_jacobi_pair: Jacobi only");
   for (auto* v : {&w.r, &w.r_hat, &w.p, &w.v, &w.s, &w.t, &w.p_hat, &w.s_hat}) v->assign(2 * n, 0.0);
-  const std::size_t* offsets = a.pattern->offsets.data();
-  const std::size_t* columns = a.pattern->indices.data();
+  // 32-bit copies of the pattern: the matrix products stream the stencil from cache, and
+  // 4-byte columns cut the bytes per pair from 16 to 12 (the copy costs a fraction of one product).
+  w.offsets.resize(n + 1);
+  w.columns.resize(a.pattern->pair_count());
+  if (a.pattern->pair_count() >= std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("bicgstab_jacobi_pair: more than 2³² pairs");
+  for_blocks(n, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      w.offsets[i] = static_cast<std::uint32_t>(a.pattern->offsets[i]);
+      for (std::size_t k = a.pattern->offsets[i]; k < a.pattern->offsets[i + 1]; ++k)
+        w.columns[k] = static_cast<std::uint32_t>(a.pattern->indices[k]);
+    }
+  });
+  w.offsets[n] = static_cast<std::uint32_t>(a.pattern->pair_count());
+  const std::uint32_t* offsets = w.offsets.data();
+  const std::uint32_t* columns = w.columns.data();
   const double* diagonal = a.diagonal.data();
   const double* off_diagonal = a.off_diagonal.data();
   // (A in)_i for both components, summed in StencilMatrix::multiply's order.

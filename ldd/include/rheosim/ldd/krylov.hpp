@@ -12,6 +12,7 @@
 // iterates are bit-identical for a given thread count (no atomics, no reduction clauses).
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <span>
 #include <string_view>
@@ -71,6 +72,7 @@ KrylovResult bicgstab(const StencilMatrix& a, std::span<const double> b, std::sp
 // the other continues. settings.preconditioner must be empty.
 struct PairKrylovWorkspace {
   std::vector<double> r, r_hat, p, v, s, t, p_hat, s_hat;  // interleaved, 2 values per node
+  std::vector<std::uint32_t> offsets, columns;              // the matrix pattern, 32-bit
 };
 std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
                                                  const KrylovSettings& settings, PairKrylovWorkspace& work);
