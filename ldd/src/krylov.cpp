@@ -201,7 +201,10 @@ std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::sp
       a.off_diagonal.size() != a.pattern->pair_count())
     throw std::invalid_argument(fmt::format("bicgstab_jacobi_pair: sizes do not match a {}-row stencil matrix", n));
   if (settings.preconditioner) throw std::invalid_argument("bicgstab_jacobi_pair: Jacobi only");
-  for (auto* v : {&w.r, &w.r_hat, &w.p, &w.v, &w.s, &w.t, &w.p_hat, &w.s_hat}) v->assign(2 * n, 0.0);
+  // p and v enter the first update p = r + β (p − ω v) and start at 0; the others are written
+  // before they are read.
+  for (auto* v : {&w.p, &w.v}) v->assign(2 * n, 0.0);
+  for (auto* v : {&w.r, &w.r_hat, &w.s, &w.t, &w.p_hat, &w.s_hat}) v->resize(2 * n);
   // 32-bit copies of the pattern: the matrix products stream the stencil from cache, and
   // 4-byte columns cut the bytes per pair from 16 to 12 (the copy costs a fraction of one product).
   w.offsets.resize(n + 1);
