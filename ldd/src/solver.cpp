@@ -18,7 +18,7 @@ namespace rheosim::ldd {
 // The lattice mode's PPE matrix never changes (operators are built once and it does not depend
 // on μ), so it is factorised once and every step solves with the factors (solve()).
 //
-// Ordering: nested dissection of the node cloud (nested_dissection() below) with threshold
+// Ordering: nested dissection of the node cloud (NestedDissection below) with threshold
 // pivoting at 1e-3 (the diagonal is kept unless it is below 1e-3 of its column's largest entry).
 // At 200² the factors then hold 3.2 M entries against 5.6 M with COLAMD and partial pivoting,
 // and the solve, which is bound by reading them, takes half the time. A test solve checks the
