@@ -9,6 +9,9 @@
 //   build-ldd/bin/bench_ldd --quick --pressure amg --velocity amg   # preconditioners of the
 //                                       # PPE / eq. 19 solves (jacobi | lu | amg; default lu / jacobi)
 //   build-ldd/bin/bench_ldd --quick --threads 1 --cells 200        # one thread count / resolution
+//   build-ldd/bin/bench_ldd --quick --steps 200 --dump DIR          # timed steps per row; write each
+//                                       # row's final u, v, p per node and the 2 × 101 centre-line
+//                                       # velocities to DIR (compare_ldd_dumps.py compares two DIRs)
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
 //                                       # code path as `rheosim run`, without the other modules)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
@@ -78,7 +81,33 @@ const char* name_of(ldd::Preconditioner p) {
   }
 }
 
-void time_steps(const Scenario& s, int cells, int threads, int steps, const Preconditioners& preconditioners) {
+// The state after the timed steps, for comparing builds: every node's u, v, p, then u on the
+// vertical and v on the horizontal centre line of the cavity (101 points each, cavity fractions).
+void dump_state(const std::string& path, const ldd::Cavity& cavity, const ldd::Solver& solver) {
+  std::vector<double> probes;
+  for (int k = 0; k <= 100; ++k) {
+    const auto a = cavity.point(0.5, k / 100.0);
+    probes.insert(probes.end(), {a[0], a[1]});
+  }
+  for (int k = 0; k <= 100; ++k) {
+    const auto a = cavity.point(k / 100.0, 0.5);
+    probes.insert(probes.end(), {a[0], a[1]});
+  }
+  const auto sampled = solver.sample_velocity(probes);
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) {
+    std::fprintf(stderr, "cannot write %s\n", path.c_str());
+    return;
+  }
+  const auto u = solver.velocity();
+  const auto p = solver.pressure();
+  for (std::size_t i = 0; i < solver.node_count(); ++i) std::fprintf(f, "node %.17g %.17g %.17g\n", u[2 * i], u[2 * i + 1], p[i]);
+  for (std::size_t k = 0; k < 202; ++k) std::fprintf(f, "line %.17g\n", sampled[2 * k + (k < 101 ? 0 : 1)]);
+  std::fclose(f);
+}
+
+void time_steps(const Scenario& s, int cells, int threads, int steps, const Preconditioners& preconditioners,
+                const std::string& dump_dir) {
   omp_set_num_threads(threads);
   core::CavityScene scene;
   scene.size = {1.0, 1.0};
@@ -116,6 +145,10 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
               per * (a.momentum - before.momentum), per * (a.advection - before.advection),
               static_cast<double>(pressure_iterations) / steps, static_cast<double>(velocity_iterations) / steps);
   std::fflush(stdout);
+  if (!dump_dir.empty())
+    dump_state(dump_dir + "/" + (s.skew_angle == 0 ? "square" : "skewed") + "_" + std::to_string(cells) + "_t" +
+                   std::to_string(threads) + ".txt",
+               cavity, solver);
 }
 
 using ldd::reference::GhiaPoint;
@@ -238,6 +271,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   bool quick = false;
+  int steps_option = 0;
+  std::string dump_dir;
   Preconditioners preconditioners;
   std::vector<int> thread_counts{1, 2}, cell_counts{100, 200};
   for (int a = 1; a < argc; ++a) {
@@ -252,17 +287,21 @@ int main(int argc, char** argv) {
       preconditioners.amg.unit_diagonal = true;
     } else if (arg == "--amg-plain") {
       preconditioners.amg.smoothed = false;
+    } else if (arg == "--steps" && a + 1 < argc) {
+      steps_option = std::stoi(argv[++a]);
+    } else if (arg == "--dump" && a + 1 < argc) {
+      dump_dir = argv[++a];
     } else if (arg == "--cells" && a + 1 < argc) {
       cell_counts = {std::stoi(argv[++a])};
     } else if ((arg == "--pressure" || arg == "--velocity") && a + 1 < argc) {
       auto& target = arg == "--pressure" ? preconditioners.pressure : preconditioners.velocity;
       target = ldd::preconditioner_named(argv[++a], target);
     } else {
-      std::fprintf(stderr, "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] [--amg-levels N] [--amg-plain] [--amg-unit-diagonal] | run CASE OUT\n");
+      std::fprintf(stderr, "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] [--amg-levels N] [--amg-plain] [--amg-unit-diagonal] [--steps N] [--dump DIR] | run CASE OUT\n");
       return 2;
     }
   }
-  const int steps = quick ? 20 : 200;
+  const int steps = steps_option > 0 ? steps_option : quick ? 20 : 200;
   const std::vector<Scenario> scenarios{
       {"square, Casson Re 100 Bn 0.01", 0.0,
        "{model: casson, plastic_viscosity: 0.01, yield_stress: 1.0e-4, regularization: 1000}", 12},
@@ -273,7 +312,7 @@ int main(int argc, char** argv) {
               "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const auto& s : scenarios)
     for (int cells : cell_counts)
-      for (int threads : thread_counts) time_steps(s, cells, threads, steps, preconditioners);
+      for (int threads : thread_counts) time_steps(s, cells, threads, steps, preconditioners, dump_dir);
   if (!quick) {
     AccuracyOptions o;
     o.threads = 2;

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
+#include <type_traits>
 #include <utility>
 
 #include <Eigen/SparseLU>
@@ -14,10 +16,51 @@
 namespace rheosim::ldd {
 
 // The lattice mode's PPE matrix never changes (operators are built once and it does not depend
-// on μ), so one sparse LU factorisation serves as an exact preconditioner for every step: the
-// matrix-free BiCGStab then converges in one or two iterations.
+// on μ), so it is factorised once and every step solves with the factors (solve()).
+//
+// Ordering: nested dissection of the node cloud (NestedDissection below) with threshold
+// pivoting at 1e-3 (the diagonal is kept unless it is below 1e-3 of its column's largest entry).
+// At 200² the factors then hold 3.2 M entries against 5.6 M with COLAMD and partial pivoting,
+// and the solve, which is bound by reading them, takes half the time. A test solve checks the
+// factors; on failure the COLAMD / partial pivoting factorisation is used. The factors are
+// copied out of Eigen's supernodal storage into row-compressed triangles (32-bit columns),
+// solved row by row: Eigen's column-oriented solve was no faster and reads more.
 struct SparseFactorisation {
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  std::vector<std::uint32_t> row_map, column_map;  // b_i goes to y[row_map[i]]; x_i = z[column_map[i]]
+  std::vector<std::uint32_t> l_offsets{0}, l_columns, u_offsets{0}, u_columns;
+  std::vector<double> l_values, u_values, u_diagonal;  // L unit lower, U upper (strict parts)
+  mutable std::vector<double> work;                    // one solve at a time
+
+  // x = A⁻¹ b (x and b may not alias).
+  void solve(std::span<const double> b, std::span<double> x) const {
+    const std::size_t n = u_diagonal.size();
+    double* y = work.data();
+    for (std::size_t i = 0; i < n; ++i) y[row_map[i]] = b[i];
+    // Two partial sums per row: the row's products do not wait on each other.
+    for (std::size_t i = 0; i < n; ++i) {
+      double s0 = y[i], s1 = 0;
+      std::size_t k = l_offsets[i];
+      const std::size_t end = l_offsets[i + 1];
+      for (; k + 1 < end; k += 2) {
+        s0 -= l_values[k] * y[l_columns[k]];
+        s1 -= l_values[k + 1] * y[l_columns[k + 1]];
+      }
+      if (k < end) s0 -= l_values[k] * y[l_columns[k]];
+      y[i] = s0 + s1;
+    }
+    for (std::size_t i = n; i-- > 0;) {
+      double s0 = y[i], s1 = 0;
+      std::size_t k = u_offsets[i];
+      const std::size_t end = u_offsets[i + 1];
+      for (; k + 1 < end; k += 2) {
+        s0 -= u_values[k] * y[u_columns[k]];
+        s1 -= u_values[k + 1] * y[u_columns[k + 1]];
+      }
+      if (k < end) s0 -= u_values[k] * y[u_columns[k]];
+      y[i] = (s0 + s1) / u_diagonal[i];
+    }
+    for (std::size_t i = 0; i < n; ++i) x[i] = y[column_map[i]];
+  }
 };
 
 namespace {
@@ -33,31 +76,196 @@ void require(bool ok, const char* field, double value, const char* range) {
 
 bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
 
-// Sparse LU of a stencil matrix; null when the factorisation fails.
-std::unique_ptr<SparseFactorisation> factorise(const StencilMatrix& a) {
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+// Nested dissection of a 2D cloud: split the nodes at the median along the longer extent of their
+// bounding box; the nodes of the lower half with a neighbour in the upper half separate the two.
+// Order: each half recursively, then the separator, so elimination never couples the halves.
+// order[k] is the node eliminated k-th. Deterministic (ties broken by node index).
+class NestedDissection {
+ public:
+  NestedDissection(std::span<const double> positions, const NeighbourList& nb)
+      : positions_(positions), nb_(nb), side_(nb.node_count(), 0) {
+    std::vector<std::uint32_t> all(nb.node_count());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
+    order_.reserve(all.size());
+    split(std::move(all));
+  }
+  [[nodiscard]] const std::vector<std::uint32_t>& order() const { return order_; }
+
+ private:
+  static constexpr std::size_t leaf_size = 8;  // measured at 200²: 8–16 best, 64 gave 15 % more fill
+
+  void split(std::vector<std::uint32_t> nodes) {
+    if (nodes.size() <= leaf_size) {
+      order_.insert(order_.end(), nodes.begin(), nodes.end());
+      return;
+    }
+    double lo[2] = {positions_[2 * nodes[0]], positions_[2 * nodes[0] + 1]}, hi[2] = {lo[0], lo[1]};
+    for (const std::uint32_t v : nodes)
+      for (std::size_t d = 0; d < 2; ++d) {
+        lo[d] = std::min(lo[d], positions_[2 * v + d]);
+        hi[d] = std::max(hi[d], positions_[2 * v + d]);
+      }
+    const std::size_t d = hi[0] - lo[0] >= hi[1] - lo[1] ? 0 : 1;
+    std::sort(nodes.begin(), nodes.end(), [&](std::uint32_t a, std::uint32_t b) {
+      const double xa = positions_[2 * a + d], xb = positions_[2 * b + d];
+      return xa < xb || (xa == xb && a < b);
+    });
+    const std::size_t half = nodes.size() / 2;
+    ++stamp_;
+    for (std::size_t k = half; k < nodes.size(); ++k) side_[nodes[k]] = stamp_;
+    std::vector<std::uint32_t> lower, separator;
+    for (std::size_t k = 0; k < half; ++k) {
+      const std::uint32_t v = nodes[k];
+      const auto neighbours = nb_.neighbours_of(v);
+      const bool touches = std::any_of(neighbours.begin(), neighbours.end(), [&](std::size_t j) { return side_[j] == stamp_; });
+      (touches ? separator : lower).push_back(v);
+    }
+    std::vector<std::uint32_t> upper(nodes.begin() + static_cast<std::ptrdiff_t>(half), nodes.end());
+    nodes = {};
+    split(std::move(lower));
+    split(std::move(upper));
+    order_.insert(order_.end(), separator.begin(), separator.end());
+  }
+
+  std::span<const double> positions_;
+  const NeighbourList& nb_;
+  std::vector<std::uint32_t> side_;  // stamp_ for the upper half of the current split
+  std::uint32_t stamp_ = 0;
+  std::vector<std::uint32_t> order_;
+};
+
+// Copies an Eigen SparseLU (P_r B P_c = L U) into f's triangles; `position[i]` is the row and
+// column of node i in B = P A Pᵀ.
+template <class Lu>
+void copy_factors(const Lu& lu, std::span<const std::uint32_t> position, SparseFactorisation& f) {
+  const auto l_return = lu.matrixL();
+  const auto u_return = lu.matrixU();
+  const auto& l = l_return.m_mapL;  // supernodal: L and the diagonal blocks of U
+  const auto& u = u_return.m_mapU;  // the rest of U, column-compressed
+  const auto n = static_cast<std::size_t>(l.rows());
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> l_rows(n), u_rows(n);
+  f.u_diagonal.assign(n, 0.0);
+  for (Eigen::Index s = 0; s <= l.nsuper(); ++s) {
+    const Eigen::Index first = l.supToCol()[s], last = l.supToCol()[s + 1];
+    const Eigen::Index rows = l.colIndexPtr()[first + 1] - l.colIndexPtr()[first];
+    const Eigen::Index row_start = l.rowIndexPtr()[first];
+    for (Eigen::Index c = first; c < last; ++c) {
+      const auto column = static_cast<std::uint32_t>(c);
+      for (Eigen::Index r = 0; r < rows; ++r) {
+        const auto row = static_cast<std::size_t>(l.rowIndex()[row_start + r]);
+        const double value = l.valuePtr()[l.colIndexPtr()[c] + r];
+        if (row < column) {
+          u_rows[row].emplace_back(column, value);
+        } else if (row == column) {
+          f.u_diagonal[row] = value;
+        } else {
+          l_rows[row].emplace_back(column, value);
+        }
+      }
+      for (typename std::remove_cvref_t<decltype(u)>::InnerIterator it(u, c); it; ++it)
+        u_rows[static_cast<std::size_t>(it.index())].emplace_back(column, it.value());
+    }
+  }
+  const auto compress = [](auto& rows, auto& offsets, auto& columns, auto& values) {
+    for (auto& row : rows) {
+      std::sort(row.begin(), row.end());
+      for (const auto& [column, value] : row)
+        if (value != 0.0) {
+          columns.push_back(column);
+          values.push_back(value);
+        }
+      offsets.push_back(static_cast<std::uint32_t>(columns.size()));
+      row = {};
+    }
+  };
+  compress(l_rows, f.l_offsets, f.l_columns, f.l_values);
+  compress(u_rows, f.u_offsets, f.u_columns, f.u_values);
+  f.row_map.resize(n);
+  f.column_map.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    f.row_map[i] = static_cast<std::uint32_t>(lu.rowsPermutation().indices()[position[i]]);
+    f.column_map[i] = static_cast<std::uint32_t>(lu.colsPermutation().indices()[position[i]]);
+  }
+  f.work.assign(n, 0.0);
+}
+
+// Relative residual of f's solve of A x = A·(1, 2, …) (a check of the factors).
+double test_residual(const SparseFactorisation& f, const SparseMatrix& a) {
+  const Eigen::Index n = a.rows();
+  const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(n, 1.0, static_cast<double>(n));
+  const Eigen::VectorXd b = a * expected;
+  Eigen::VectorXd x(n);
+  f.solve(std::span<const double>(b.data(), static_cast<std::size_t>(n)), std::span<double>(x.data(), static_cast<std::size_t>(n)));
+  const double residual = (a * x - b).norm() / b.norm();
+  return std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity();
+}
+
+// Sparse LU of a stencil matrix over the cloud `positions`; null when the factorisation fails.
+std::unique_ptr<SparseFactorisation> factorise(const StencilMatrix& a, std::span<const double> positions) {
   const NeighbourList& nb = *a.pattern;
   const std::size_t n = a.size();
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(n + nb.pair_count());
-  for (std::size_t i = 0; i < n; ++i) {
-    entries.emplace_back(static_cast<int>(i), static_cast<int>(i), a.diagonal[i]);
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
-      if (a.off_diagonal[k] != 0.0)
-        entries.emplace_back(static_cast<int>(i), static_cast<int>(nb.indices[k]), a.off_diagonal[k]);
+  if (n >= std::numeric_limits<std::uint32_t>::max()) return nullptr;
+  const NestedDissection dissection(positions, nb);
+  std::vector<std::uint32_t> position(n), identity(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    position[dissection.order()[k]] = static_cast<std::uint32_t>(k);
+    identity[k] = static_cast<std::uint32_t>(k);
   }
-  Eigen::SparseMatrix<double> matrix(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  matrix.setFromTriplets(entries.begin(), entries.end());
+  const auto assemble = [&](std::span<const std::uint32_t> at) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(n + nb.pair_count());
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto row = static_cast<int>(at[i]);
+      entries.emplace_back(row, row, a.diagonal[i]);
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
+        if (a.off_diagonal[k] != 0.0) entries.emplace_back(row, static_cast<int>(at[nb.indices[k]]), a.off_diagonal[k]);
+    }
+    SparseMatrix matrix(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    matrix.setFromTriplets(entries.begin(), entries.end());
+    return matrix;
+  };
+  const SparseMatrix matrix = assemble(identity);
+  constexpr double check_tolerance = 1e-8;  // the PPE's tolerance is 1e-6
+  {
+    Eigen::SparseLU<SparseMatrix, Eigen::NaturalOrdering<int>> lu;
+    lu.setPivotThreshold(1e-3);
+    lu.compute(assemble(position));
+    if (lu.info() == Eigen::Success) {
+      auto f = std::make_unique<SparseFactorisation>();
+      copy_factors(lu, position, *f);
+      if (test_residual(*f, matrix) < check_tolerance) return f;
+    }
+  }
+  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;  // partial pivoting
+  lu.compute(matrix);
+  if (lu.info() != Eigen::Success) return nullptr;
   auto f = std::make_unique<SparseFactorisation>();
-  f->lu.compute(matrix);
-  if (f->lu.info() != Eigen::Success) return nullptr;
+  copy_factors(lu, identity, *f);
+  if (!(test_residual(*f, matrix) < check_tolerance)) return nullptr;
   return f;
 }
 
 std::function<void(std::span<const double>, std::span<double>)> lu_preconditioner(const SparseFactorisation* lu) {
-  return [lu](std::span<const double> r, std::span<double> z) {
-    const Eigen::Map<const Eigen::VectorXd> in(r.data(), static_cast<Eigen::Index>(r.size()));
-    Eigen::Map<Eigen::VectorXd>(z.data(), static_cast<Eigen::Index>(z.size())) = lu->lu.solve(in);
-  };
+  return [lu](std::span<const double> r, std::span<double> z) { lu->solve(r, z); };
+}
+
+// x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
+// iteration; `scratch` holds A x.
+KrylovResult direct_solve(const SparseFactorisation& lu, const StencilMatrix& a, std::span<const double> b, std::span<double> x,
+                          const KrylovSettings& settings, std::vector<double>& scratch) {
+  lu_preconditioner(&lu)(b, x);
+  scratch.resize(b.size());
+  a.multiply(x, scratch);
+  for (std::size_t i = 0; i < b.size(); ++i) scratch[i] = b[i] - scratch[i];
+  KrylovResult result;
+  result.iterations = 1;
+  const double b_norm = std::sqrt(parallel_dot(b, b));
+  result.residual = std::sqrt(parallel_dot(scratch, scratch));
+  result.relative_residual = b_norm > 0 ? result.residual / b_norm : result.residual;
+  result.converged = result.residual <= std::max(settings.relative_tolerance * b_norm, settings.absolute_tolerance);
+  return result;
 }
 
 // Relative diagonal shift regularising the closed domain's singular pressure problem.
@@ -163,7 +371,7 @@ StepStats Solver::step() {
   stats.guarded_nodes = ops.guarded_count();
   times_.operators += seconds_since(t0);
 
-  // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇), ∇μ, ∇·u.
+  // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇).
   t0 = Clock::now();
   velocity_gradient_.resize(4 * n);  // per node: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y
   divergence_.resize(n);
@@ -185,55 +393,70 @@ StepStats Solver::step() {
     shear_rate_[i] = std::sqrt(2.0 * (g[0] * g[0] + g[3] * g[3] + 2.0 * shear_xy * shear_xy));  // eq. 5
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
-  viscosity_gradient_.resize(2 * n);
-  gradient(nb, ops, viscosity_, viscosity_gradient_);
-  // ∇·(μ(∇u)ᵀ): x row = ∂x(μ ∂u/∂x) + ∂y(μ ∂v/∂x), y row = ∂x(μ ∂u/∂y) + ∂y(μ ∂v/∂y).
-  transpose_stress_divergence_.assign(2 * n, 0.0);
-  stress_component_.resize(n);
-  stress_gradient_.resize(2 * n);
-  for (std::size_t c = 0; c < 4; ++c) {  // c: 0 μu_x, 1 μu_y, 2 μv_x, 3 μv_y
-    for (std::size_t i = 0; i < n; ++i) stress_component_[i] = viscosity_[i] * velocity_gradient_[4 * i + c];
-    gradient(nb, ops, stress_component_, stress_gradient_);
-    const std::size_t row = (c == 0 || c == 2) ? 0 : 1;        // ∂/∂x of u or v → x row
-    const std::size_t direction = (c == 0 || c == 1) ? 0 : 1;  // derivative of the u or v entry
-    for (std::size_t i = 0; i < n; ++i) transpose_stress_divergence_[2 * i + row] += stress_gradient_[2 * i + direction];
-  }
   times_.rheology += seconds_since(t0);
 
   // 3. Semi-implicit momentum (eq. 19) with the previous pressure, one solve per component:
   //    ρ u* − δt μ⟨∇²u*⟩ = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + F_ext + 2E⟨∇μ⟩); no-slip Dirichlet rows.
+  //    One pass over the neighbour pairs forms ⟨∇p_{n−1}⟩ (eq. 14, every node: the wall rows of
+  //    the PPE use it), the explicit ∇·(μ(∇u)ᵀ) and the implicit matrix, each sum in the order
+  //    of the separate operator passes it replaces (the same bits).
   t0 = Clock::now();
   pressure_gradient_.resize(2 * n);
-  gradient(nb, ops, pressure_, pressure_gradient_);
   momentum_matrix_.pattern = &nb;
   momentum_matrix_.diagonal.resize(n);
   momentum_matrix_.off_diagonal.resize(nb.pair_count());
-  rhs_.resize(n);
-  rhs_y_.resize(n);
+  momentum_rhs_.resize(2 * n);  // interleaved x, y like the velocity
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    const double p_i = pressure_[i];
+    double px = 0, py = 0;
     if (kinds_[i] != NodeKind::fluid) {  // no-slip Dirichlet row
-      for (std::size_t k = begin; k < end; ++k) momentum_matrix_.off_diagonal[k] = 0.0;
+      for (std::size_t k = begin; k < end; ++k) {
+        const double dp = pressure_[nb.indices[k]] - p_i;
+        px += ops.gradient[2 * k] * dp;
+        py += ops.gradient[2 * k + 1] * dp;
+        momentum_matrix_.off_diagonal[k] = 0.0;
+      }
+      pressure_gradient_[2 * i] = px;
+      pressure_gradient_[2 * i + 1] = py;
       momentum_matrix_.diagonal[i] = 1.0;
-      rhs_[i] = wall_velocities_[2 * i];
-      rhs_y_[i] = wall_velocities_[2 * i + 1];
+      momentum_rhs_[2 * i] = wall_velocities_[2 * i];
+      momentum_rhs_[2 * i + 1] = wall_velocities_[2 * i + 1];
       continue;
     }
-    // Implicit ∇·(μ∇u) with the pair viscosity ½(μ_i + μ_j) on the eq. 15 coefficients.
-    double sum = 0;
+    // ∇·(μ(∇u)ᵀ): x row = ∂x(μ ∂u/∂x) + ∂y(μ ∂v/∂x), y row = ∂x(μ ∂u/∂y) + ∂y(μ ∂v/∂y), eq. 14 on
+    // the stress components τ_c = μ g_c (g: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y).
+    const double mu_i = viscosity_[i];
+    const double* g_i = &velocity_gradient_[4 * i];
+    const double tau_i[4] = {mu_i * g_i[0], mu_i * g_i[1], mu_i * g_i[2], mu_i * g_i[3]};
+    double dx_tau0 = 0, dx_tau1 = 0, dy_tau2 = 0, dy_tau3 = 0, sum = 0;
     for (std::size_t k = begin; k < end; ++k) {
-      const double coefficient = dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
+      const std::size_t j = nb.indices[k];
+      const double cx = ops.gradient[2 * k], cy = ops.gradient[2 * k + 1];
+      const double dp = pressure_[j] - p_i;
+      px += cx * dp;
+      py += cy * dp;
+      const double mu_j = viscosity_[j];
+      const double* g_j = &velocity_gradient_[4 * j];
+      dx_tau0 += cx * (mu_j * g_j[0] - tau_i[0]);
+      dx_tau1 += cx * (mu_j * g_j[1] - tau_i[1]);
+      dy_tau2 += cy * (mu_j * g_j[2] - tau_i[2]);
+      dy_tau3 += cy * (mu_j * g_j[3] - tau_i[3]);
+      // Implicit ∇·(μ∇u) with the pair viscosity ½(μ_i + μ_j) on the eq. 15 coefficients.
+      const double coefficient = dt * 0.5 * (mu_i + mu_j) * ops.laplacian[k];
       momentum_matrix_.off_diagonal[k] = -coefficient;
       sum += coefficient;
     }
+    pressure_gradient_[2 * i] = px;
+    pressure_gradient_[2 * i + 1] = py;
     momentum_matrix_.diagonal[i] = rho + sum;
     // Explicit ∇·(μ(∇u)ᵀ) (eq. 14 on each component): with ∇·u = 0 this is eq. 18's 2E∇μ − μ∇²u
-    // + ∇·(μ∇u), i.e. the explicit remainder of ∇·τ.
-    const double fx = transpose_stress_divergence_[2 * i], fy = transpose_stress_divergence_[2 * i + 1];
-    rhs_[i] = rho * velocity_[2 * i] + dt * (-pressure_gradient_[2 * i] + rho * params_.gravity[0] + fx);
-    rhs_y_[i] = rho * velocity_[2 * i + 1] + dt * (-pressure_gradient_[2 * i + 1] + rho * params_.gravity[1] + fy);
+    // + ∇·(μ∇u), i.e. the explicit remainder of ∇·τ. (0.0 + …: the separate passes' sums started at 0.)
+    const double fx = 0.0 + dx_tau0 + dy_tau2, fy = 0.0 + dx_tau1 + dy_tau3;
+    momentum_rhs_[2 * i] = rho * velocity_[2 * i] + dt * (-px + rho * params_.gravity[0] + fx);
+    momentum_rhs_[2 * i + 1] = rho * velocity_[2 * i + 1] + dt * (-py + rho * params_.gravity[1] + fy);
   }
   new_velocity_.resize(2 * n);
   component_.resize(n);
@@ -249,14 +472,36 @@ StepStats Solver::step() {
   double velocity_residual = 0;
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
-  for (std::size_t d = 0; d < 2; ++d) {
-    for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[2 * i + d];
-    const auto result = bicgstab(momentum_matrix_, d == 0 ? rhs_ : rhs_y_, component_, velocity_settings, krylov_);
+  const auto record = [&](const KrylovResult& result) {
     most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
     velocity_residual = std::max(velocity_residual, result.relative_residual);
     velocity_converged = velocity_converged && result.converged;
-    for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
+  };
+  if (velocity_amg) {
+    rhs_.resize(n);  // one component at a time
+    for (std::size_t d = 0; d < 2; ++d) {
+      for (std::size_t i = 0; i < n; ++i) {
+        component_[i] = velocity_[2 * i + d];
+        rhs_[i] = momentum_rhs_[2 * i + d];
+      }
+      record(bicgstab(momentum_matrix_, rhs_, component_, velocity_settings, krylov_));
+      for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
+    }
+  } else {
+    // Jacobi: both components in one pass over the stencil (bit-identical to two solves).
+    // Initial guess u + 2d₁ − d₂, d the change u* − u of the last two solves: the implicit
+    // change varies smoothly from step to step, u itself does not (advection is in u). Cuts the
+    // iterations 2.5× over 200 steps (u alone as the guess) and ~20 % from rest.
+    momentum_increment_.resize(2 * n, 0.0);
+    older_momentum_increment_.resize(2 * n, 0.0);
+    for (std::size_t i = 0; i < 2 * n; ++i)
+      new_velocity_[i] = velocity_[i] + 2.0 * momentum_increment_[i] - older_momentum_increment_[i];
+    for (const KrylovResult& result :
+         bicgstab_jacobi_pair(momentum_matrix_, momentum_rhs_, new_velocity_, velocity_settings, pair_krylov_))
+      record(result);
+    next_momentum_increment_.resize(2 * n);  // taken over when the step is committed
+    for (std::size_t i = 0; i < 2 * n; ++i) next_momentum_increment_[i] = new_velocity_[i] - velocity_[i];
   }
   if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
   stats.velocity_residual = velocity_residual;
@@ -267,14 +512,31 @@ StepStats Solver::step() {
   //    then u_n = u* − δt/ρ ⟨∇φ⟩ on fluid nodes.
   t0 = Clock::now();
   divergence(nb, ops, new_velocity_, divergence_);
-  pressure_matrix_.pattern = &nb;
-  pressure_matrix_.diagonal.resize(n);
-  pressure_matrix_.off_diagonal.resize(nb.pair_count());
+  // The matrix depends on the operators, normals and node kinds only: in lattice mode it is
+  // built once (and factorised once, below); each step then only forms the right-hand side.
+  const bool build_pressure_matrix = params_.reordering != Reordering::lattice || pressure_matrix_.pattern != &nb;
+  if (build_pressure_matrix) {
+    pressure_matrix_.pattern = &nb;
+    pressure_matrix_.diagonal.resize(n);
+    pressure_matrix_.off_diagonal.resize(nb.pair_count());
+  }
+  rhs_.resize(n);
   double max_divergence = 0;
 #pragma omp parallel for schedule(static) reduction(max : max_divergence)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    if (kinds_[i] == NodeKind::fluid) {
+      rhs_[i] = rho / dt * divergence_[i];
+      max_divergence = std::max(max_divergence, std::abs(divergence_[i]));
+    } else if (kinds_[i] == NodeKind::wall) {
+      const double nx = normals_[2 * i], ny = normals_[2 * i + 1];
+      rhs_[i] = rho * (nx * params_.gravity[0] + ny * params_.gravity[1]) -
+                (nx * pressure_gradient_[2 * i] + ny * pressure_gradient_[2 * i + 1]);
+    } else {
+      rhs_[i] = 0.0;
+    }
+    if (!build_pressure_matrix) continue;
     double sum = 0;
     if (kinds_[i] == NodeKind::fluid) {
       for (std::size_t k = begin; k < end; ++k) {
@@ -282,8 +544,6 @@ StepStats Solver::step() {
         sum += ops.laplacian[k];
       }
       pressure_matrix_.diagonal[i] = -sum;
-      rhs_[i] = rho / dt * divergence_[i];
-      max_divergence = std::max(max_divergence, std::abs(divergence_[i]));
     } else if (kinds_[i] == NodeKind::wall) {
       const double nx = normals_[2 * i], ny = normals_[2 * i + 1];
       for (std::size_t k = begin; k < end; ++k) {
@@ -292,14 +552,11 @@ StepStats Solver::step() {
         sum += c;
       }
       pressure_matrix_.diagonal[i] = -sum;
-      rhs_[i] = rho * (nx * params_.gravity[0] + ny * params_.gravity[1]) -
-                (nx * pressure_gradient_[2 * i] + ny * pressure_gradient_[2 * i + 1]);
     } else {  // corner: Shepard average of the neighbours (eq. 12)
       double wsum = 0;
       for (std::size_t k = begin; k < end; ++k) wsum += ops.weights[k];
       for (std::size_t k = begin; k < end; ++k) pressure_matrix_.off_diagonal[k] = wsum > 0 ? -ops.weights[k] / wsum : 0.0;
       pressure_matrix_.diagonal[i] = 1.0;
-      rhs_[i] = 0.0;
     }
     // The closed domain's Neumann problem is singular (constants). A relative diagonal shift
     // makes it regular without pinning a node (a pinned node acts as a point sink for the
@@ -318,7 +575,7 @@ StepStats Solver::step() {
   KrylovSettings settings_with_preconditioner = pressure_settings;
   if (params_.reordering == Reordering::lattice && params_.pressure_preconditioner == Preconditioner::sparse_lu) {
     if (!pressure_lu_) {
-      pressure_lu_ = factorise(pressure_matrix_);
+      pressure_lu_ = factorise(pressure_matrix_, positions_);
       if (!pressure_lu_) params_.pressure_preconditioner = Preconditioner::jacobi;  // fall back to Jacobi
     }
     if (pressure_lu_) settings_with_preconditioner.preconditioner = lu_preconditioner(pressure_lu_.get());
@@ -333,8 +590,19 @@ StepStats Solver::step() {
     }
     settings_with_preconditioner.preconditioner = pressure_amg_.as_preconditioner();
   }
-  const KrylovResult pressure_result =
-      bicgstab(pressure_matrix_, rhs_, increment_, settings_with_preconditioner, krylov_);
+  KrylovResult pressure_result;
+  if (pressure_lu_) {
+    // The LU factorises this very matrix, so one direct solve is the answer to rounding (as a
+    // BiCGStab preconditioner it cost a further matrix product and seven vector passes). Kept
+    // when its residual meets the tolerance; otherwise BiCGStab continues from it.
+    pressure_result = direct_solve(*pressure_lu_, pressure_matrix_, rhs_, increment_, pressure_settings, krylov_.r);
+  }
+  if (!pressure_result.converged) {
+    if (!std::isfinite(pressure_result.residual)) increment_.assign(n, 0.0);
+    const KrylovResult krylov = bicgstab(pressure_matrix_, rhs_, increment_, settings_with_preconditioner, krylov_);
+    pressure_result = KrylovResult{pressure_result.iterations + krylov.iterations, krylov.residual,
+                                   krylov.relative_residual, krylov.converged};
+  }
   if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
   stats.pressure_iterations = pressure_result.iterations;
   stats.pressure_residual = pressure_result.relative_residual;
@@ -382,6 +650,10 @@ StepStats Solver::step() {
   // 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler.
   t0 = Clock::now();
   pressure_ = std::move(new_pressure);
+  if (!next_momentum_increment_.empty()) {
+    older_momentum_increment_.swap(momentum_increment_);
+    momentum_increment_.swap(next_momentum_increment_);
+  }
   // ∇u_n on the pre-advection cloud, for carrying velocities along PBD shifts (and for the
   // gradient-corrected interpolation); the quadratic interpolation fits its own.
   const bool needs_velocity_gradient =

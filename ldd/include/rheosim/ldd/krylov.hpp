@@ -10,7 +10,9 @@
 // LDD Laplacian is not symmetric, so CG does not apply. Every vector loop and reduction runs
 // with OpenMP over contiguous node blocks whose partial sums are added in block order, so the
 // iterates are bit-identical for a given thread count (no atomics, no reduction clauses).
+#include <array>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <span>
 #include <string_view>
@@ -60,6 +62,20 @@ struct KrylovWorkspace {
 // the caller reads KrylovResult (a breakdown, e.g. ρ = 0, ends the iteration unconverged).
 KrylovResult bicgstab(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
                       const KrylovSettings& settings, KrylovWorkspace& work);
+
+// Two systems sharing one matrix, A x_c = b_c for c = 0, 1 (the velocity components of LDD
+// eq. 19), with Jacobi right preconditioning; b and x interleaved (b_c of node i at 2i + c).
+// Each component runs exactly the arithmetic of bicgstab() with Jacobi (same operations in the
+// same order, so the result is bit-identical to two separate calls), but the two share every
+// pass over the stencil and the vector updates and dot products of an iteration are fused into
+// five passes over memory. A component that has converged (or broken down) stops updating while
+// the other continues. settings.preconditioner must be empty.
+struct PairKrylovWorkspace {
+  std::vector<double> r, r_hat, p, v, s, t, p_hat, s_hat;  // interleaved, 2 values per node
+  std::vector<std::uint32_t> offsets, columns;              // the matrix pattern, 32-bit
+};
+std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
+                                                 const KrylovSettings& settings, PairKrylovWorkspace& work);
 
 // Deterministic parallel dot product (block partial sums added in block order).
 [[nodiscard]] double parallel_dot(std::span<const double> a, std::span<const double> b);

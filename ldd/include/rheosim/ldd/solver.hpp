@@ -4,16 +4,18 @@
 //   1. operators (eqs. 13–16) on the current cloud (built once in the lattice reordering mode,
 //      where the cloud returns to the same places every step);
 //   2. explicit velocity gradient (eq. 14), strain rate E (eq. 4), shear rate γ̇ (eq. 5),
-//      viscosity μ(γ̇) from the rheology law, ∇μ, and the explicit stress term ∇·(μ(∇u)ᵀ);
-//   3. semi-implicit momentum (eq. 19) with the previous pressure, one matrix-free BiCGStab
-//      solve per component, no-slip Dirichlet rows on wall nodes (the lid moves):
+//      viscosity μ(γ̇) from the rheology law, and the explicit stress term ∇·(μ(∇u)ᵀ);
+//   3. semi-implicit momentum (eq. 19) with the previous pressure, matrix-free BiCGStab (Jacobi:
+//      both components in one fused solve, krylov.hpp; initial guess u + 2d₁ − d₂ from the last
+//      two solves' changes d = u* − u), no-slip Dirichlet rows on wall nodes (the lid moves):
 //        ρ u* − δt ∇·(μ∇u*) = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + F_ext + ∇·(μ(∇u)ᵀ)_{n−1}).
 //      For ∇·u = 0, ∇·(μ∇u) + ∇·(μ(∇u)ᵀ) = μ∇²u + 2E∇μ (eq. 18); the implicit part uses the pair
 //      viscosity ½(μ_i + μ_j) on the eq. 15 coefficients. Identical to eq. 19 for a Newtonian
 //      fluid; for viscosity contrasts of 10⁴ (Bn = 10) the explicit 2E∇μ of eq. 19 blew up at the
 //      first step, this split does not (docs/ldd.md);
 //   4. pressure Poisson equation (eq. 17) for the increment φ = p_n − p_{n−1} (incremental
-//      pressure correction), matrix-free BiCGStab:
+//      pressure correction), matrix-free BiCGStab (lattice mode: one direct solve with the sparse
+//      LU of the constant matrix, BiCGStab only if its residual is above tolerance):
 //        fluid     ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩   (eq. 17's −ρ∇·(Du/Dt) with ∇·∇·τ dropped, as in the seed)
 //        walls     n·⟨∇φ⟩ = ρ n·F_ext − n·⟨∇p_{n−1}⟩ (eq. 17's Neumann condition for p; walls at
 //                  rest or moving steadily, so ∂U/∂t = 0; the ν n·∇×∇×u term is dropped)
@@ -117,7 +119,7 @@ class DivergenceError : public std::runtime_error {
 };
 
 struct StepStats {
-  int pressure_iterations = 0;
+  int pressure_iterations = 0;   // BiCGStab iterations; a direct LU solve (lattice mode) counts as 1
   double pressure_residual = 0;   // relative
   int velocity_iterations = 0;    // both components
   double velocity_residual = 0;   // relative, the larger of the two
@@ -194,10 +196,12 @@ class Solver {
   PhaseTimes times_;
   // Work buffers reused across steps.
   KrylovWorkspace krylov_;
+  PairKrylovWorkspace pair_krylov_;
   StencilMatrix pressure_matrix_, momentum_matrix_;
-  std::vector<double> velocity_gradient_, viscosity_gradient_, divergence_, rhs_, rhs_y_, pressure_gradient_;
+  std::vector<double> velocity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
   std::vector<double> new_velocity_, component_, shift_, increment_;
-  std::vector<double> transpose_stress_divergence_, stress_component_, stress_gradient_;
+  // u* − u of the last two committed momentum solves (Jacobi: the next initial guess), and this step's.
+  std::vector<double> momentum_increment_, older_momentum_increment_, next_momentum_increment_;
 };
 
 }  // namespace rheosim::ldd
