@@ -5,7 +5,8 @@
 // surface (p = p_atm = 0, LDD eq. 17 third line) or splash (too few neighbours to build operators).
 //
 // One call to FreeSurfaceSolver::step():
-//   1. operators (eqs. 13–16) on the current cloud; free-surface detection (see below);
+//   1. operators (eqs. 13–16; the gradient centred on the neighbours' centroid unless
+//      centred_gradient is off, operators.hpp) on the current cloud; free-surface detection;
 //   2. ∇u (eq. 14), E (eq. 4), γ̇ = √(2E:E) (eq. 5), μ(γ̇);
 //   3. semi-implicit momentum (eq. 19) with the previous pressure and gravity, p_{n−1} first put
 //      on the current classification and geometry (p = 0 on surface, splash and idle wall nodes;
