@@ -119,14 +119,17 @@ std::string describe(const Case& c) {
                        list(l.gravity), l.spacing, l.smoothing_ratio, l.time_step, l.end_time,
                        static_cast<long long>(l.end_time / l.time_step + 0.5));
     if (l.steady_tolerance > 0) out += fmt::format("  stops at steady state (residual < {})\n", l.steady_tolerance);
-    out += fmt::format("  solver: {} reordering, PPE tolerance {}, velocity tolerance {}, threads {}\n",
-                       l.solver.reordering, l.solver.pressure_tolerance, l.solver.velocity_tolerance,
+    // Free-surface scenes reorder by PBD (the line below), whatever solver.reordering says.
+    const bool cavity = std::holds_alternative<CavityScene>(l.scene);
+    out += fmt::format("  solver: {}PPE tolerance {}, velocity tolerance {}, threads {}\n",
+                       cavity ? l.solver.reordering + " reordering, " : std::string(), l.solver.pressure_tolerance,
+                       l.solver.velocity_tolerance,
                        l.solver.threads == 0 ? std::string("default") : std::to_string(l.solver.threads));
     out += fmt::format("  preconditioners: PPE {}, velocity {} (auto: the scene's default, docs/ldd.md)\n",
                        l.solver.pressure_preconditioner, l.solver.velocity_preconditioner);
-    if (std::holds_alternative<CavityScene>(l.scene) && l.solver.reordering == "lattice")
+    if (cavity && l.solver.reordering == "lattice")
       out += fmt::format("  lattice interpolation: {}\n", l.solver.interpolation);
-    if (!std::holds_alternative<CavityScene>(l.scene))
+    if (!cavity)
       out += fmt::format("  free surface: {} PBD sweeps per step, moment-matrix rcond {} (pseudo-inverse), {} (surface), {} gradient\n",
                          l.solver.pbd_sweeps, l.solver.moment_rcond, l.solver.surface_moment_rcond,
                          l.solver.gradient == "renormalised" ? "renormalised (eq. 14)" : "centred");
