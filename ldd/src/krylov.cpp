@@ -23,27 +23,6 @@ using detail::for_blocks;
 constexpr int max_blocks = 256;
 // |r̂·r| below this fraction of ‖r̂‖‖r‖ restarts BiCGStab with a new shadow residual.
 constexpr double restart_threshold = 1e-12;
-constexpr std::size_t padding = 8;  // doubles between partial sums: one cache line each
-
-// Σ over blocks of partial(begin, end), added in block order.
-template <class Partial>
-double block_sum(std::size_t n, Partial&& partial) {
-  std::array<double, max_blocks * padding> sums{};
-  int used_blocks = 1;
-#pragma omp parallel
-  {
-    const int blocks = std::min(omp_get_num_threads(), max_blocks);
-    const int t = omp_get_thread_num();
-    if (t == 0) used_blocks = blocks;
-    if (t < blocks) {
-      const auto [begin, end] = block_range(n, t, blocks);
-      sums[static_cast<std::size_t>(t) * padding] = partial(begin, end);
-    }
-  }
-  double total = 0;
-  for (int t = 0; t < used_blocks; ++t) total += sums[static_cast<std::size_t>(t) * padding];
-  return total;
-}
 
 // K sums over contiguous node blocks, one block per thread: body(begin, end) returns its block's
 // K sums (kept in local variables: accumulating through a reference to memory stalls every
@@ -69,6 +48,12 @@ std::array<double, K> block_sums(std::size_t n, Body&& body) {
   for (int t = 0; t < used_blocks; ++t)
     for (std::size_t k = 0; k < K; ++k) total[k] += partials[static_cast<std::size_t>(t)].s[k];
   return total;
+}
+
+// Σ over blocks of partial(begin, end), added in block order.
+template <class Partial>
+double block_sum(std::size_t n, Partial&& partial) {
+  return block_sums<1>(n, [&](std::size_t begin, std::size_t end) { return std::array<double, 1>{partial(begin, end)}; })[0];
 }
 
 }  // namespace
