@@ -203,6 +203,7 @@ std::pair<double, double> batch_mean(const std::vector<double>& values, std::siz
 struct WindowMeans {
   double fluid_top = 0.0, contact_top = 0.0, lubrication_top = 0.0, stresslet = 0.0, couple = 0.0, bottom = 0.0,
          bulk = 0.0;
+  ShearCellBulkParts parts;
 };
 
 WindowMeans window_means(const std::vector<ShearCellStepRecord>& series, double from_time) {
@@ -217,10 +218,21 @@ WindowMeans window_means(const std::vector<ShearCellStepRecord>& series, double 
       m.couple += r.couple;
       m.bottom += r.fluid_bottom + r.contact_bottom + r.lubrication_bottom + r.stresslet + r.couple;
       m.bulk += r.bulk;
+      auto& p = m.parts;
+      const auto& q = r.parts;
+      for (auto [to, from] : {std::pair{&p.fluid, q.fluid}, {&p.stresslet, q.stresslet}, {&p.couple, q.couple},
+                              {&p.pair_lubrication, q.pair_lubrication},
+                              {&p.pair_lubrication_antisymmetric, q.pair_lubrication_antisymmetric},
+                              {&p.plate_lubrication, q.plate_lubrication}, {&p.pair_contact, q.pair_contact},
+                              {&p.plate_contact, q.plate_contact}, {&p.drag, q.drag}})
+        *to += from;
       ++n;
     }
+  auto& p = m.parts;
   if (n > 0)
-    for (double* x : {&m.fluid_top, &m.contact_top, &m.lubrication_top, &m.stresslet, &m.couple, &m.bottom, &m.bulk})
+    for (double* x : {&m.fluid_top, &m.contact_top, &m.lubrication_top, &m.stresslet, &m.couple, &m.bottom, &m.bulk,
+                      &p.fluid, &p.stresslet, &p.couple, &p.pair_lubrication, &p.pair_lubrication_antisymmetric,
+                      &p.plate_lubrication, &p.pair_contact, &p.plate_contact, &p.drag})
       *x /= static_cast<double>(n);
   return m;
 }
@@ -395,6 +407,9 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
       const double a = 0.5 * q.diameter;
       const double pair_contact = -engine.fix_scalar("rheosim_cell_virial") * box_volume;
       record.bulk = (pair_contact + a * area * (record.contact_top + record.contact_bottom) + drag_virial) / cell_volume;
+      record.parts.pair_contact = pair_contact / cell_volume;
+      record.parts.plate_contact = a * area * (record.contact_top + record.contact_bottom) / cell_volume;
+      record.parts.drag = drag_virial / cell_volume;
       if (hook) {
         const NearFieldStepHook::Means m = hook->take_means();
         record.lubrication_top = -m.plate_forces[1][0] / area;
@@ -403,6 +418,15 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
         record.couple = 0.5 * m.rotation_torque_sum[1] / cell_volume;
         // Force x, lever z (the plates' momentum balance), plus the stresslets.
         record.bulk += (m.lubrication_virial_full[2] + m.stresslet_sum[4]) / cell_volume + record.couple;
+        // Plate gaps have a z lever only, so their full xz is twice their symmetric xz.
+        const double plate_full = 2.0 * m.plate_virial[4];
+        const double pair_symmetric = m.lubrication_virial[4] - m.plate_virial[4];
+        record.parts.pair_lubrication = pair_symmetric / cell_volume;
+        record.parts.pair_lubrication_antisymmetric =
+            (m.lubrication_virial_full[2] - plate_full - pair_symmetric) / cell_volume;
+        record.parts.plate_lubrication = plate_full / cell_volume;
+        record.parts.stresslet = record.stresslet;
+        record.parts.couple = record.couple;
         near_field_seconds += m.seconds;
         out.max_near_field_iterations = std::max(out.max_near_field_iterations, m.max_solver_iterations);
       }
@@ -417,6 +441,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
     record.fluid_top = column.wall_stress_top();
     record.fluid_bottom = column.wall_stress_bottom();
     record.bulk += column.mean_fluid_stress();
+    record.parts.fluid = column.mean_fluid_stress();
     if (!std::isfinite(record.total_top()))
       throw std::runtime_error(fmt::format("shear cell: wall stress is not finite at t = {:.6g} s", time));
     out.series.push_back(record);
@@ -451,6 +476,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   out.stress_couple = means.couple;
   out.bottom_stress = means.bottom;
   out.bulk_stress = means.bulk;
+  out.bulk_parts = means.parts;
   out.cost.near_field = near_field_seconds;  // spent inside the DEM steps
   out.cost.dem = std::max(0.0, out.cost.dem - near_field_seconds);
   out.wall_time = seconds_since(start);

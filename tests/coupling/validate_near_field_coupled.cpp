@@ -99,6 +99,13 @@ TEST(NearFieldCoupledValidation, ShearCellPlateStressEqualsBulkVirial) {
   // Item 3: the plates' momentum balance; contacts are few here, so LIGGGHTS' symmetric contact
   // virial costs little.
   EXPECT_NEAR(p.bulk_stress, p.stress, 0.02 * p.stress);
+  // The bulk's parts add up to it; a Newtonian column's mean stress is μU/H whatever its profile.
+  const auto& b = p.bulk_parts;
+  EXPECT_NEAR(b.fluid + b.stresslet + b.couple + b.pair_lubrication + b.pair_lubrication_antisymmetric +
+                  b.plate_lubrication + b.pair_contact + b.plate_contact + b.drag,
+              p.bulk_stress, 1e-9 * p.bulk_stress);
+  EXPECT_NEAR(b.fluid, liquid, 1e-9 * liquid);
+  EXPECT_GT(b.pair_lubrication, 0.0);
   EXPECT_GT(p.cost.near_field, 0.0);
   EXPECT_GT(p.max_near_field_iterations, 0);
 }
@@ -193,6 +200,14 @@ TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
               p.stress_error / liquid, p.stress_fluid / liquid, p.stress_contact / liquid,
               p.stress_lubrication / liquid, p.stress_stresslet / liquid, p.stress_couple / liquid,
               p.bulk_stress / liquid, p.cost.dem, p.cost.near_field, p.max_near_field_iterations);
+  // The bulk stress by parts, and the imposed-flow cell's definition of it (symmetric pair
+  // virial, no plate gaps, no couple, no drag offsets; validate_near_field_shear_cell.cpp).
+  const auto& b = p.bulk_parts;
+  std::printf("bulk parts: fluid %.4f stresslet %.4f couple %.4f pair lubrication %.4f (antisymmetric %.4f) plate "
+              "lubrication %.4f pair contact %.4f plate contact %.4f drag %.4f; imposed cell's definition %.4f\n",
+              b.fluid / liquid, b.stresslet / liquid, b.couple / liquid, b.pair_lubrication / liquid,
+              b.pair_lubrication_antisymmetric / liquid, b.plate_lubrication / liquid, b.pair_contact / liquid,
+              b.plate_contact / liquid, b.drag / liquid, b.imposed_cell_definition() / liquid);
   // Running mean per strain unit.
   double sum = 0.0;
   int count = 0;

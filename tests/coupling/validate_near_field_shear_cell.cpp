@@ -283,6 +283,9 @@ TEST(ValidateNearFieldShearCell, DISABLED_ViscosityCurveStudy) {
   base.youngs_modulus = env_number("RHEOSIM_NF_YOUNGS", base.youngs_modulus);
   base.skip_strain = env_number("RHEOSIM_NF_SKIP", base.skip_strain);
   base.repulsion_ratio = env_number("RHEOSIM_NF_REPULSION", 0.0);
+  // μ sets the particle Stokes number St = ρ_pγ̇a²/μ (1e-3 at μ = 1 Pa·s; the coupled cell's
+  // water-like 1e-3 Pa·s gives St = 1).
+  base.viscosity = env_number("RHEOSIM_NF_VISCOSITY", base.viscosity);
   for (const double rate : rates) {
     std::vector<double> phi, eta;
     for (const double p : phis) {

@@ -90,6 +90,22 @@ struct ShearCellPointSettings {
   std::shared_ptr<const NearFieldModel> near_field = nullptr;
 };
 
+// The bulk (virial) stress split into its parts [Pa] (xz; docs/hydrodynamics.md, "the coupled
+// cell against the imposed one"). bulk = fluid + stresslet + couple + pair_lubrication +
+// pair_lubrication_antisymmetric + plate_lubrication + pair_contact + plate_contact + drag;
+// imposed_cell_definition() is what the imposed-flow cell calls its bulk stress (symmetric pair
+// virials, no plates, no couple, no drag offsets).
+struct ShearCellBulkParts {
+  double fluid = 0.0;                           // (1/H) ∫ μ ∂u_x/∂z dz
+  double stresslet = 0.0, couple = 0.0;
+  double pair_lubrication = 0.0;                // symmetric pair virial of lubrication + repulsion
+  double pair_lubrication_antisymmetric = 0.0;  // force x lever z minus the symmetric part
+  double plate_lubrication = 0.0;               // plate gaps, force x lever z
+  double pair_contact = 0.0, plate_contact = 0.0;
+  double drag = 0.0;                            // Σ −(z_p − z_layer) F_x / V
+  [[nodiscard]] double imposed_cell_definition() const { return fluid + stresslet + pair_lubrication + pair_contact; }
+};
+
 struct ShearCellStepRecord {
   double time = 0.0;             // after the fluid step [s]
   double fluid_top = 0.0;        // fluid shear stress on the top plate [Pa]
@@ -101,6 +117,7 @@ struct ShearCellStepRecord {
   double stresslet = 0.0;           // Σ S_xz / V [Pa] (near field)
   double couple = 0.0;              // ½ Σ T_y / V of the rotation torques [Pa] (near field)
   double bulk = 0.0;                // bulk stress from the virial [Pa] (see the header)
+  ShearCellBulkParts parts;         // bulk's parts
   [[nodiscard]] double total_top() const { return fluid_top + contact_top + lubrication_top + stresslet + couple; }
 };
 
@@ -117,6 +134,7 @@ struct ShearCellPoint {
   double stress_couple = 0.0;       // rotation-couple part [Pa]
   double bottom_stress = 0.0;    // bottom plate total, same window [Pa]
   double bulk_stress = 0.0;      // bulk stress from the particle virial, same window [Pa]
+  ShearCellBulkParts bulk_parts;  // its parts, same window
   int max_near_field_iterations = 0;
   bool converged = false;
   double strain = 0.0;
