@@ -17,21 +17,32 @@ constexpr double min_laplacian_denominator_fraction = 0.05;
 
 // (Σ W x xᵀ)⁻¹ (eq. 13); near-singular (λ_min/λ_max < rcond): the pseudo-inverse on the
 // well-determined directions only, so a gradient stays exact along the directions the neighbours
-// span and is zero across them (`pseudo` set). `conditioning` = λ_min/λ_max (0 for a zero matrix).
+// span and is zero across them.
 template <int D>
-Eigen::Matrix<double, D, D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, double rcond, bool& pseudo,
-                                            double& conditioning) {
+struct GuardedInverse {
+  Eigen::Matrix<double, D, D> inverse;
+  double conditioning = 0;  // λ_min/λ_max (0 for a zero matrix)
+  bool pseudo = false;      // pseudo-inverted
+};
+
+template <int D>
+GuardedInverse<D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, double rcond) {
   using Vec = Eigen::Matrix<double, D, 1>;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> eigen(moment);
   const double lambda_max = eigen.eigenvalues().maxCoeff();
   const double lambda_min = eigen.eigenvalues().minCoeff();
-  pseudo = !(lambda_max > 0 && lambda_min >= rcond * lambda_max);
-  conditioning = lambda_max > 0 ? std::max(lambda_min, 0.0) / lambda_max : 0.0;
-  if (!pseudo) return moment.inverse();
+  GuardedInverse<D> r;
+  r.pseudo = !(lambda_max > 0 && lambda_min >= rcond * lambda_max);
+  r.conditioning = lambda_max > 0 ? std::max(lambda_min, 0.0) / lambda_max : 0.0;
+  if (!r.pseudo) {
+    r.inverse = moment.inverse();
+    return r;
+  }
   Vec inverse_eigenvalues = Vec::Zero();
   for (int d = 0; d < D; ++d)
     if (lambda_max > 0 && eigen.eigenvalues()[d] >= rcond * lambda_max) inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
-  return eigen.eigenvectors() * inverse_eigenvalues.asDiagonal() * eigen.eigenvectors().transpose();
+  r.inverse = eigen.eigenvectors() * inverse_eigenvalues.asDiagonal() * eigen.eigenvectors().transpose();
+  return r;
 }
 
 template <int D>
@@ -56,10 +67,9 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
     weight_sum += w;
   }
   std::uint8_t guard = 0;
-  bool pseudo = false;
-  double conditioning = 0;
-  const Mat b = guarded_inverse<D>(moment, settings.min_moment_rcond, pseudo, conditioning);  // eq. 13
-  if (pseudo) guard |= 1U;
+  const GuardedInverse<D> moment_inverse = guarded_inverse<D>(moment, settings.min_moment_rcond);
+  const Mat& b = moment_inverse.inverse;  // eq. 13
+  if (moment_inverse.pseudo) guard |= 1U;
   const Vec b_offset = b * offset;
   // Gradient coefficients W_ij G_i (x_ij − c_i): eq. 14 about the node itself (c_i = 0, G_i = B_i)
   // or, centred, the least-squares plane through the neighbours with a free intercept (c_i their
@@ -69,11 +79,10 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
   Mat gradient_b = b;
   if (settings.centred_gradient && weight_sum > 0) {
     centre = offset / weight_sum;
-    bool centred_pseudo = false;
-    double centred_conditioning = 0;
-    gradient_b = guarded_inverse<D>(moment - weight_sum * centre * centre.transpose(), settings.min_moment_rcond,
-                                    centred_pseudo, centred_conditioning);
-    if (centred_pseudo) guard |= 1U;
+    const GuardedInverse<D> centred =
+        guarded_inverse<D>(moment - weight_sum * centre * centre.transpose(), settings.min_moment_rcond);
+    gradient_b = centred.inverse;
+    if (centred.pseudo) guard |= 1U;
   }
 
   double denominator = 0, plain_denominator = 0;
@@ -96,7 +105,7 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
   }
   Eigen::Map<Vec>(&ops.offset[i * D]) = offset;
   ops.guarded[i] = guard;
-  ops.conditioning[i] = conditioning;  // of eq. 13's moment (free-surface detection reads it)
+  ops.conditioning[i] = moment_inverse.conditioning;  // of eq. 13's moment (free-surface detection reads it)
 }
 
 void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
