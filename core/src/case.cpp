@@ -199,6 +199,14 @@ ParticleProperties read_particles(const Section& p, const PlateGeometry& geometr
   if (auto s = p.optional_section(distribution_key)) out.size_distribution = read_size_distribution(*s, out.diameter, geometry);
   const KeyInfo hydrodynamics_key{"hydrodynamics", "near-field hydrodynamics (omit for drag only)", "-"};
   if (auto s = p.optional_section(hydrodynamics_key)) out.hydrodynamics = read_hydrodynamics(*s);
+  const KeyInfo drag_key{"drag", "fluid–particle drag law (omit for auto)", "-"};
+  std::string drag = "auto";
+  if (auto s = p.optional_section(drag_key))
+    drag = s->choice({"model", "drag law", "-"},
+                     {"auto", name_of(DragLaw::di_felice), name_of(DragLaw::schiller_naumann)});
+  out.drag_automatic = drag == "auto";
+  if (drag == name_of(DragLaw::schiller_naumann) || (out.drag_automatic && out.hydrodynamics.lubrication))
+    out.drag = DragLaw::schiller_naumann;
   return out;
 }
 

@@ -63,6 +63,11 @@ std::string describe_rheometer(const RheometerCase& r) {
                                      : std::string{},
                          h.single_particle ? fmt::format(", stresslet viscosity {}", name_of(h.stresslet_viscosity))
                                            : std::string{});
+    out += fmt::format("  drag: {}{}\n", name_of(p->drag),
+                       !p->drag_automatic                 ? ""
+                       : p->drag == DragLaw::di_felice ? " (auto: drag only, the seed's law)"
+                                                          : " (auto: lubrication carries the crowding, so the isolated "
+                                                            "sphere's drag)");
   } else {
     out += "  particles: none (single phase)\n";
   }

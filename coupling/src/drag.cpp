@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "rheosim/core/config.hpp"
 #include "drag/di_felice.hpp"
 #include "drag/schiller_naumann.hpp"
 
@@ -75,6 +76,11 @@ std::unique_ptr<const DragModel> make_drag_model(const core::Section& section) {
   // Built once (thread-safe static init) and only read afterwards.
   static const DragRegistry registry = builtin_drag_models();
   return registry.make(section);
+}
+
+std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law) {
+  const auto document = core::Document::from_string(fmt::format("model: {}\n", core::name_of(law)), "drag");
+  return make_drag_model(document.root());
 }
 
 }  // namespace rheosim::coupling

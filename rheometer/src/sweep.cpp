@@ -13,6 +13,7 @@
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/coupling/forces.hpp"
 #include "rheosim/coupling/suspension_point.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/fluid/swirl.hpp"
@@ -188,10 +189,9 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
   return [r = rheometer, work = std::move(work_dir), budget_seconds](const SweepPoint& point,
                                                                      const PointProgressCallback& progress) {
     PointResult out;
-    out.method = r.particles && r.particles->hydrodynamics.any()
-                     ? "CFD-DEM (transient 3D fluid + LIGGGHTS, Di Felice drag) with near-field hydrodynamics, "
-                       "steady over a strain window"
-                     : "CFD-DEM (transient 3D fluid + LIGGGHTS, Di Felice drag), steady over a strain window";
+    out.method = fmt::format("CFD-DEM (transient 3D fluid + LIGGGHTS, {} drag){}, steady over a strain window",
+                             r.particles ? core::name_of(r.particles->drag) : "no",
+                             r.particles && r.particles->hydrodynamics.any() ? " with near-field hydrodynamics" : "");
     if (!r.particles) {
       out.failure = fmt::format("φ = {:g} needs a particles: section (diameter, density, contact properties)",
                                 point.volume_fraction);
@@ -211,6 +211,7 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
     s.fluid = fluid_named(r, point.fluid).properties;
     s.particles = *r.particles;
     s.particles.volume_fraction = point.volume_fraction;
+    s.coupling.forces = coupling::force_models(s.particles.drag);
     s.rim_shear_rate = point.rim_shear_rate;
     s.inertia = r.solver.inertia;
     // The fluid grid is coupling::SuspensionPointSettings' default (8 × 8 × 2); its cells are

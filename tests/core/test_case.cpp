@@ -7,6 +7,7 @@
 #include <numbers>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
@@ -63,6 +64,29 @@ TEST(Case, ParticleDefaultsAreTheSeedValues) {
   EXPECT_DOUBLE_EQ(p.poisson_ratio, 0.33);
   EXPECT_DOUBLE_EQ(p.restitution, 0.9);
   EXPECT_DOUBLE_EQ(p.friction, 0.3);
+}
+
+TEST(Case, DragLawIsTheSeedsUnlessTheNearFieldHasLubrication) {
+  const std::string particles = "particles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000";
+  const auto drag_of = [&](const std::string& rest) {
+    const Case c = parse_case(plate_case + particles + rest + "}\n", "p.yaml");
+    const auto& p = *std::get<RheometerCase>(c.spec).particles;
+    return std::pair{p.drag, p.drag_automatic};
+  };
+  EXPECT_EQ(drag_of(""), std::pair(DragLaw::di_felice, true));
+  EXPECT_EQ(drag_of(", hydrodynamics: {model: stresslet}"), std::pair(DragLaw::di_felice, true));
+  EXPECT_EQ(drag_of(", hydrodynamics: {model: lubrication+stresslet}"), std::pair(DragLaw::schiller_naumann, true));
+  EXPECT_EQ(drag_of(", drag: {model: auto}, hydrodynamics: {model: lubrication}"),
+            std::pair(DragLaw::schiller_naumann, true));
+  EXPECT_EQ(drag_of(", drag: {model: di_felice}, hydrodynamics: {model: lubrication}"),
+            std::pair(DragLaw::di_felice, false));
+  EXPECT_EQ(drag_of(", drag: {model: schiller_naumann}"), std::pair(DragLaw::schiller_naumann, false));
+  EXPECT_STREQ(name_of(DragLaw::schiller_naumann), "schiller_naumann");
+
+  const ConfigError e = parse_error(plate_case + particles + ",\n  drag: {model: stokes}}\n");
+  EXPECT_THAT(e.what(), HasSubstr("case.yaml:8:"));  // the drag line
+  EXPECT_THAT(e.what(), HasSubstr("particles.drag.model"));
+  EXPECT_THAT(e.what(), HasSubstr("schiller_naumann"));
 }
 
 TEST(Case, MisspeltKeyNamesLineColumnAndSuggestion) {

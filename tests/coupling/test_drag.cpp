@@ -14,6 +14,7 @@
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/coupling/drag.hpp"
+#include "rheosim/coupling/forces.hpp"
 
 namespace rheosim::coupling {
 namespace {
@@ -54,6 +55,17 @@ double norm(const Vector3& v) { return std::hypot(v[0], v[1], v[2]); }
 TEST(Drag, RegistryHasDiFeliceAndSchillerNaumann) {
   EXPECT_THAT(builtin_drag_models().names(), ElementsAre("di_felice", "schiller_naumann"));
   EXPECT_EQ(di_felice()->name(), "di_felice");
+}
+
+// Every law a case file can name (core::DragLaw) is registered under that name, and the disk's
+// force list carries it in place of di_felice.
+TEST(Drag, EveryCaseFileLawIsRegistered) {
+  for (const core::DragLaw law : {core::DragLaw::di_felice, core::DragLaw::schiller_naumann}) {
+    EXPECT_EQ(make_drag_model(law)->name(), core::name_of(law));
+    EXPECT_EQ(force_models(law).front(), core::name_of(law));
+    EXPECT_EQ(make_force_model(force_models(law).front())->name(), core::name_of(law));
+  }
+  EXPECT_EQ(force_models(core::DragLaw::di_felice), seed_force_models());
 }
 
 TEST(Drag, UnknownModelNameListsTheValidOnes) {

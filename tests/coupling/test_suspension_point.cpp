@@ -8,6 +8,7 @@
 #include <string>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 
 #include "coupling_test_support.hpp"
 #include "rheosim/coupling/suspension_point.hpp"
@@ -46,6 +47,25 @@ TEST(SteadyState, DriftingTorqueIsNotSteadyUntilMaxStrain) {
 TEST(SteadyState, RejectsBadSettings) {
   EXPECT_THROW(SteadyStateDetector({.strain_window = 0.0}, 1.0), std::invalid_argument);
   EXPECT_THROW(SteadyStateDetector({}, 0.0), std::invalid_argument);
+}
+
+// particles.drag names the law; a force list that carries another one is refused before any work.
+TEST(SuspensionPoint, ForceListMustCarryTheParticlesDragLaw) {
+  testing::RunFolder folder;
+  SuspensionPointSettings s;
+  s.geometry = {.radius = 0.002, .gap = 0.0005};
+  s.fluid = {.density = 1000, .rheology = testing::newtonian(1e-3)};
+  s.particles = {.volume_fraction = 0.03, .diameter = 1e-4, .density = 1000};
+  s.particles.drag = core::DragLaw::schiller_naumann;
+  s.rim_shear_rate = 50.0;
+  s.run_directory = folder.path();
+  try {
+    (void)run_point(s);  // coupling.forces is still the seed's (di_felice)
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("di_felice but particles.drag is schiller_naumann"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(SuspensionPoint, ShortRunReportsTorquePartsAndCost) {

@@ -74,6 +74,18 @@ struct Hydrodynamics {
   [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag || repulsion; }
 };
 
+// particles.drag: the fluid–particle drag law of the CFD-DEM coupling (coupling/src/drag/).
+// YAML `drag: {model: auto | di_felice | schiller_naumann}`. auto, the default, is di_felice
+// (the seed's, CD eqs. 30–33) for drag-only suspensions and schiller_naumann (the isolated
+// sphere) when the near field has lubrication: the pair terms then carry the crowding that Di
+// Felice's voidage function would add a second time (docs/hydrodynamics.md, "Which drag goes
+// with the near field").
+enum class DragLaw { di_felice, schiller_naumann };
+// Its YAML name, the registry name in coupling::builtin_drag_models().
+[[nodiscard]] constexpr const char* name_of(DragLaw d) {
+  return d == DragLaw::schiller_naumann ? "schiller_naumann" : "di_felice";
+}
+
 struct ParticleProperties {  // particles: (CD §4 defaults)
   double volume_fraction = 0;     // φ [-], [0, 0.5]; a sweep sets it per point
   double diameter = 0;            // d [m], < gap; with a size distribution the representative
@@ -86,6 +98,8 @@ struct ParticleProperties {  // particles: (CD §4 defaults)
   // Last, and not a std::optional (see SizeDistribution); type none (the default): monodisperse.
   SizeDistribution size_distribution{};
   Hydrodynamics hydrodynamics{};  // after size_distribution, same reason
+  DragLaw drag = DragLaw::di_felice;  // the case reader resolves `auto` (drag_automatic: it did)
+  bool drag_automatic = false;
 };
 
 struct NamedFluid {

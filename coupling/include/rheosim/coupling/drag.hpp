@@ -14,6 +14,7 @@
 #include <span>
 #include <string_view>
 
+#include "rheosim/core/case.hpp"
 #include "rheosim/core/registry.hpp"
 
 namespace rheosim::coupling {
@@ -82,11 +83,13 @@ class DragModelBase : public DragModel {
 
 using DragRegistry = core::Registry<DragModel>;
 
-// Adds every built-in law: di_felice.
+// Adds every built-in law: di_felice, schiller_naumann.
 void add_builtin_drag_models(DragRegistry& registry);
 // A registry holding the built-in laws.
 [[nodiscard]] DragRegistry builtin_drag_models();
 // Builds a law from a `drag:` section ({model: name, ...parameters}).
 [[nodiscard]] std::unique_ptr<const DragModel> make_drag_model(const core::Section& section);
+// The law a case's particles.drag names (core::DragLaw; no parameters).
+[[nodiscard]] std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law);
 
 }  // namespace rheosim::coupling

@@ -23,7 +23,7 @@
 //   - void fraction: the particle volume split of the chosen scheme (centre | divided, reused
 //     from void_fraction.hpp on a one-cell-wide cylindrical grid, so the sub-points and the
 //     plate mirroring are the disk's), ε_k = 1 − V_s,k / (A Δz), floored at void_fraction_floor;
-//   - forces on each particle (coupling::DragModel, di_felice, CD eqs. 30–33, ε and μ in Re_p;
+//   - forces on each particle (coupling::DragModel of particles.drag: di_felice, CD eqs. 30–33, ε and μ in Re_p;
 //     viscous force V_p ∂z τ of CD eq. 35, with the layer's discrete ∂z τ): u_f is the column
 //     velocity interpolated linearly in z between layer centres and the plate values; ε, μ and
 //     ∂z τ are the layer values weighted by the particle's volume shares;
@@ -81,7 +81,6 @@ struct ShearCellPointSettings {
   int coupling_interval = 100;           // DEM steps per fluid step
   std::string void_fraction = "divided";  // centre | divided
   double void_fraction_floor = 0.3;
-  std::string drag = "di_felice";
   bool viscous_force = true;             // CD eq. 35
   SteadyStateSettings steady{};
   std::uint64_t seed = 1;

@@ -77,7 +77,8 @@ struct SuspensionPointSettings {
   // DEM time step: explicit, or this fraction of the Rayleigh time.
   std::optional<double> dem_time_step = std::nullopt;
   double time_step_fraction = 0.3;
-  // Coupling: interval, void fraction, forces (fluid_time_step is derived: N × DEM δt).
+  // Coupling: interval, void fraction, forces (fluid_time_step is derived: N × DEM δt). The drag
+  // law in forces must be particles.drag's: force_models(particles.drag) (run_point checks).
   CouplerSettings coupling{};
   SteadyStateSettings steady{};
   std::uint64_t seed = 1;
