@@ -366,6 +366,11 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     v.max_iterations = s->integer_or({"max_iterations", "iterations per linear solve", "-"}, v.max_iterations, 1, 1000000);
     v.reordering = s->choice_or({"reordering", "node reordering after advection", "-"}, v.reordering,
                                 {"lattice", "density"});
+    if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.reordering == "density")
+      s->fail("reordering",
+              "the density-constraint PBD reordering opens a void at one lid corner and piles nodes up at the "
+              "other within ~0.2 L/U, and the cavity diverges (docs/ldd.md)",
+              "lattice", "free-surface scenes always use the volume-keeping PBD; a cavity returns its nodes to the lattice");
     v.interpolation = s->choice_or({"interpolation", "lattice reordering: how the velocity returns to the lattice", "-"},
                                    v.interpolation, {"quadratic", "shepard", "gradient_corrected"});
     v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"},

@@ -262,6 +262,15 @@ TEST(Case, LddGradientIsCheckedAgainstTheScene) {
   EXPECT_EQ(typo.details().key_path, "solver.gradient");
 }
 
+TEST(Case, LddCavityRefusesTheDivergingDensityReordering) {
+  EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case + "solver: {reordering: lattice}\n", "c.yaml").spec).solver.reordering,
+            "lattice");
+  const auto density = parse_error(cavity_case + "solver: {reordering: density}\n");
+  EXPECT_EQ(density.details().key_path, "solver.reordering");
+  EXPECT_EQ(density.details().where.line, 10);
+  EXPECT_THAT(density.details().expected, HasSubstr("lattice"));
+}
+
 TEST(Case, EveryShippedCaseValidates) {
   const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
   std::set<std::string> kinds;
