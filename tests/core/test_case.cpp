@@ -249,15 +249,20 @@ TEST(Case, LddPreconditionersAreCheckedWithTheirLine) {
   EXPECT_EQ(lu.details().where.line, 10);
 }
 
+// A cavity refuses `solver: {key: value}` with an error at that line naming what is valid.
+void expect_cavity_refuses(const std::string& key, const std::string& value, const std::string& valid) {
+  const auto e = parse_error(cavity_case + "solver: {" + key + ": " + value + "}\n");
+  EXPECT_EQ(e.details().key_path, "solver." + key);
+  EXPECT_EQ(e.details().where.line, 10);
+  EXPECT_THAT(e.details().expected, HasSubstr(valid));
+}
+
 TEST(Case, LddGradientIsCheckedAgainstTheScene) {
   EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case, "c.yaml").spec).solver.gradient, "auto");
   EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case + "solver: {gradient: renormalised}\n", "c.yaml").spec).solver.gradient,
             "renormalised");
   // A cavity's wall rows need the wall node's own value in its gradient.
-  const auto centred = parse_error(cavity_case + "solver: {gradient: centred}\n");
-  EXPECT_EQ(centred.details().key_path, "solver.gradient");
-  EXPECT_EQ(centred.details().where.line, 10);
-  EXPECT_THAT(centred.details().expected, HasSubstr("renormalised"));
+  expect_cavity_refuses("gradient", "centred", "renormalised");
   const auto typo = parse_error(cavity_case + "solver: {gradient: centered}\n");
   EXPECT_EQ(typo.details().key_path, "solver.gradient");
 }
@@ -265,10 +270,7 @@ TEST(Case, LddGradientIsCheckedAgainstTheScene) {
 TEST(Case, LddCavityRefusesTheDivergingDensityReordering) {
   EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case + "solver: {reordering: lattice}\n", "c.yaml").spec).solver.reordering,
             "lattice");
-  const auto density = parse_error(cavity_case + "solver: {reordering: density}\n");
-  EXPECT_EQ(density.details().key_path, "solver.reordering");
-  EXPECT_EQ(density.details().where.line, 10);
-  EXPECT_THAT(density.details().expected, HasSubstr("lattice"));
+  expect_cavity_refuses("reordering", "density", "lattice");
 }
 
 TEST(Case, EveryShippedCaseValidates) {
