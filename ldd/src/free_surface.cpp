@@ -796,16 +796,27 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 && momentum_lu.factorise(momentum_matrix_))
     velocity_settings.preconditioner = momentum_lu.apply();
   const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
+  bool velocity_hierarchy_fresh = false;
   if (velocity_amg) {
-    velocity_amg_.prepare(momentum_matrix_);
+    velocity_hierarchy_fresh = velocity_amg_.prepare(momentum_matrix_);
     velocity_settings.preconditioner = velocity_amg_.as_preconditioner();
   }
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
   for (std::size_t d = 0; d < dim; ++d) {
     for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
-    const auto result = bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
-                                 velocity_settings, krylov_);
+    auto result = bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
+                           velocity_settings, krylov_);
+    if (!result.converged && velocity_amg && !velocity_hierarchy_fresh) {
+      // A hierarchy kept from earlier steps no longer fits the matrix: rebuild it, solve again.
+      velocity_amg_.setup(momentum_matrix_);
+      velocity_hierarchy_fresh = true;
+      ++stats.repeated_solves;
+      for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
+      stats.velocity_iterations += result.iterations;
+      result = bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_, velocity_settings,
+                        krylov_);
+    }
     most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
     stats.velocity_residual = std::max(stats.velocity_residual, result.relative_residual);
@@ -883,11 +894,31 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 && pressure_lu.factorise(pressure_matrix_))
     pressure_settings.preconditioner = pressure_lu.apply();
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
+  bool pressure_hierarchy_fresh = false;
   if (pressure_amg) {
-    pressure_amg_.prepare(pressure_matrix_);
+    pressure_hierarchy_fresh = pressure_amg_.prepare(pressure_matrix_);
     pressure_settings.preconditioner = pressure_amg_.as_preconditioner();
   }
-  const auto pressure_result = bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+  auto pressure_result = bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+  const auto repeat_pressure_solve = [&] {
+    ++stats.repeated_solves;
+    increment_.assign(n, 0.0);
+    const int failed_iterations = pressure_result.iterations;
+    pressure_result = bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+    pressure_result.iterations += failed_iterations;
+  };
+  if (!pressure_result.converged && pressure_amg && !pressure_hierarchy_fresh) {
+    // As for the velocity: the kept hierarchy was built for an older cloud and classification.
+    pressure_amg_.setup(pressure_matrix_);
+    repeat_pressure_solve();
+  }
+  LuPreconditioner pressure_direct;  // outlives pressure_settings' use in the stability probe
+  if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance) &&
+      dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu && pressure_direct.factorise(pressure_matrix_)) {
+    // Last resort in 2D: the exact factors as the preconditioner (seconds at 200 000 nodes).
+    pressure_settings.preconditioner = pressure_direct.apply();
+    repeat_pressure_solve();
+  }
   if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
   stats.pressure_iterations = pressure_result.iterations;
   stats.pressure_residual = pressure_result.relative_residual;
@@ -934,10 +965,20 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
                                       kind_name(kinds_[fastest]), positions_[dim * fastest], positions_[dim * fastest + 1],
                                       dim == 3 ? fmt::format(", {:.4g}", positions_[dim * fastest + 2]) : std::string(),
                                       fmt::format(", {} neighbours", nb.offsets[fastest + 1] - nb.offsets[fastest])));
-  if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance))
-    throw DivergenceError(fmt::format("pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} "
-                                      "iterations",
-                                      next_time, steps_ + 1, pressure_result.relative_residual, pressure_result.iterations));
+  if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance)) {
+    const FloatingGroups floating = floating_groups(pressure_matrix_);
+    const std::size_t at = floating.largest_member;
+    throw DivergenceError(fmt::format(
+        "pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations ({} repeated "
+        "solve(s)); {}",
+        next_time, steps_ + 1, pressure_result.relative_residual, pressure_result.iterations, stats.repeated_solves,
+        floating.groups == 0
+            ? std::string("every node reaches a free-surface node through the pressure matrix")
+            : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
+                          "largest, {} nodes, includes a {} node at ({:.4g}, {:.4g}{})",
+                          floating.groups, floating.nodes, floating.largest, kind_name(kinds_[at]), positions_[dim * at],
+                          positions_[dim * at + 1], dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string())));
+  }
   if (!velocity_converged && !(stats.velocity_residual < 1e3 * params_.velocity_tolerance))
     throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}", next_time,
                                       steps_ + 1, stats.velocity_residual));

@@ -398,4 +398,44 @@ std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::sp
   return result;
 }
 
+FloatingGroups floating_groups(const StencilMatrix& a) {
+  const NeighbourList& nb = *a.pattern;
+  const std::size_t n = a.size();
+  std::vector<std::size_t> parent(n);
+  for (std::size_t i = 0; i < n; ++i) parent[i] = i;
+  const auto root = [&](std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<char> anchored(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool coupled = false;
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
+      if (a.off_diagonal[k] != 0.0) {
+        coupled = true;
+        parent[root(i)] = root(nb.indices[k]);
+      }
+    if (!coupled) anchored[i] = 1;
+  }
+  std::vector<std::size_t> size(n, 0);
+  std::vector<char> group_anchored(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t r = root(i);
+    ++size[r];
+    if (anchored[i]) group_anchored[r] = 1;
+  }
+  FloatingGroups out;
+  for (std::size_t r = 0; r < n; ++r) {
+    if (size[r] == 0 || group_anchored[r]) continue;
+    ++out.groups;
+    out.nodes += size[r];
+    if (size[r] > out.largest) {
+      out.largest = size[r];
+      out.largest_member = r;
+    }
+  }
+  return out;
+}
+
+
 }  // namespace rheosim::ldd

@@ -213,10 +213,17 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
   FreeSurfaceStats stats;
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
+  int repeated_solves = 0;
   for (std::size_t k = 1; k <= total_steps; ++k) {
     if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
     pressure_iterations += stats.pressure_iterations;
     velocity_iterations += stats.velocity_iterations;
+    if (stats.repeated_solves > 0) {
+      repeated_solves += stats.repeated_solves;
+      log.warn("t = {:.6g} s: {} linear solve(s) failed and were repeated (fresh AMG hierarchy, or the pressure "
+               "matrix's LU)",
+               solver.time(), stats.repeated_solves);
+    }
     if (dam_break) {
       front_t.push_back(solver.time());
       front_x.push_back(mass_front(solver));
@@ -251,6 +258,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
   summary["volume_drift"] = max_drift;
   summary["kinetic_energy_peak"] = peak_energy;
+  summary["repeated_solves"] = repeated_solves;
   // Krylov iterations per step (velocity: all components), to compare preconditioners.
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
   summary["iterations_per_step"] = {{"pressure", pressure_iterations / steps_done},

@@ -35,6 +35,27 @@ Chain chain(std::size_t n) {
   return c;
 }
 
+TEST(FloatingGroups, FindsTheBlocksThatNoDirichletRowReaches) {
+  Chain c = chain(10);  // rows 0 and 9 Dirichlet: everything anchored
+  EXPECT_EQ(floating_groups(c.a).groups, 0u);
+  // Cut 4–5 in both rows and couple row 9: nodes 5–9 form a Neumann block.
+  for (std::size_t i = 0; i < 10; ++i)
+    for (std::size_t k = c.nb.offsets[i]; k < c.nb.offsets[i + 1]; ++k) {
+      const std::size_t j = c.nb.indices[k];
+      if ((i == 4 && j == 5) || (i == 5 && j == 4)) c.a.off_diagonal[k] = 0.0;
+      if (i == 9) c.a.off_diagonal[k] = -1.0;
+    }
+  const FloatingGroups f = floating_groups(c.a);
+  EXPECT_EQ(f.groups, 1u);
+  EXPECT_EQ(f.nodes, 5u);
+  EXPECT_EQ(f.largest, 5u);
+  EXPECT_GE(f.largest_member, 5u);
+  // A coupling in one direction is enough to anchor: row 5 reads node 4 again.
+  for (std::size_t k = c.nb.offsets[5]; k < c.nb.offsets[6]; ++k)
+    if (c.nb.indices[k] == 4) c.a.off_diagonal[k] = -0.5;
+  EXPECT_EQ(floating_groups(c.a).groups, 0u);
+}
+
 TEST(BiCGStab, SolvesNonSymmetricSystemWithDirichletOnlyRightHandSide) {
   const std::size_t n = 200;
   const Chain c = chain(n);

@@ -183,6 +183,10 @@ struct FreeSurfaceStats {
   std::size_t surface_nodes = 0, splash_nodes = 0;
   std::size_t positivity_guarded = 0;  // nodes whose Laplacian dropped the offset correction
   double max_pbd_shift = 0;  // units of Δ
+  // Solves that failed and were repeated: with a fresh AMG hierarchy when the kept one was built
+  // for an older cloud, and in 2D a pressure solve with the matrix's sparse LU as preconditioner
+  // (the failed iterations are counted in the totals above).
+  int repeated_solves = 0;
   // FreeSurfaceParams::stability_probe_iterations > 0: largest growth factor per step of the
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;

@@ -32,6 +32,16 @@ struct StencilMatrix {
   void multiply(std::span<const double> x, std::span<double> out) const;
 };
 
+// Groups of unknowns that no uncoupled row (a Dirichlet row such as p = p_atm on a free
+// surface) reaches through the matrix's couplings, in either direction: each is a Neumann block,
+// singular up to the offset terms. A diagnosis for a failed pressure solve.
+struct FloatingGroups {
+  std::size_t groups = 0, nodes = 0;     // how many, and their nodes in all
+  std::size_t largest = 0;               // nodes in the largest
+  std::size_t largest_member = 0;        // one node of the largest
+};
+[[nodiscard]] FloatingGroups floating_groups(const StencilMatrix& a);
+
 // Preconditioner of an LDD linear system (a solver setting): 1/diagonal, a sparse LU, or one
 // AMG V-cycle (amg.hpp).
 enum class Preconditioner { jacobi, sparse_lu, amg };
