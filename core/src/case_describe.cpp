@@ -65,7 +65,7 @@ std::string describe_rheometer(const RheometerCase& r) {
                                            : std::string{});
     out += fmt::format("  drag: {}{}\n", name_of(p->drag),
                        !p->drag_automatic                 ? ""
-                       : p->drag == DragLaw::di_felice ? " (auto: drag only, the seed's law)"
+                       : p->drag == DragLaw::di_felice ? " (auto: no lubrication, so the seed's law)"
                                                           : " (auto: lubrication carries the crowding, so the isolated "
                                                             "sphere's drag)");
   } else {
