@@ -7,7 +7,8 @@
 #
 # Each run goes through ldd::run_case (bench_ldd run, the same code as `rheosim run`). Costs on
 # the 2-core machine: Δ = 2 mm, δt = 1e-3 about 1 h; the δt = 1e-4 and Δ = 1 mm runs are 10× and
-# 40× that — hours to days; run them on a quiet machine.
+# 40× that — hours to days; run them on a quiet machine. Each run writes checkpoint.h5 at every
+# frame and every 10 minutes: run the script again after a kill and it goes on from there.
 set -euo pipefail
 build=${1:-build-ldd}
 out=${2:-results/ldd_table1}
@@ -20,8 +21,9 @@ for pair in $pairs; do
   name="dx${dx}_dt${dt}"
   sed -e "s/spacing: 0.002/spacing: ${dx}/" -e "s/step: 1.0e-3/step: ${dt}/" \
       "$here/cases/ldd_dam_break_bingham.yaml" > "$out/$name.yaml"
-  if [ ! -f "$out/$name/summary.json" ]; then
-    "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true
+  # A run that was stopped (killed, or status interrupted) goes on from its checkpoint.h5.
+  if ! grep -qE '"status": "(end_time|diverged)"' "$out/$name/summary.json" 2>/dev/null; then
+    "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" >> "$out/$name.log" 2>&1 || true
   fi
 done
 python3 - "$out" $pairs <<'PY'

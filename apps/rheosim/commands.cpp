@@ -65,7 +65,7 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
   return status;
 }
 
-int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget,
+int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget, double stop_after,
         const core::Log& log) {
   core::Case c;
   try {
@@ -75,7 +75,7 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
   }
   const std::filesystem::path out = out_dir.empty() ? std::filesystem::path("results") / c.name : out_dir;
   if (std::holds_alternative<core::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
-  if (std::holds_alternative<core::LddCase>(c.spec)) return run_ldd(c, out, log);
+  if (std::holds_alternative<core::LddCase>(c.spec)) return run_ldd(c, out, stop_after, log);
   const auto* rheometer_case = std::get_if<core::RheometerCase>(&c.spec);
   if (rheometer_case && rheometer_case->particles) {
     // A suspension at one φ runs as a two-fraction sweep: the liquid alone (φ = 0, the reference

@@ -15,7 +15,8 @@ inline constexpr int exit_bad_input = 2;
 
 int validate(const std::vector<std::string>& case_files, const core::Log& log);
 // point_budget: the largest estimated one-core wall time [s] of a CFD-DEM point that is started.
-int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget,
+// stop_after: free-surface LDD runs stop with a checkpoint after this wall time [s] (0: never).
+int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget, double stop_after,
         const core::Log& log);
 int report(const std::filesystem::path& run_dir, const core::Log& log);
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,

@@ -47,10 +47,17 @@ int main(int argc, char** argv) {
                   "Largest estimated wall time of one CFD-DEM point, in seconds (default 600); dearer points "
                   "fail at once with their estimate")
       ->check(CLI::PositiveNumber);
+  double stop_after = 0;
+  run->add_option("--stop-after", stop_after,
+                  "Free-surface LDD runs: after this many seconds of wall time, write the checkpoint and stop "
+                  "(status interrupted); the same command goes on from there")
+      ->check(CLI::PositiveNumber);
   run->footer(
       "Writes summary.json, CSV tables, HDF5 data, plots and report.html into the output folder.\n"
       "A sweep (kind: sweep) stores each finished point at once; run it again with the same --out\n"
-      "after an interruption and only the missing points are computed.\n"
+      "after an interruption and only the missing points are computed. A free-surface LDD run\n"
+      "(dam break, slump) writes checkpoint.h5 at every frame and every 10 minutes; run it again\n"
+      "with the same --out and it continues from the last checkpoint.\n"
       "Examples:\n"
       "  rheosim run cases/quickstart.yaml --out results/quickstart\n"
       "  rheosim run cases/suspension_seed.yaml --out results/seed");
@@ -91,7 +98,7 @@ int main(int argc, char** argv) {
   const auto verbosity = quiet ? core::Verbosity::quiet : (verbose ? core::Verbosity::verbose : core::Verbosity::normal);
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
-  if (*run) return app::run(run_case, run_out, point_budget, log);
+  if (*run) return app::run(run_case, run_out, point_budget, stop_after, log);
   if (*foam) return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, export_rim, log);
   return app::report(report_dir, log);
 }

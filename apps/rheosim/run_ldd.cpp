@@ -3,17 +3,23 @@
 #include <exception>
 
 #include "commands.hpp"
+#include "rheosim/core/error.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::app {
 
-int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
+int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, double stop_after, const core::Log& log) {
   try {
     const auto log_file = log.with_file(out_dir / "log.txt");
     log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, c.file, out_dir.string());
-    const auto outcome = ldd::run_case(c, out_dir, log_file);
+    ldd::RunControl control;
+    control.wall_time_limit = stop_after;
+    const auto outcome = ldd::run_case(c, out_dir, log_file, control);
     return outcome.status == "diverged" ? exit_run_failure : exit_success;
+  } catch (const core::ConfigError& e) {
+    log.error("{}", e.what());
+    return exit_bad_input;
   } catch (const std::exception& e) {
     log.error("run failed: {}", e.what());
     return exit_run_failure;

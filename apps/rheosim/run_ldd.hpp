@@ -8,7 +8,9 @@
 
 namespace rheosim::app {
 
-// 0: finished (steady or end time); 1: diverged or failed (the message is logged).
-int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log);
+// 0: finished (steady, settled, end time) or interrupted by stop_after [s of wall time, 0: never]
+// with a checkpoint to go on from; 1: diverged or failed (the message is logged); 2: out_dir holds
+// the checkpoint of another deck.
+int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, double stop_after, const core::Log& log);
 
 }  // namespace rheosim::app

@@ -22,7 +22,8 @@
 
 namespace rheosim::ldd {
 
-RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log);
+RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+                                 const RunControl& control);
 
 namespace {
 
@@ -175,10 +176,11 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
 
 }  // namespace
 
-RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
+RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+                    const RunControl& control) {
   const auto& l = std::get<core::LddCase>(c.spec);
   const auto* scene = std::get_if<core::CavityScene>(&l.scene);
-  if (!scene) return run_free_surface_case(c, out_dir, log);
+  if (!scene) return run_free_surface_case(c, out_dir, log, control);
   const auto wall_start = std::chrono::steady_clock::now();
   if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
   const int threads = omp_get_max_threads();

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <vector>
 
 #include <fmt/format.h>
@@ -54,8 +55,12 @@ double interpolate(const std::vector<double>& t, const std::vector<double>& v, d
   return (1 - w) * v[k - 1] + w * v[k];
 }
 
+std::filesystem::path frame_name(std::size_t index) {
+  return std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
+}
+
 std::filesystem::path write_frame(const FreeSurfaceSolver& s, const std::filesystem::path& dir, int index) {
-  const auto name = std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
+  const auto name = frame_name(static_cast<std::size_t>(index));
   std::vector<double> kind(s.node_count());
   for (std::size_t i = 0; i < kind.size(); ++i) kind[i] = static_cast<double>(s.kinds()[i]);
   core::write_vtk_points(dir / name, s.positions(),
@@ -98,6 +103,158 @@ FreeSurfaceScene build_scene(const core::LddCase& l) {
   throw core::RunError(fmt::format("LDD scene '{}' is not a free-surface scene", l.scene_type));
 }
 
+// What a free-surface run has recorded besides the solver's state; with it, the checkpoint.
+struct RunRecord {
+  std::vector<double> front_time, front;  // dam break: after every step
+  std::vector<double> frame_times;
+  std::vector<double> resumed_at_steps;   // steps at which this run was continued from a checkpoint
+  double volume0 = 0, max_drift = 0, peak_energy = 0;
+  double step_seconds = 0, wall_seconds = 0;           // over all processes that ran the case
+  double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
+  double repeated_solves = 0;
+};
+
+template <class T>
+std::vector<double> as_doubles(const std::vector<T>& v) {
+  std::vector<double> out(v.size());
+  std::transform(v.begin(), v.end(), out.begin(), [](T x) { return static_cast<double>(x); });
+  return out;
+}
+
+template <class T>
+std::vector<T> from_doubles(const std::vector<double>& v) {
+  std::vector<T> out(v.size());
+  std::transform(v.begin(), v.end(), out.begin(), [](double x) { return static_cast<T>(x); });
+  return out;
+}
+
+// Numbers go in as doubles (HDF5 through core/output.hpp): indices and counts are exact below 2^53.
+void write_checkpoint(const std::filesystem::path& path, const core::Case& c, const FreeSurfaceSolver& solver,
+                      const RunRecord& r, const core::CsvTable& history) {
+  FreeSurfaceState s = solver.state();
+  const auto dim = static_cast<std::size_t>(solver.dimension());
+  const PhaseTimes& t = s.times;
+  core::Hdf5Content h;
+  h.attributes = {{"input_sha256", c.sha256},
+                  {"git_revision", core::git_revision},
+                  {"time", s.time},
+                  {"steps", static_cast<double>(s.steps)},
+                  {"first_step", s.first_step ? 1.0 : 0.0},
+                  {"volume0", r.volume0},
+                  {"max_drift", r.max_drift},
+                  {"peak_energy", r.peak_energy},
+                  {"step_seconds", r.step_seconds},
+                  {"wall_seconds", r.wall_seconds},
+                  {"pressure_iterations", r.pressure_iterations},
+                  {"velocity_iterations", r.velocity_iterations},
+                  {"repeated_solves", r.repeated_solves},
+                  {"seconds_neighbours", t.neighbours},
+                  {"seconds_operators", t.operators},
+                  {"seconds_rheology", t.rheology},
+                  {"seconds_pressure", t.pressure},
+                  {"seconds_momentum", t.momentum},
+                  {"seconds_advection", t.advection},
+                  {"seconds_reordering", t.reordering}};
+  const auto add = [&](std::string name, std::vector<double> data, std::size_t width, std::string unit) {
+    std::vector<std::size_t> shape{data.size() / std::max<std::size_t>(width, 1)};
+    if (width > 1) shape.push_back(width);
+    h.datasets.push_back({std::move(name), std::move(shape), std::move(data), std::move(unit), {}});
+  };
+  add("state/positions", std::move(s.positions), dim, "m");
+  add("state/velocity", std::move(s.velocity), dim, "m/s");
+  add("state/previous_velocity", std::move(s.previous_velocity), dim, "m/s");
+  add("state/pressure", std::move(s.pressure), 1, "Pa");
+  add("state/shear_rate", std::move(s.shear_rate), 1, "1/s");
+  add("state/viscosity", std::move(s.viscosity), 1, "Pa s");
+  add("state/kinds", as_doubles(s.kinds), 1, "");
+  add("state/neighbours/offsets", as_doubles(s.neighbours.offsets), 1, "");
+  add("state/neighbours/indices", as_doubles(s.neighbours.indices), 1, "");
+  add("state/neighbours/distances", std::move(s.neighbours.distances), 1, "m");
+  const std::size_t columns = history.numeric_columns().size();
+  std::vector<double> rows;
+  rows.reserve(history.row_count() * columns);
+  for (std::size_t i = 0; i < history.row_count(); ++i) rows.insert(rows.end(), history.row(i).begin(), history.row(i).end());
+  add("run/history", std::move(rows), columns, "");
+  add("run/front_time", r.front_time, 1, "s");
+  add("run/front", r.front, 1, "m");
+  add("run/frame_times", r.frame_times, 1, "s");
+  add("run/resumed_at_steps", r.resumed_at_steps, 1, "");
+  core::write_hdf5(path, h);
+}
+
+// Restores solver, record and history from `path`. Refuses (ConfigError) a checkpoint of another
+// input deck: the same folder must not mix two runs.
+void read_checkpoint(const std::filesystem::path& path, const core::Case& c, FreeSurfaceSolver& solver, RunRecord& r,
+                     core::CsvTable& history) {
+  std::map<std::string, core::Hdf5Attribute> a;
+  for (auto& attribute : core::read_hdf5_attributes(path)) a.emplace(attribute.name, std::move(attribute));
+  const auto text = [&](const char* name) {
+    const auto it = a.find(name);
+    return it != a.end() && std::holds_alternative<std::string>(it->second.value) ? std::get<std::string>(it->second.value)
+                                                                                   : std::string();
+  };
+  const auto number = [&](const char* name) {
+    const auto it = a.find(name);
+    if (it == a.end() || !std::holds_alternative<double>(it->second.value))
+      throw core::RunError(fmt::format("checkpoint '{}' has no number '{}': not a checkpoint of this rheosim",
+                                       path.string(), name));
+    return std::get<double>(it->second.value);
+  };
+  const std::string stored_sha = text("input_sha256");
+  if (stored_sha != c.sha256) {
+    core::ConfigError::Details d;
+    d.where = core::FileLocation{path.string(), 0, 0};
+    d.key_path = "input_sha256";
+    d.problem = fmt::format("this folder holds the checkpoint of another input deck (sha256 {}, this deck {})",
+                            stored_sha.substr(0, 12), c.sha256.substr(0, 12));
+    d.expected = "a folder without checkpoint.h5, or the checkpoint of this very deck (resume)";
+    d.hint = fmt::format("run into a new --out folder, or delete {} to start this deck afresh", path.string());
+    throw core::ConfigError(d);
+  }
+  const auto data = [&](const char* name) { return core::read_hdf5_dataset(path, name).data; };
+  FreeSurfaceState s;
+  s.time = number("time");
+  s.steps = static_cast<std::size_t>(number("steps"));
+  s.first_step = number("first_step") != 0;
+  s.positions = data("state/positions");
+  s.velocity = data("state/velocity");
+  s.previous_velocity = data("state/previous_velocity");
+  s.pressure = data("state/pressure");
+  s.shear_rate = data("state/shear_rate");
+  s.viscosity = data("state/viscosity");
+  s.kinds = from_doubles<FreeNode>(data("state/kinds"));
+  s.neighbours.offsets = from_doubles<std::size_t>(data("state/neighbours/offsets"));
+  s.neighbours.indices = from_doubles<std::size_t>(data("state/neighbours/indices"));
+  s.neighbours.distances = data("state/neighbours/distances");
+  s.times = PhaseTimes{number("seconds_neighbours"), number("seconds_operators"), number("seconds_rheology"),
+                       number("seconds_pressure"),   number("seconds_momentum"),  number("seconds_advection"),
+                       number("seconds_reordering")};
+  try {
+    solver.restore(std::move(s));
+  } catch (const std::invalid_argument& e) {
+    throw core::RunError(fmt::format("checkpoint '{}' does not fit this case's cloud: {}", path.string(), e.what()));
+  }
+  r.volume0 = number("volume0");
+  r.max_drift = number("max_drift");
+  r.peak_energy = number("peak_energy");
+  r.step_seconds = number("step_seconds");
+  r.wall_seconds = number("wall_seconds");
+  r.pressure_iterations = number("pressure_iterations");
+  r.velocity_iterations = number("velocity_iterations");
+  r.repeated_solves = number("repeated_solves");
+  r.front_time = data("run/front_time");
+  r.front = data("run/front");
+  r.frame_times = data("run/frame_times");
+  r.resumed_at_steps = data("run/resumed_at_steps");
+  const std::vector<double> rows = data("run/history");
+  const std::size_t columns = history.numeric_columns().size();
+  if (columns == 0 || rows.size() % columns != 0)
+    throw core::RunError(fmt::format("checkpoint '{}': its probe history does not have this case's {} columns",
+                                     path.string(), columns));
+  for (std::size_t i = 0; i < rows.size(); i += columns)
+    history.add_row(std::span<const double>(rows).subspan(i, columns));
+}
+
 }  // namespace
 
 FreeSurfaceParams free_surface_params(const core::LddCase& l) {
@@ -129,9 +286,13 @@ FreeSurfaceParams free_surface_params(const core::LddCase& l) {
   return p;
 }
 
-RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
+RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+                                 const RunControl& control) {
   const auto& l = std::get<core::LddCase>(c.spec);
   const auto wall_start = std::chrono::steady_clock::now();
+  const auto wall_seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
   if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
   const int threads = omp_get_max_threads();
   std::filesystem::create_directories(out_dir / "frames");
@@ -172,25 +333,18 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     columns.push_back(col);
   core::CsvTable history(columns);
   const std::string probe_file = dam_break ? "front.csv" : slump ? "spread.csv" : "column.csv";
-  std::vector<double> front_t, front_x;
-  nlohmann::ordered_json probes = nlohmann::ordered_json::array();
-  const double volume0 = solver.fluid_volume();
-  double max_drift = 0, peak_energy = 0;
+  RunRecord run;
 
   const auto record = [&](const FreeSurfaceStats& st) {
-    const double drift = solver.fluid_volume() / volume0 - 1;
-    max_drift = std::max(max_drift, std::abs(drift));
+    const double drift = solver.fluid_volume() / run.volume0 - 1;
+    run.max_drift = std::max(run.max_drift, std::abs(drift));
     const double energy = solver.kinetic_energy();
     std::vector<double> row{solver.time()};
-    if (dam_break) {
-      row.push_back(mass_front(solver));
-      probes.push_back({{"t", solver.time()}, {"x", row.back()}});
-    }
+    if (dam_break) row.push_back(mass_front(solver));
     if (slump) {
       const auto [diameter, height] = spread(solver);
       row.push_back(diameter);
       row.push_back(height);
-      probes.push_back({{"t", solver.time()}, {"diameter", diameter}, {"height", height}});
     }
     for (double v : {energy, drift, static_cast<double>(st.surface_nodes), static_cast<double>(st.splash_nodes),
                      static_cast<double>(st.pressure_iterations), static_cast<double>(st.velocity_iterations), st.courant,
@@ -199,71 +353,121 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     history.add_row(row);
     return energy;
   };
+  const auto frame_entries = [&] {
+    std::vector<core::TimeSeriesEntry> entries;
+    for (std::size_t q = 0; q < run.frame_times.size(); ++q) entries.push_back({run.frame_times[q], frame_name(q)});
+    return entries;
+  };
+  const auto add_frame = [&] {
+    write_frame(solver, out_dir, static_cast<int>(run.frame_times.size()));
+    run.frame_times.push_back(solver.time());
+    write_frame_indexes(out_dir, frame_entries());
+  };
+  const auto checkpoint_path = out_dir / "checkpoint.h5";
+  double checkpoint_wall = 0;  // this process's wall time at the last checkpoint
+  const auto checkpoint = [&] {
+    run.wall_seconds += wall_seconds() - checkpoint_wall;
+    checkpoint_wall = wall_seconds();
+    write_checkpoint(checkpoint_path, c, solver, run, history);
+  };
 
-  std::vector<core::TimeSeriesEntry> frames;
-  frames.push_back({0.0, write_frame(solver, out_dir, 0)});
-  record(FreeSurfaceStats{});
-  if (dam_break) {
-    front_t.push_back(0.0);
-    front_x.push_back(mass_front(solver));
+  if (std::filesystem::exists(checkpoint_path)) {
+    read_checkpoint(checkpoint_path, c, solver, run, history);
+    run.resumed_at_steps.push_back(static_cast<double>(solver.steps()));
+    std::string writer;
+    for (const auto& a : core::read_hdf5_attributes(checkpoint_path))
+      if (a.name == "git_revision" && std::holds_alternative<std::string>(a.value)) writer = std::get<std::string>(a.value);
+    log.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path.string(), solver.time(), solver.steps(),
+             total_steps);
+    if (writer != core::git_revision)
+      log.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build", writer,
+               core::git_revision);
+  } else {
+    run.volume0 = solver.fluid_volume();
+    add_frame();
+    record(FreeSurfaceStats{});
+    if (dam_break) {
+      run.front_time.push_back(0.0);
+      run.front.push_back(mass_front(solver));
+    }
   }
   RunOutcome outcome;
   outcome.status = "end_time";
-  double step_seconds = 0;
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
   FreeSurfaceStats stats;
-  double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
-  int repeated_solves = 0;
-  for (std::size_t k = 1; k <= total_steps; ++k) {
-    if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
-    pressure_iterations += stats.pressure_iterations;
-    velocity_iterations += stats.velocity_iterations;
+  std::size_t steps_now = 0;  // in this process
+  for (std::size_t k = solver.steps() + 1; k <= total_steps; ++k) {
+    if ((control.step_limit > 0 && steps_now >= control.step_limit) ||
+        (control.wall_time_limit > 0 && wall_seconds() >= control.wall_time_limit)) {
+      outcome.status = "interrupted";
+      break;
+    }
+    if (!detail::timed_step(solver, stats, outcome, run.step_seconds)) break;
+    ++steps_now;
+    run.pressure_iterations += stats.pressure_iterations;
+    run.velocity_iterations += stats.velocity_iterations;
     if (stats.repeated_solves > 0) {
-      repeated_solves += stats.repeated_solves;
+      run.repeated_solves += stats.repeated_solves;
       log.warn("t = {:.6g} s: {} linear solve(s) failed and were repeated (fresh AMG hierarchy, or the pressure "
                "matrix's LU)",
                solver.time(), stats.repeated_solves);
     }
     if (dam_break) {
-      front_t.push_back(solver.time());
-      front_x.push_back(mass_front(solver));
+      run.front_time.push_back(solver.time());
+      run.front.push_back(mass_front(solver));
     }
     if (k % probe_every == 0 || k == total_steps) {
       const double energy = record(stats);
-      peak_energy = std::max(peak_energy, energy);
+      run.peak_energy = std::max(run.peak_energy, energy);
       progress.update(k, fmt::format("t {:.3f} s, KE {:.3g}, {} surface", solver.time(), energy, stats.surface_nodes));
-      if (slump && solver.time() > mould_clear_time && energy < slump_energy_decay * peak_energy) {
+      if (slump && solver.time() > mould_clear_time && energy < slump_energy_decay * run.peak_energy) {
         outcome.status = "settled";
         break;
       }
     }
     if (k % frame_every == 0) {
-      frames.push_back({solver.time(), write_frame(solver, out_dir, static_cast<int>(frames.size()))});
-      write_frame_indexes(out_dir, frames);
+      add_frame();
       core::write_csv(out_dir / probe_file, history);  // a run stopped from outside keeps its probes so far
+      checkpoint();
+    } else if (control.checkpoint_interval > 0 && wall_seconds() - checkpoint_wall >= control.checkpoint_interval) {
+      checkpoint();
     }
   }
   if (outcome.status == "diverged")
-    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame.", outcome.message,
-              solver.time());
+    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame and to {}.",
+              outcome.message, solver.time(), checkpoint_path.string());
   else
     progress.finish();
-  if (frames.back().time != solver.time() || outcome.status == "diverged")
-    frames.push_back({solver.time(), write_frame(solver, out_dir, static_cast<int>(frames.size()))});
-  write_frame_indexes(out_dir, frames);
+  // An interrupted run adds no frame: the checkpoint holds its state, and the frames of the run
+  // that goes on are numbered as if it had never stopped.
+  if ((run.frame_times.back() != solver.time() && outcome.status != "interrupted") || outcome.status == "diverged")
+    add_frame();
+  write_frame_indexes(out_dir, frame_entries());
   core::write_csv(out_dir / probe_file, history);
+  checkpoint();
+  if (outcome.status == "interrupted")
+    log.info("interrupted at t = {:.6g} s (step {} of {}): the state is in {}; run the same case into the same folder "
+             "to go on",
+             solver.time(), solver.steps(), total_steps, checkpoint_path.string());
 
   outcome.steps = solver.steps();
-  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * step_seconds / static_cast<double>(solver.steps()) : 0.0;
+  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * run.step_seconds / static_cast<double>(solver.steps()) : 0.0;
   nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
-  summary["volume_drift"] = max_drift;
-  summary["kinetic_energy_peak"] = peak_energy;
-  summary["repeated_solves"] = repeated_solves;
+  summary["volume_drift"] = run.max_drift;
+  summary["kinetic_energy_peak"] = run.peak_energy;
+  summary["repeated_solves"] = static_cast<int>(run.repeated_solves);
   // Krylov iterations per step (velocity: all components), to compare preconditioners.
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
-  summary["iterations_per_step"] = {{"pressure", pressure_iterations / steps_done},
-                                    {"velocity", velocity_iterations / steps_done}};
-  summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  summary["iterations_per_step"] = {{"pressure", run.pressure_iterations / steps_done},
+                                    {"velocity", run.velocity_iterations / steps_done}};
+  summary["wall_time"] = run.wall_seconds;
+  summary["resumed_at_steps"] = from_doubles<std::size_t>(run.resumed_at_steps);
+  nlohmann::ordered_json probes = nlohmann::ordered_json::array();
+  for (std::size_t q = 0; q < history.row_count(); ++q) {
+    const auto row = history.row(q);
+    if (dam_break) probes.push_back({{"t", row[0]}, {"x", row[1]}});
+    if (slump) probes.push_back({{"t", row[0]}, {"diameter", row[1]}, {"height", row[2]}});
+  }
   if (dam_break) {
     summary["front"] = probes;
     // LDD Table 1 layout: time, experiment, this run, the seed's LDD for the same Δ and δt.
@@ -278,7 +482,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     int counted = 0;
     for (std::size_t q = 0; q < 6; ++q) {
       const double time = DamBreakReference::times[q], exp = DamBreakReference::experiment[q];
-      const double x = interpolate(front_t, front_x, time);
+      const double x = interpolate(run.front_time, run.front, time);
       const double seed = paper ? paper[q] : std::numeric_limits<double>::quiet_NaN();
       table.add_row({time, exp, x, x - exp, seed});
       rows.push_back({{"t", time}, {"experiment", exp}, {"front", x}, {"error", x - exp}, {"ldd_seed", paper ? nlohmann::ordered_json(seed) : nlohmann::ordered_json()}});
@@ -301,7 +505,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   core::write_json(out_dir / "summary.json", summary);
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,
-           outcome.steps, solver.time(), outcome.ms_per_step, 100 * max_drift, outcome.summary.string());
+           outcome.steps, solver.time(), outcome.ms_per_step, 100 * run.max_drift, outcome.summary.string());
   return outcome;
 }
 

@@ -2,17 +2,21 @@
 // surface nodes inside or along the walls), hydrostatic pressure ρgh from a p = 0 start (LDD
 // eq. 17 with p = p_atm on the surface), the volume kept by the PBD, splash nodes that fall
 // ballistically without upsetting the PPE, a viscous column released by a receding slip gate at
-// δt = 1e-2 without a pressure collapse, and the Abrams mould geometry.
+// δt = 1e-2 without a pressure collapse, the Abrams mould geometry, and runs that stop and go on
+// from their checkpoint bit for bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <string>
 
 #include "rheosim/core/case.hpp"
+#include "rheosim/core/error.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/run.hpp"
@@ -316,6 +320,105 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   EXPECT_LT(summary["volume_drift"].get<double>(), 0.01);
   EXPECT_EQ(summary["table1"]["rows"].size(), 6U);
   std::filesystem::remove_all(dir);
+}
+
+// A run stopped part-way (the `--stop-after` path: status interrupted, checkpoint.h5 written) and
+// run again into the same folder continues from its checkpoint and ends with the same numbers,
+// bit for bit, as the run that was never stopped: the probe history, the front, the last frame
+// and the final state. The stop falls between frames (step 45; frames every 30 steps), so the
+// checkpoint the second process starts from is the one written when the first stopped.
+TEST(FreeSurfaceRun, InterruptedRunGoesOnBitForBitFromItsCheckpoint) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+      "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.01}\ntime: {step: 1.0e-3, end: 0.1}\n"
+      "output: {probe_interval: 0.005, frame_interval: 0.03}\n";
+  const core::Case c = core::parse_case(text, "dam_break_resume.yaml");
+  const auto straight = std::filesystem::temp_directory_path() / "rheosim_ldd_resume_straight";
+  const auto resumed = std::filesystem::temp_directory_path() / "rheosim_ldd_resume_twice";
+  std::filesystem::remove_all(straight);
+  std::filesystem::remove_all(resumed);
+  EXPECT_EQ(run_case(c, straight, core::Log::null()).status, "end_time");
+  RunControl stop;
+  stop.step_limit = 45;
+  const RunOutcome first = run_case(c, resumed, core::Log::null(), stop);
+  EXPECT_EQ(first.status, "interrupted");
+  EXPECT_EQ(first.steps, 45U);
+  ASSERT_TRUE(std::filesystem::exists(resumed / "checkpoint.h5"));
+  EXPECT_EQ(core::read_json(resumed / "summary.json")["status"], "interrupted");
+  const RunOutcome second = run_case(c, resumed, core::Log::null());
+  EXPECT_EQ(second.status, "end_time");
+  EXPECT_EQ(second.steps, 100U);
+
+  EXPECT_EQ(core::read_csv(straight / "front.csv"), core::read_csv(resumed / "front.csv"));
+  const auto a = core::read_json(straight / "summary.json"), b = core::read_json(resumed / "summary.json");
+  EXPECT_EQ(a["front"], b["front"]);
+  EXPECT_EQ(a["table1"], b["table1"]);
+  EXPECT_EQ(a["volume_drift"], b["volume_drift"]);
+  EXPECT_EQ(a["iterations_per_step"], b["iterations_per_step"]);
+  EXPECT_EQ(b["resumed_at_steps"], nlohmann::json::array({45}));
+  for (const char* state : {"state/positions", "state/velocity", "state/pressure"})
+    EXPECT_EQ(core::read_hdf5_dataset(straight / "checkpoint.h5", state).data,
+              core::read_hdf5_dataset(resumed / "checkpoint.h5", state).data)
+        << state;
+  const auto bytes = [](const std::filesystem::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_TRUE(bytes(straight / "frames" / "nodes_0004.vtk") == bytes(resumed / "frames" / "nodes_0004.vtk"));  // t = 0.1 s
+  std::filesystem::remove_all(straight);
+  std::filesystem::remove_all(resumed);
+}
+
+// A folder holding another deck's checkpoint is refused (exit code 2 from `rheosim run`) and its
+// checkpoint is left as it was.
+TEST(FreeSurfaceRun, CheckpointOfAnotherDeckIsRefused) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+      "fluid: {density: 1200, rheology: {model: newtonian, viscosity: 25.0}}\ngravity: [0, -9.81]\n"
+      "resolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.1}\n";
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_resume_other_deck";
+  std::filesystem::remove_all(dir);
+  RunControl stop;
+  stop.step_limit = 5;
+  EXPECT_EQ(run_case(core::parse_case(text, "a.yaml"), dir, core::Log::null(), stop).status, "interrupted");
+  const auto before = std::filesystem::last_write_time(dir / "checkpoint.h5");
+  std::string other = text;
+  other.replace(other.find("end: 0.1"), 8, "end: 0.2");
+  try {
+    (void)run_case(core::parse_case(other, "b.yaml"), dir, core::Log::null());
+    ADD_FAILURE() << "another deck's checkpoint was taken";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.details().key_path, "input_sha256");
+    EXPECT_NE(e.details().where.file.find("checkpoint.h5"), std::string::npos);
+  }
+  EXPECT_EQ(std::filesystem::last_write_time(dir / "checkpoint.h5"), before);
+  std::filesystem::remove_all(dir);
+}
+
+// restore() takes only states of the same cloud: a state whose wall node became fluid (another
+// scene) or whose arrays are of another size is refused before anything is changed.
+TEST(FreeSurface, RestoreRefusesAStateOfAnotherCloud) {
+  FreeSurfaceScene scene = column_scene(column(0.1, 0.1), 0.01);
+  FreeSurfaceSolver solver(column_params(0.01, 1e-3, 5.0), scene.boundaries, scene.cloud);
+  (void)solver.step();
+  FreeSurfaceState good = solver.state();
+  FreeSurfaceState wall_turned_fluid = good;
+  const auto wall = std::find_if(wall_turned_fluid.kinds.begin(), wall_turned_fluid.kinds.end(),
+                                 [](FreeNode k) { return k == FreeNode::wall; });
+  ASSERT_NE(wall, wall_turned_fluid.kinds.end());
+  *wall = FreeNode::interior;
+  EXPECT_THROW(solver.restore(wall_turned_fluid), std::invalid_argument);
+  FreeSurfaceState shorter = good;
+  shorter.pressure.pop_back();
+  EXPECT_THROW(solver.restore(shorter), std::invalid_argument);
+  FreeSurfaceState bad_list = good;
+  bad_list.neighbours.indices.front() = solver.node_count();
+  EXPECT_THROW(solver.restore(bad_list), std::invalid_argument);
+  EXPECT_EQ(solver.steps(), 1U);  // untouched
+  solver.restore(good);
+  EXPECT_EQ(solver.steps(), 1U);
+  EXPECT_NO_THROW((void)solver.step());
 }
 
 }  // namespace

@@ -193,6 +193,20 @@ struct FreeSurfaceStats {
   std::size_t step_map_node = 0;
 };
 
+// What one step hands to the next: the content of a run's checkpoint (run_free_surface.cpp).
+// Restored into a solver built from the same scene and parameters, the run continues bit for bit
+// in 2D; in 3D a reused AMG hierarchy is not part of the state and is rebuilt at the first step
+// after a restore (the iterates then differ within the solver tolerances).
+struct FreeSurfaceState {
+  double time = 0;
+  std::size_t steps = 0;
+  bool first_step = true;  // the first advection is first order (no u_{n−1} yet)
+  std::vector<double> positions, velocity, previous_velocity, pressure, shear_rate, viscosity;
+  std::vector<FreeNode> kinds;
+  NeighbourList neighbours;  // the list the next step uses (built before the last PBD shifts)
+  PhaseTimes times;          // wall time per phase so far
+};
+
 class FreeSurfaceSolver {
  public:
   FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries,
@@ -215,6 +229,12 @@ class FreeSurfaceSolver {
   [[nodiscard]] std::span<const FreeNode> kinds() const { return kinds_; }
   [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= FreeNode::splash; }
+
+  [[nodiscard]] FreeSurfaceState state() const;
+  // Continues from a state taken from a solver of the same scene and parameters. Throws
+  // std::invalid_argument naming the mismatch (node count, a wall node turned fluid or back, a
+  // neighbour list that does not fit the cloud).
+  void restore(FreeSurfaceState state);
 
   // From the next step on, probe the linearised step map with this many power iterations per
   // step (FreeSurfaceParams::stability_probe_iterations; 0: off).

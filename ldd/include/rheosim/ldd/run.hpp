@@ -34,16 +34,27 @@
 namespace rheosim::ldd {
 
 struct RunOutcome {
-  std::string status;              // "steady" | "end_time" | "diverged"
+  std::string status;              // "steady" | "end_time" | "diverged" | "settled" | "interrupted"
   std::string message;             // why a diverged run stopped
   std::filesystem::path summary;   // summary.json
   std::size_t steps = 0;
   double ms_per_step = 0;
 };
 
+// When a free-surface run stops before its end (cavity runs ignore these; they take minutes):
+// after step_limit steps of this process, or once wall_time_limit seconds have passed, the run
+// writes its checkpoint and returns status "interrupted" (0: no limit).
+struct RunControl {
+  std::size_t step_limit = 0;
+  double wall_time_limit = 0;     // [s]
+  double checkpoint_interval = 600;  // [s] of wall time between checkpoints (also at every frame)
+};
+
 // Throws core::RunError for a scene in a dimension it is not built for (dam_break and column are
-// 2D); never throws for divergence (see RunOutcome::status: also "settled" for a slump).
-RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log);
+// 2D), core::ConfigError when out_dir holds the checkpoint of another input deck; never throws
+// for divergence (see RunOutcome::status: also "settled" for a slump).
+RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+                    const RunControl& control = {});
 
 // A cavity run without files, for validation tests and benchmarks: steps until end_time or until
 // the steady residual (as above, sampled every 0.25 L/U) stays below steady_tolerance (0: never)
@@ -68,6 +79,11 @@ struct CavityResult {
 //   table1.csv, table1.txt                dam break: mass front at LDD Table 1's times next to the
 //                                         experiment and the seed's LDD column for this Δ and δt
 //   frames/nodes_NNNN.vtk (+ .vtk.series, nodes.pvd)   the cloud with velocity, pressure, γ̇, μ, kind
+//   checkpoint.h5  the solver's state (FreeSurfaceState) and the run's records so far, written
+//                  atomically at every frame, every RunControl::checkpoint_interval of wall time
+//                  and when the run stops (after a divergence: the last good state). Running the
+//                  same deck into the same folder again continues from it (2D: bit for bit);
+//                  a checkpoint of another deck is refused (its input sha256 differs).
 // Mass front: largest x of a non-splash fluid node + Δ/2, from the gate (x = 0). Spread: twice the
 // largest distance of a non-splash fluid node from the axis + Δ; height: largest z + Δ/2. A slump
 // stops early when, after the mould has cleared the fluid, the kinetic energy has decayed to
