@@ -206,8 +206,19 @@ std::vector<std::ptrdiff_t> aggregate(const std::vector<std::vector<std::size_t>
   return of;
 }
 
+// Per off-diagonal entry of a: 1 when its column is in the row's (symmetrised) strong set. Looked
+// up once per set-up; the power iteration and the prolongator read the flags.
+std::vector<std::uint8_t> strong_entries(const Rows& a, const std::vector<std::vector<std::size_t>>& strong) {
+  std::vector<std::uint8_t> flags(a.values.size());
+  for_rows(a.size(), [&](std::size_t i) {
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+      flags[k] = std::binary_search(strong[i].begin(), strong[i].end(), a.columns[k]) ? 1 : 0;
+  });
+  return flags;
+}
+
 // ρ(D⁻¹A_s) by power iteration, A_s = diagonal + strong entries (deterministic start vector).
-double spectral_radius(const Rows& a, const std::vector<std::vector<std::size_t>>& strong) {
+double spectral_radius(const Rows& a, const std::vector<std::uint8_t>& strong) {
   const std::size_t n = a.size();
   std::vector<double> v(n), w(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = 1.0 + static_cast<double>(i % 7) / 7.0;
@@ -217,7 +228,7 @@ double spectral_radius(const Rows& a, const std::vector<std::vector<std::size_t>
     for (std::size_t i = 0; i < n; ++i) {
       double sum = a.diagonal[i] * v[i];
       for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
-        if (std::binary_search(strong[i].begin(), strong[i].end(), a.columns[k])) sum += a.values[k] * v[a.columns[k]];
+        if (strong[k]) sum += a.values[k] * v[a.columns[k]];
       w[i] = a.diagonal[i] != 0.0 ? sum / a.diagonal[i] : 0.0;
       norm_v += v[i] * v[i];
       norm_w += w[i] * w[i];
@@ -231,8 +242,8 @@ double spectral_radius(const Rows& a, const std::vector<std::vector<std::size_t>
 }
 
 // Prolongator: piecewise constant on the aggregates, smoothed by P = (I − ω D⁻¹A_s) P_tent.
-SparseRows prolongator(const Rows& a, const std::vector<std::vector<std::size_t>>& strong,
-                       const std::vector<std::ptrdiff_t>& of, std::size_t aggregates, bool smoothed) {
+SparseRows prolongator(const Rows& a, const std::vector<std::uint8_t>& strong, const std::vector<std::ptrdiff_t>& of,
+                       std::size_t aggregates, bool smoothed) {
   const std::size_t n = a.size();
   std::vector<Eigen::Triplet<double>> entries;
   if (!smoothed) {
@@ -248,7 +259,7 @@ SparseRows prolongator(const Rows& a, const std::vector<std::vector<std::size_t>
       if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), factor * a.diagonal[i]);
       for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
         const std::size_t j = a.columns[k];
-        if (of[j] == unassigned || !std::binary_search(strong[i].begin(), strong[i].end(), j)) continue;
+        if (of[j] == unassigned || !strong[k]) continue;
         entries.emplace_back(static_cast<int>(i), static_cast<int>(of[j]), factor * a.values[k]);
       }
     }
@@ -348,7 +359,7 @@ void AmgPreconditioner::setup(const StencilMatrix& a) {
     const auto of = aggregate(strong, aggregates);
     // Nothing to coarsen, or too little gained for a level's cost.
     if (aggregates == 0 || 10 * aggregates > 9 * n) break;
-    level.p = prolongator(level.a, strong, of, aggregates, settings_.smoothed);
+    level.p = prolongator(level.a, strong_entries(level.a, strong), of, aggregates, settings_.smoothed);
     level.r = level.p.transpose();
     const SparseRows fine = sparse_of(level.a);
     const SparseRows fine_times_p = fine * level.p;
