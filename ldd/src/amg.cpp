@@ -376,6 +376,12 @@ void AmgPreconditioner::setup(const StencilMatrix& a) {
     h->coarse_factorised = h->coarse.info() == Eigen::Success;
   }
   hierarchy_ = std::move(h);
+  if (settings_.reuse_steps > 1) {
+    kept_.diagonal = a.diagonal;
+    kept_.off_diagonal = a.off_diagonal;
+    kept_.offsets = a.pattern->offsets;
+    kept_.columns = a.pattern->indices;
+  }
   ++setups_;
   calls_since_setup_ = 0;
   reference_iterations_ = -1;
@@ -415,6 +421,31 @@ void AmgPreconditioner::apply(std::span<const double> r, std::span<double> z) {
 
 std::function<void(std::span<const double>, std::span<double>)> AmgPreconditioner::as_preconditioner() {
   return [this](std::span<const double> r, std::span<double> z) { apply(r, z); };
+}
+
+AmgState AmgPreconditioner::state() const {
+  AmgState s = hierarchy_ ? kept_ : AmgState{};
+  s.calls_since_setup = calls_since_setup_;
+  s.reference_iterations = reference_iterations_;
+  s.setup_due = setup_due_;
+  return s;
+}
+
+void AmgPreconditioner::restore(const AmgState& state) {
+  hierarchy_.reset();
+  kept_ = AmgState{};
+  if (!state.empty()) {
+    NeighbourList pattern;
+    pattern.offsets = state.offsets;
+    pattern.indices = state.columns;
+    pattern.distances.assign(state.columns.size(), 0.0);  // not read by the set-up
+    if (pattern.offsets.size() != state.diagonal.size() + 1 || pattern.offsets.back() != state.off_diagonal.size())
+      throw std::invalid_argument("AMG: a kept set-up matrix does not match its pattern");
+    setup(StencilMatrix{&pattern, state.diagonal, state.off_diagonal});
+  }
+  calls_since_setup_ = state.calls_since_setup;
+  reference_iterations_ = state.reference_iterations;
+  setup_due_ = state.empty() || state.setup_due;
 }
 
 bool AmgPreconditioner::ready() const { return hierarchy_ != nullptr; }

@@ -269,8 +269,9 @@ std::size_t FreeSurfaceSolver::fluid_node_count() const {
 }
 
 FreeSurfaceState FreeSurfaceSolver::state() const {
-  return FreeSurfaceState{time_,     steps_,      first_step_, positions_, velocity_, previous_velocity_,
-                          pressure_, shear_rate_, viscosity_,  kinds_,     neighbours_, times_};
+  return FreeSurfaceState{time_,      steps_,      first_step_, positions_,  velocity_,
+                          previous_velocity_, pressure_, shear_rate_, viscosity_, kinds_,
+                          neighbours_, times_,    pressure_amg_.state(), velocity_amg_.state()};
 }
 
 void FreeSurfaceSolver::restore(FreeSurfaceState state) {
@@ -291,6 +292,11 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
   for (std::size_t i = 0; list_fits && i < n; ++i) list_fits = nb.offsets[i] <= nb.offsets[i + 1];
   for (std::size_t k = 0; list_fits && k < nb.indices.size(); ++k) list_fits = nb.indices[k] < n;
   if (!list_fits) throw std::invalid_argument("LDD free-surface state: its neighbour list does not fit the cloud");
+  for (const AmgState* amg : {&state.pressure_amg, &state.velocity_amg})
+    if (!amg->empty() && (amg->diagonal.size() != n || amg->offsets.size() != n + 1))
+      throw std::invalid_argument("LDD free-surface state: a kept AMG set-up matrix does not fit the cloud");
+  pressure_amg_.restore(state.pressure_amg);
+  velocity_amg_.restore(state.velocity_amg);
   time_ = state.time;
   steps_ = state.steps;
   first_step_ = state.first_step;
@@ -303,9 +309,6 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
   kinds_ = std::move(state.kinds);
   neighbours_ = std::move(state.neighbours);
   times_ = state.times;
-  // A kept hierarchy belongs to the cloud before the restore.
-  pressure_amg_ = AmgPreconditioner(params_.pressure_amg);
-  velocity_amg_ = AmgPreconditioner(params_.velocity_amg);
 }
 
 void FreeSurfaceSolver::rebuild_neighbours() { neighbours_ = find_neighbours(positions_, dim_, search_radius_); }

@@ -170,6 +170,15 @@ void write_checkpoint(const std::filesystem::path& path, const core::Case& c, co
   add("state/neighbours/offsets", as_doubles(s.neighbours.offsets), 1, "");
   add("state/neighbours/indices", as_doubles(s.neighbours.indices), 1, "");
   add("state/neighbours/distances", std::move(s.neighbours.distances), 1, "m");
+  for (auto [name, amg] : {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
+    const std::string group = std::string("state/amg/") + name;
+    add(group + "/diagonal", std::move(amg->diagonal), 1, "");
+    add(group + "/off_diagonal", std::move(amg->off_diagonal), 1, "");
+    add(group + "/offsets", as_doubles(amg->offsets), 1, "");
+    add(group + "/columns", as_doubles(amg->columns), 1, "");
+    add(group + "/counters", {static_cast<double>(amg->calls_since_setup), static_cast<double>(amg->reference_iterations),
+                              amg->setup_due ? 1.0 : 0.0}, 1, "");
+  }
   const std::size_t columns = history.numeric_columns().size();
   std::vector<double> rows;
   rows.reserve(history.row_count() * columns);
@@ -211,7 +220,7 @@ void read_checkpoint(const std::filesystem::path& path, const core::Case& c, Fre
     d.hint = fmt::format("run into a new --out folder, or delete {} to start this deck afresh", path.string());
     throw core::ConfigError(d);
   }
-  const auto data = [&](const char* name) { return core::read_hdf5_dataset(path, name).data; };
+  const auto data = [&](std::string_view name) { return core::read_hdf5_dataset(path, name).data; };
   FreeSurfaceState s;
   s.time = number("time");
   s.steps = static_cast<std::size_t>(number("steps"));
@@ -226,6 +235,18 @@ void read_checkpoint(const std::filesystem::path& path, const core::Case& c, Fre
   s.neighbours.offsets = from_doubles<std::size_t>(data("state/neighbours/offsets"));
   s.neighbours.indices = from_doubles<std::size_t>(data("state/neighbours/indices"));
   s.neighbours.distances = data("state/neighbours/distances");
+  for (auto [name, amg] : {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
+    const std::string group = std::string("state/amg/") + name;
+    amg->diagonal = data(group + "/diagonal");
+    amg->off_diagonal = data(group + "/off_diagonal");
+    amg->offsets = from_doubles<std::size_t>(data(group + "/offsets"));
+    amg->columns = from_doubles<std::size_t>(data(group + "/columns"));
+    const std::vector<double> counters = data(group + "/counters");
+    if (counters.size() != 3) throw core::RunError(fmt::format("checkpoint '{}': {}/counters is not 3 numbers", path.string(), group));
+    amg->calls_since_setup = static_cast<int>(counters[0]);
+    amg->reference_iterations = static_cast<int>(counters[1]);
+    amg->setup_due = counters[2] != 0;
+  }
   s.times = PhaseTimes{number("seconds_neighbours"), number("seconds_operators"), number("seconds_rheology"),
                        number("seconds_pressure"),   number("seconds_momentum"),  number("seconds_advection"),
                        number("seconds_reordering")};

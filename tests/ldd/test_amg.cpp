@@ -193,6 +193,44 @@ TEST(Amg, RepeatedApplicationsAreBitIdentical) {
   EXPECT_GT(norm, 0.0);
 }
 
+// A kept hierarchy survives state() → restore() into a fresh preconditioner (a checkpoint): on
+// the moved cloud the restored one, reusing its coarse levels like the original, preconditions
+// bit for bit the same, and its reuse counters carry on (the next prepare() is a set-up in both).
+TEST(Amg, RestoredStateRebuildsTheKeptHierarchy) {
+  const Problem before = ldd_laplacian(jittered(60, 0.2, 3));
+  Cloud moved = jittered(60, 0.2, 3);
+  const Cloud nudge = jittered(60, 0.05, 11);
+  for (std::size_t i = 0; i < moved.x.size(); ++i) moved.x[i] += nudge.x[i] - std::round(nudge.x[i]);
+  const Problem after = ldd_laplacian(moved);
+  AmgSettings settings;
+  settings.reuse_steps = 3;
+  AmgPreconditioner original(settings);
+  EXPECT_TRUE(original.prepare(before.a));
+  original.record_iterations(7);
+  const AmgState state = original.state();
+  ASSERT_FALSE(state.empty());
+  AmgPreconditioner restored(settings);
+  restored.restore(state);
+  EXPECT_FALSE(original.prepare(after.a));
+  EXPECT_FALSE(restored.prepare(after.a));  // reused, as the original
+  std::vector<double> z1(after.b.size()), z2(after.b.size());
+  original.apply(after.b, z1);
+  restored.apply(after.b, z2);
+  EXPECT_EQ(z1, z2);
+  EXPECT_FALSE(original.prepare(after.a));
+  EXPECT_FALSE(restored.prepare(after.a));
+  EXPECT_TRUE(original.prepare(after.a));  // reuse_steps reached in both
+  EXPECT_TRUE(restored.prepare(after.a));
+  // Nothing kept when every call is a set-up.
+  AmgPreconditioner fresh;  // reuse_steps 50 by default: keeps
+  AmgSettings every_step;
+  every_step.reuse_steps = 1;
+  AmgPreconditioner no_reuse(every_step);
+  no_reuse.setup(before.a);
+  EXPECT_TRUE(no_reuse.state().empty());
+  EXPECT_TRUE(fresh.state().empty());  // nothing set up yet
+}
+
 TEST(Amg, RejectsBadSettings) {
   AmgSettings s;
   s.pre_sweeps = 0;

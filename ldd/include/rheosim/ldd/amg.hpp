@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "rheosim/ldd/krylov.hpp"
+#include "rheosim/ldd/neighbours.hpp"
 
 namespace rheosim::ldd {
 
@@ -45,6 +46,19 @@ struct AmgSettings {
   double reuse_growth = 1.5;         // ... or when a solve took more than this × the first solve's iterations
 
   void check() const;  // throws std::invalid_argument naming the field and its range
+};
+
+// What a kept hierarchy is made of, for checkpoints: the matrix of its last full set-up (as
+// given, with its pattern) and the reuse counters. The set-up is deterministic, so restore()
+// rebuilds exactly the hierarchy the preconditioner had. Empty (no matrix) when nothing is kept
+// between calls (reuse_steps = 1, or before the first set-up).
+struct AmgState {
+  std::vector<double> diagonal, off_diagonal;
+  std::vector<std::size_t> offsets, columns;  // the pattern of off_diagonal (NeighbourList layout)
+  int calls_since_setup = 0;
+  int reference_iterations = -1;
+  bool setup_due = true;
+  [[nodiscard]] bool empty() const { return diagonal.empty(); }
 };
 
 class AmgPreconditioner {
@@ -67,6 +81,10 @@ class AmgPreconditioner {
   // apply() as a KrylovSettings::preconditioner (refers to this object, which must outlive it).
   [[nodiscard]] std::function<void(std::span<const double>, std::span<double>)> as_preconditioner();
 
+  [[nodiscard]] AmgState state() const;
+  // Rebuilds the hierarchy of `state` (or forgets the hierarchy when the state is empty).
+  void restore(const AmgState& state);
+
   [[nodiscard]] bool ready() const;
   [[nodiscard]] std::size_t levels() const;
   [[nodiscard]] std::size_t rows(std::size_t level) const;
@@ -78,6 +96,7 @@ class AmgPreconditioner {
   struct Hierarchy;
   AmgSettings settings_;
   std::unique_ptr<Hierarchy> hierarchy_;
+  AmgState kept_;  // the matrix of the last full set-up, when hierarchies are reused (reuse_steps > 1)
   std::size_t setups_ = 0;
   int calls_since_setup_ = 0;
   int reference_iterations_ = -1;  // first solve after the set-up

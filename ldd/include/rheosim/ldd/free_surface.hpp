@@ -195,8 +195,7 @@ struct FreeSurfaceStats {
 
 // What one step hands to the next: the content of a run's checkpoint (run_free_surface.cpp).
 // Restored into a solver built from the same scene and parameters, the run continues bit for bit
-// in 2D; in 3D a reused AMG hierarchy is not part of the state and is rebuilt at the first step
-// after a restore (the iterates then differ within the solver tolerances).
+// (kept AMG hierarchies are rebuilt from the matrix of their last set-up).
 struct FreeSurfaceState {
   double time = 0;
   std::size_t steps = 0;
@@ -205,6 +204,7 @@ struct FreeSurfaceState {
   std::vector<FreeNode> kinds;
   NeighbourList neighbours;  // the list the next step uses (built before the last PBD shifts)
   PhaseTimes times;          // wall time per phase so far
+  AmgState pressure_amg, velocity_amg;
 };
 
 class FreeSurfaceSolver {

@@ -82,7 +82,7 @@ struct CavityResult {
 //   checkpoint.h5  the solver's state (FreeSurfaceState) and the run's records so far, written
 //                  atomically at every frame, every RunControl::checkpoint_interval of wall time
 //                  and when the run stops (after a divergence: the last good state). Running the
-//                  same deck into the same folder again continues from it (2D: bit for bit);
+//                  same deck into the same folder again continues from it, bit for bit;
 //                  a checkpoint of another deck is refused (its input sha256 differs).
 // Mass front: largest x of a non-splash fluid node + Δ/2, from the gate (x = 0). Spread: twice the
 // largest distance of a non-splash fluid node from the axis + Δ; height: largest z + Δ/2. A slump
