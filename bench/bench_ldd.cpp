@@ -12,6 +12,8 @@
 //   build-ldd/bin/bench_ldd --quick --steps 200 --dump DIR          # timed steps per row; write each
 //                                       # row's final u, v, p per node and the 2 × 101 centre-line
 //                                       # velocities to DIR (compare_ldd_dumps.py compares two DIRs)
+//   build-ldd/bin/bench_ldd bandwidth   # memory bandwidth: triad and the stencil product, 1 and 2
+//                                       # threads (the floor of the free-surface step)
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
 //                                       # code path as `rheosim run`, without the other modules)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
@@ -39,6 +41,8 @@
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/domain.hpp"
+#include "rheosim/ldd/krylov.hpp"
+#include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/solver.hpp"
 
@@ -234,9 +238,57 @@ void accuracy(const AccuracyOptions& o) {
                 max_difference(profiles[r], profiles[r + 1]));
 }
 
+// What memory bandwidth allows (docs/performance.md, "LDD free surfaces: where the floor is"):
+// a STREAM-like triad over 3 × 160 MB and the free-surface solver's sparse product,
+// StencilMatrix::multiply, on a 50 000-node 2D lattice with the free-surface neighbour radius
+// (h + skin = 1.9 Δ), on 1 and 2 threads, best of several repetitions.
+void bandwidth() {
+  const std::size_t n = 20'000'000;
+  std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
+  const auto best_seconds = [](int repetitions, const auto& body) {
+    double best = 1e300;
+    for (int r = 0; r < repetitions; ++r) {
+      const auto start = std::chrono::steady_clock::now();
+      body();
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    return best;
+  };
+  std::vector<double> x;
+  for (int j = 0; j < 200; ++j)
+    for (int i = 0; i < 250; ++i) x.insert(x.end(), {static_cast<double>(i), static_cast<double>(j)});
+  const ldd::NeighbourList nb = ldd::find_neighbours(x, 2, 1.9);
+  ldd::StencilMatrix m{&nb, std::vector<double>(nb.node_count(), 4.0), std::vector<double>(nb.pair_count(), -0.3)};
+  std::vector<double> u(nb.node_count(), 1.0), out(nb.node_count());
+  // Bytes a product streams: per pair an index and a value, per node a diagonal, an offset, the
+  // result and (from cache, mostly) x.
+  const double product_bytes = 16.0 * static_cast<double>(nb.pair_count()) + 32.0 * static_cast<double>(nb.node_count());
+  std::printf("memory bandwidth: triad a = b + s c over %zu doubles; StencilMatrix::multiply on %zu nodes, %zu pairs "
+              "(%.1f per node), %.1f MB per product\n",
+              n, nb.node_count(), nb.pair_count(), static_cast<double>(nb.pair_count()) / static_cast<double>(nb.node_count()),
+              product_bytes / 1e6);
+  std::printf("%8s %14s %18s %16s\n", "threads", "triad GB/s", "product ms", "product GB/s");
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    const double triad = best_seconds(5, [&] {
+      const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t i = 0; i < count; ++i) a[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] + 3.0 * c[static_cast<std::size_t>(i)];
+    });
+    const double product = best_seconds(50, [&] { m.multiply(u, out); });
+    std::printf("%8d %14.1f %18.3f %16.1f\n", threads, 24.0 * static_cast<double>(n) / triad / 1e9, 1e3 * product,
+                product_bytes / product / 1e9);
+  }
+  std::printf("(check: a[7] = %g, out[7] = %g)\n", a[7], out[7]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]) == "bandwidth") {
+    bandwidth();
+    return 0;
+  }
   if (argc == 4 && std::string(argv[1]) == "run") {
     const core::Case c = core::load_case(argv[2]);
     const auto log = core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
