@@ -83,17 +83,26 @@ Rows rows_of(const SparseRows& m) {
   return out;
 }
 
+// Row by row in column order, the diagonal merged in its place (columns within a row ascend, as
+// in a NeighbourList and in rows_of): no triplet sort. Zero off-diagonal values are left out.
 SparseRows sparse_of(const Rows& a) {
-  std::vector<Eigen::Triplet<double>> entries;
-  entries.reserve(a.nonzeros());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    entries.emplace_back(static_cast<int>(i), static_cast<int>(i), a.diagonal[i]);
-    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
-      if (a.values[k] != 0.0) entries.emplace_back(static_cast<int>(i), static_cast<int>(a.columns[k]), a.values[k]);
-  }
   const auto n = static_cast<Eigen::Index>(a.size());
   SparseRows m(n, n);
-  m.setFromTriplets(entries.begin(), entries.end());
+  m.reserve(static_cast<Eigen::Index>(a.nonzeros()));
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    m.startVec(row);
+    bool diagonal_done = false;
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+      if (!diagonal_done && a.columns[k] > i) {
+        m.insertBackByOuterInner(row, row) = a.diagonal[i];
+        diagonal_done = true;
+      }
+      if (a.values[k] != 0.0) m.insertBackByOuterInner(row, static_cast<Eigen::Index>(a.columns[k])) = a.values[k];
+    }
+    if (!diagonal_done) m.insertBackByOuterInner(row, row) = a.diagonal[i];
+  }
+  m.finalize();
   return m;
 }
 
