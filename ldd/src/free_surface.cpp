@@ -960,6 +960,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
       dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu && pressure_direct.factorise(pressure_matrix_)) {
     // Last resort in 2D: the exact factors as the preconditioner (seconds at 200 000 nodes).
     pressure_settings.preconditioner = pressure_direct.apply();
+    ++stats.repeated_with_lu;
     repeat_pressure_solve();
   }
   if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);

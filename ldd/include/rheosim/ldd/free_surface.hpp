@@ -187,6 +187,7 @@ struct FreeSurfaceStats {
   // for an older cloud, and in 2D a pressure solve with the matrix's sparse LU as preconditioner
   // (the failed iterations are counted in the totals above).
   int repeated_solves = 0;
+  int repeated_with_lu = 0;  // of which: pressure solves repeated with the sparse LU (the rest: fresh AMG)
   // FreeSurfaceParams::stability_probe_iterations > 0: largest growth factor per step of the
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;
