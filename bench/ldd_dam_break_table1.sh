@@ -19,7 +19,8 @@ mkdir -p "$out"
 for pair in $pairs; do
   dx=${pair%%:*}; dt=${pair##*:}
   name="dx${dx}_dt${dt}"
-  sed -e "s/spacing: 0.002/spacing: ${dx}/" -e "s/step: 1.0e-3/step: ${dt}/" \
+  # Kept once written: a run goes on from its checkpoint only with the very deck that started it.
+  [ -f "$out/$name.yaml" ] || sed -e "s/spacing: 0.002/spacing: ${dx}/" -e "s/step: 1.0e-3/step: ${dt}/" \
       "$here/cases/ldd_dam_break_bingham.yaml" > "$out/$name.yaml"
   # A run that was stopped (killed, or status interrupted) goes on from its checkpoint.h5.
   if ! grep -qE '"status": "(end_time|diverged)"' "$out/$name/summary.json" 2>/dev/null; then
