@@ -233,19 +233,18 @@ double spectral_radius(const Rows& a, const std::vector<std::uint8_t>& strong) {
   for (std::size_t i = 0; i < n; ++i) v[i] = 1.0 + static_cast<double>(i % 7) / 7.0;
   double radius = 1.0;
   for (int it = 0; it < power_iterations; ++it) {
-    double norm_v = 0, norm_w = 0;
-    for (std::size_t i = 0; i < n; ++i) {
+    for_rows(n, [&](std::size_t i) {
       double sum = a.diagonal[i] * v[i];
       for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
         if (strong[k]) sum += a.values[k] * v[a.columns[k]];
       w[i] = a.diagonal[i] != 0.0 ? sum / a.diagonal[i] : 0.0;
-      norm_v += v[i] * v[i];
-      norm_w += w[i] * w[i];
-    }
+    });
+    // Block sums in block order: deterministic per thread count (on one thread, the serial sum).
+    const double norm_v = parallel_dot(v, v), norm_w = parallel_dot(w, w);
     if (norm_w == 0.0) return 1.0;
     radius = std::sqrt(norm_w / norm_v);
     const double scale = 1.0 / std::sqrt(norm_w);
-    for (std::size_t i = 0; i < n; ++i) v[i] = w[i] * scale;
+    for_rows(n, [&](std::size_t i) { v[i] = w[i] * scale; });
   }
   return radius;
 }
