@@ -157,12 +157,17 @@ TEST(Amg, LddLaplacianOnAJitteredCloudMatchesTheJacobiSolve) {
 
 // A hierarchy built on one cloud still preconditions the matrix of the cloud moved a little
 // (what the free-surface solver relies on between set-ups), and prepare() rebuilds when due.
+// A jittered(cells, ...) cloud one Lagrangian step later: every interior node moved by up to
+// ±0.05 Δ more.
+Cloud moved_on(Cloud c, std::size_t cells) {
+  const Cloud nudge = jittered(cells, 0.05, 11);
+  for (std::size_t i = 0; i < c.x.size(); ++i) c.x[i] += nudge.x[i] - std::round(nudge.x[i]);
+  return c;
+}
+
 TEST(Amg, ReusedHierarchyPreconditionsAMovedCloud) {
   const Problem before = ldd_laplacian(jittered(60, 0.2, 3));
-  Cloud moved = jittered(60, 0.2, 3);
-  const Cloud nudge = jittered(60, 0.05, 11);  // ±0.05 Δ more
-  for (std::size_t i = 0; i < moved.x.size(); ++i) moved.x[i] += nudge.x[i] - std::round(nudge.x[i]);
-  const Problem after = ldd_laplacian(moved);
+  const Problem after = ldd_laplacian(moved_on(jittered(60, 0.2, 3), 60));
 
   AmgSettings settings;
   settings.reuse_steps = 2;
@@ -198,10 +203,7 @@ TEST(Amg, RepeatedApplicationsAreBitIdentical) {
 // bit for bit the same, and its reuse counters carry on (the next prepare() is a set-up in both).
 TEST(Amg, RestoredStateRebuildsTheKeptHierarchy) {
   const Problem before = ldd_laplacian(jittered(60, 0.2, 3));
-  Cloud moved = jittered(60, 0.2, 3);
-  const Cloud nudge = jittered(60, 0.05, 11);
-  for (std::size_t i = 0; i < moved.x.size(); ++i) moved.x[i] += nudge.x[i] - std::round(nudge.x[i]);
-  const Problem after = ldd_laplacian(moved);
+  const Problem after = ldd_laplacian(moved_on(jittered(60, 0.2, 3), 60));
   AmgSettings settings;
   settings.reuse_steps = 3;
   AmgPreconditioner original(settings);
