@@ -192,9 +192,9 @@ void write_checkpoint(const std::filesystem::path& path, const core::Case& c, co
   core::write_hdf5(path, h);
 }
 
-// Restores solver, record and history from `path`. Refuses (ConfigError) a checkpoint of another
-// input deck: the same folder must not mix two runs.
-void read_checkpoint(const std::filesystem::path& path, const core::Case& c, FreeSurfaceSolver& solver, RunRecord& r,
+// Restores solver, record and history from `path` and returns the git revision that wrote it.
+// Refuses (ConfigError) a checkpoint of another input deck: the same folder must not mix two runs.
+std::string read_checkpoint(const std::filesystem::path& path, const core::Case& c, FreeSurfaceSolver& solver, RunRecord& r,
                      core::CsvTable& history) {
   std::map<std::string, core::Hdf5Attribute> a;
   for (auto& attribute : core::read_hdf5_attributes(path)) a.emplace(attribute.name, std::move(attribute));
@@ -276,6 +276,7 @@ void read_checkpoint(const std::filesystem::path& path, const core::Case& c, Fre
                                      path.string(), columns));
   for (std::size_t i = 0; i < rows.size(); i += columns)
     history.add_row(std::span<const double>(rows).subspan(i, columns));
+  return text("git_revision");
 }
 
 }  // namespace
@@ -403,11 +404,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   };
 
   if (std::filesystem::exists(checkpoint_path)) {
-    read_checkpoint(checkpoint_path, c, solver, run, history);
+    const std::string writer = read_checkpoint(checkpoint_path, c, solver, run, history);
     run.resumed_at_steps.push_back(static_cast<double>(solver.steps()));
-    std::string writer;
-    for (const auto& a : core::read_hdf5_attributes(checkpoint_path))
-      if (a.name == "git_revision" && std::holds_alternative<std::string>(a.value)) writer = std::get<std::string>(a.value);
     log.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path.string(), solver.time(), solver.steps(),
              total_steps);
     if (writer != core::git_revision)
