@@ -106,19 +106,22 @@ SparseRows sparse_of(const Rows& a) {
   return m;
 }
 
-// Contiguous blocks, one per thread (one block below parallel_rows).
+// Contiguous blocks of rows, one per thread, balanced by the rows' entries (one block below
+// parallel_rows).
 template <class Body>
-void for_row_blocks(std::size_t n, Body&& body) {
-  if (n < parallel_rows) return body(std::size_t{0}, n);
-  detail::for_blocks(n, body);
+void for_row_blocks(const Rows& a, Body&& body) {
+  if (a.size() < parallel_rows) return body(std::size_t{0}, a.size());
+  detail::for_balanced_blocks(a.offsets, body);
 }
 
 // out = b − A x.
 void residual(const Rows& a, std::span<const double> b, std::span<const double> x, std::span<double> out) {
-  for_rows(a.size(), [&](std::size_t i) {
-    double sum = b[i] - a.diagonal[i] * x[i];
-    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) sum -= a.values[k] * x[a.columns[k]];
-    out[i] = sum;
+  for_row_blocks(a, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      double sum = b[i] - a.diagonal[i] * x[i];
+      for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) sum -= a.values[k] * x[a.columns[k]];
+      out[i] = sum;
+    }
   });
 }
 
@@ -132,7 +135,7 @@ void gauss_seidel(const Rows& a, std::span<const double> b, std::span<double> x,
     frozen.resize(n);
     for_rows(n, [&](std::size_t i) { frozen[i] = x[i]; });
   }
-  for_row_blocks(n, [&](std::size_t begin, std::size_t end) {
+  for_row_blocks(a, [&](std::size_t begin, std::size_t end) {
     const auto relax = [&](std::size_t i) {
       if (a.diagonal[i] == 0.0) return;
       double sum = b[i];

@@ -76,15 +76,13 @@ double parallel_dot(std::span<const double> a, std::span<const double> b) {
 
 void StencilMatrix::multiply(std::span<const double> x, std::span<double> out) const {
   const NeighbourList& nb = *pattern;
-  const std::size_t n = size();
-  const auto count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    double sum = diagonal[i] * x[i];
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) sum += off_diagonal[k] * x[nb.indices[k]];
-    out[i] = sum;
-  }
+  detail::for_balanced_blocks(nb.offsets, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      double sum = diagonal[i] * x[i];
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) sum += off_diagonal[k] * x[nb.indices[k]];
+      out[i] = sum;
+    }
+  });
 }
 
 KrylovResult bicgstab(const StencilMatrix& a, std::span<const double> b, std::span<double> x,

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "../../ldd/src/blocks.hpp"  // the work split the Krylov and AMG loops share
 #include "rheosim/ldd/krylov.hpp"
 #include "rheosim/ldd/neighbours.hpp"
 
@@ -131,6 +132,34 @@ TEST(ParallelDot, IsIdenticalAcrossRepeatsForAThreadCount) {
   for (int k = 0; k < 5; ++k) EXPECT_EQ(parallel_dot(a, b), first);
   omp_set_num_threads(1);
   EXPECT_NEAR(parallel_dot(a, b), first, 1e-12);
+}
+
+// A slump-like pattern: 35 000 short wall rows (8 entries) first, then 50 000 fluid rows (26).
+// An even split by rows gave the second of two threads 70 % of the entries.
+TEST(BalancedBlocks, SplitRowsByTheirEntriesAndCoverEveryRowOnce) {
+  std::vector<std::size_t> offsets{0};
+  for (std::size_t i = 0; i < 85000; ++i) offsets.push_back(offsets.back() + (i < 35000 ? 8 : 26));
+  const auto work = [&](std::size_t begin, std::size_t end) {
+    return static_cast<double>(end - begin + offsets[end] - offsets[begin]);
+  };
+  const double total = work(0, 85000);
+  for (int blocks : {1, 2, 3, 7}) {
+    std::size_t expected_begin = 0;
+    for (int t = 0; t < blocks; ++t) {
+      const auto [begin, end] = detail::balanced_block_range(offsets, t, blocks);
+      EXPECT_EQ(begin, expected_begin) << blocks << " blocks, block " << t;
+      expected_begin = end;
+      // Within one row's work (27) of an even share.
+      EXPECT_NEAR(work(begin, end), total / blocks, 27.0) << blocks << " blocks, block " << t;
+    }
+    EXPECT_EQ(expected_begin, 85000U) << blocks << " blocks";
+  }
+  // No rows, more blocks than rows: empty or single-row blocks, still covering all.
+  const std::vector<std::size_t> empty{0};
+  EXPECT_EQ(detail::balanced_block_range(empty, 0, 2), std::make_pair(std::size_t{0}, std::size_t{0}));
+  const std::vector<std::size_t> two_rows{0, 3, 3};
+  EXPECT_EQ(detail::balanced_block_range(two_rows, 0, 4).first, 0U);
+  EXPECT_EQ(detail::balanced_block_range(two_rows, 3, 4).second, 2U);
 }
 
 }  // namespace
