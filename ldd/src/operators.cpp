@@ -28,9 +28,10 @@ struct GuardedInverse {
 template <int D>
 GuardedInverse<D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, double rcond) {
   using Vec = Eigen::Matrix<double, D, 1>;
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> eigen(moment);
-  const double lambda_max = eigen.eigenvalues().maxCoeff();
-  const double lambda_min = eigen.eigenvalues().minCoeff();
+  // Eigenvalues first; the eigenvectors only for the (few) near-singular moments.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> values(moment, Eigen::EigenvaluesOnly);
+  const double lambda_max = values.eigenvalues().maxCoeff();
+  const double lambda_min = values.eigenvalues().minCoeff();
   GuardedInverse<D> r;
   r.pseudo = !(lambda_max > 0 && lambda_min >= rcond * lambda_max);
   r.conditioning = lambda_max > 0 ? std::max(lambda_min, 0.0) / lambda_max : 0.0;
@@ -38,6 +39,7 @@ GuardedInverse<D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, dou
     r.inverse = moment.inverse();
     return r;
   }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> eigen(moment);
   Vec inverse_eigenvalues = Vec::Zero();
   for (int d = 0; d < D; ++d)
     if (lambda_max > 0 && eigen.eigenvalues()[d] >= rcond * lambda_max) inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
