@@ -222,6 +222,30 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
       const double angle = q * std::numbers::pi * (3 - std::sqrt(5.0));
       probe_directions_.insert(probe_directions_.end(), {radius * std::cos(angle), radius * std::sin(angle), z});
     }
+    // Visited as a nearest-neighbour tour, so that a probe is mostly covered by the direction
+    // that covered the one before it (classify starts its scan there; the test's outcome does
+    // not depend on the order).
+    std::vector<double> tour(probe_directions_.begin(), probe_directions_.begin() + 3);
+    std::vector<bool> visited(count, false);
+    visited[0] = true;
+    for (int step = 1, current = 0; step < count; ++step) {
+      int next = -1;
+      double best = -2;
+      for (int q = 0; q < count; ++q) {
+        if (visited[static_cast<std::size_t>(q)]) continue;
+        double dot = 0;
+        for (std::size_t d = 0; d < 3; ++d)
+          dot += probe_directions_[3 * static_cast<std::size_t>(q) + d] * probe_directions_[3 * static_cast<std::size_t>(current) + d];
+        if (dot > best) {
+          best = dot;
+          next = q;
+        }
+      }
+      visited[static_cast<std::size_t>(next)] = true;
+      tour.insert(tour.end(), probe_directions_.begin() + 3 * next, probe_directions_.begin() + 3 * next + 3);
+      current = next;
+    }
+    probe_directions_ = std::move(tour);
   }
   rebuild_neighbours();
 
@@ -336,7 +360,7 @@ void FreeSurfaceSolver::classify() {
   // the 3D half-angle is 15° wider.
   const double cone_angle = params_.surface_cone_angle + (dim_ == 3 ? 15.0 : 0.0);
   const double cone_cosine = std::cos(cone_angle * std::numbers::pi / 180.0);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (!is_fluid(i)) continue;
@@ -412,6 +436,7 @@ void FreeSurfaceSolver::classify() {
     // half-angle of it means a void beside the node — a surface, also under an overhang where the
     // centroid stays balanced (the dam-break toe).
     bool empty_cone = false;
+    std::size_t last_cover = 0;  // neighbouring probes are mostly covered by the same direction
     for (std::size_t q = 0; q + dim <= probe_directions_.size() && !empty_cone; q += dim) {
       bool covered = false;
       // Directions into a nearby wall are covered by the wall itself (its nodes may sit up to
@@ -421,10 +446,12 @@ void FreeSurfaceSolver::classify() {
         for (std::size_t d = 0; d < dim; ++d) dot -= probe_directions_[q + d] * wall_normals[w][d];
         covered = dot > 0.3;
       }
-      for (std::size_t m = 0; m < directions_seen && !covered; ++m) {
+      for (std::size_t tried = 0; tried < directions_seen && !covered; ++tried) {
+        const std::size_t m = (last_cover + tried) % directions_seen;
         double dot = 0;
         for (std::size_t d = 0; d < dim; ++d) dot += probe_directions_[q + d] * seen[3 * m + d];
         covered = dot > cone_cosine;
+        if (covered) last_cover = m;
       }
       empty_cone = !covered;
     }
@@ -443,7 +470,7 @@ void FreeSurfaceSolver::classify() {
     kinds_[i] = surface ? FreeNode::surface : FreeNode::interior;
   }
   // Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (is_fluid(i)) continue;
@@ -568,7 +595,7 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
     if (newly_interior(i)) p[i] = estimate[i];
   // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 when the wall node
   // sees no interior node (it stands above the fluid).
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
@@ -1032,7 +1059,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   pressure_.swap(new_pressure);
   velocity_gradient_of(new_velocity_, velocity_gradient_);  // ∇u_n, to carry velocities along PBD shifts
   const double older = first_step_ ? 0.0 : 0.5;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (is_fluid(i)) {
@@ -1080,9 +1107,12 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
   const double h = support_radius_, rho0 = rest_density_;
   const double max_shift = params_.pbd_max_shift * params_.spacing;
   const auto movable = [&](std::size_t i) { return kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface; };
+  const double h2 = h * h;
   std::vector<double> lambda(n, 0.0), step(dim * n, 0.0);
+  pair_dw_.resize(nb.pair_count());
+  const std::span<double> pair_dw(pair_dw_);  // ∇W/(r ρ₀) of each pair within h, else 0
   for (int iteration = 0; iteration < params_.pbd_iterations; ++iteration) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
       lambda[i] = 0.0;
@@ -1090,10 +1120,14 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
       double density = weight(0.0, h), grad_i[3] = {0, 0, 0}, squares = 0;
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
         const std::size_t j = nb.indices[k];
-        const double r = std::sqrt(squared_distance(&positions_[dim * i], &positions_[dim * j], dim));
+        pair_dw[k] = 0.0;
+        const double r2 = squared_distance(&positions_[dim * i], &positions_[dim * j], dim);
+        if (r2 >= h2) continue;  // the skin's pairs: W = 0
+        const double r = std::sqrt(r2);
         density += weight(r, h);
         if (r <= 0) continue;
         const double dw = weight_derivative(r, h) / r / rho0;  // ∇_i W_ij / ρ₀ = dw (x_i − x_j)
+        pair_dw[k] = dw;
         for (std::size_t d = 0; d < dim; ++d) grad_i[d] += dw * (positions_[dim * i + d] - positions_[dim * j + d]);
         if (movable(j)) squares += dw * dw * r * r;  // |∇_j C_i|² (fixed nodes cannot help)
       }
@@ -1104,17 +1138,16 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
       for (std::size_t d = 0; d < dim; ++d) denominator += grad_i[d] * grad_i[d];
       lambda[i] = denominator > 0 ? -constraint / denominator : 0.0;
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
       for (std::size_t d = 0; d < dim; ++d) step[dim * i + d] = 0.0;
       if (!movable(i)) continue;
       double shift[3] = {0, 0, 0};
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        const double dw = pair_dw[k];  // the positions have not moved since λ
+        if (dw == 0.0) continue;
         const std::size_t j = nb.indices[k];
-        const double r = std::sqrt(squared_distance(&positions_[dim * i], &positions_[dim * j], dim));
-        if (r <= 0) continue;
-        const double dw = weight_derivative(r, h) / r / rho0;
         const double factor = (lambda[i] + lambda[j]) * dw * params_.pbd_stiffness;
         for (std::size_t d = 0; d < dim; ++d) shift[d] += factor * (positions_[dim * i + d] - positions_[dim * j + d]);
       }
@@ -1124,7 +1157,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
       const double scale = length > max_shift ? max_shift / length : 1.0;
       for (std::size_t d = 0; d < dim; ++d) step[dim * i + d] = scale * shift[d];
     }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
       if (!movable(i)) continue;
@@ -1139,7 +1172,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
   }
   // Velocities follow the shift to first order (LDD §3.2: interpolation after reordering).
   const std::size_t dd = dim * dim;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (!movable(i)) continue;

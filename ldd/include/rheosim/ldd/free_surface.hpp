@@ -285,6 +285,7 @@ class FreeSurfaceSolver {
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
   std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
+  std::vector<double> pair_dw_;  // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
 };
 
 }  // namespace rheosim::ldd
