@@ -28,8 +28,10 @@ struct GuardedInverse {
 template <int D>
 GuardedInverse<D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, double rcond) {
   using Vec = Eigen::Matrix<double, D, 1>;
-  // Eigenvalues first; the eigenvectors only for the (few) near-singular moments.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> values(moment, Eigen::EigenvaluesOnly);
+  // Eigenvalues first, in closed form (they only decide the guard and the conditioning); the
+  // eigenvectors only for the (few) near-singular moments.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> values;
+  values.computeDirect(moment, Eigen::EigenvaluesOnly);
   const double lambda_max = values.eigenvalues().maxCoeff();
   const double lambda_min = values.eigenvalues().minCoeff();
   GuardedInverse<D> r;
