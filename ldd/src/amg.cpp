@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
@@ -13,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "blocks.hpp"
+#include "sparse_product.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -63,28 +65,8 @@ Rows scaled_rows_of(const StencilMatrix& a, bool unit_diagonal, std::vector<doub
   return out;
 }
 
-Rows rows_of(const SparseRows& m) {
-  const auto n = static_cast<std::size_t>(m.rows());
-  Rows out;
-  out.diagonal.assign(n, 0.0);
-  out.offsets.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (SparseRows::InnerIterator it(m, static_cast<Eigen::Index>(i)); it; ++it) {
-      const auto j = static_cast<std::size_t>(it.col());
-      if (j == i) {
-        out.diagonal[i] += it.value();
-      } else if (it.value() != 0.0) {
-        out.columns.push_back(j);
-        out.values.push_back(it.value());
-      }
-    }
-    out.offsets[i + 1] = out.columns.size();
-  }
-  return out;
-}
-
 // Row by row in column order, the diagonal merged in its place (columns within a row ascend, as
-// in a NeighbourList and in rows_of): no triplet sort. Zero off-diagonal values are left out.
+// in a NeighbourList and in galerkin_product): no triplet sort. Zero off-diagonal values are left out.
 SparseRows sparse_of(const Rows& a) {
   const auto n = static_cast<Eigen::Index>(a.size());
   SparseRows m(n, n);
@@ -154,32 +136,87 @@ void gauss_seidel(const Rows& a, std::span<const double> b, std::span<double> x,
 }
 
 // Strong connections, symmetrised (j strong for i or i strong for j); rows without any
-// off-diagonal entry (Dirichlet rows) take part in none.
-std::vector<std::vector<std::size_t>> strong_connections(const Rows& a, double threshold) {
+// off-diagonal entry (Dirichlet rows) take part in none. Each node's strong neighbours ascend
+// (compressed rows), and `entries` flags each off-diagonal entry of a whose column is among them.
+struct Strength {
+  std::vector<std::size_t> offsets;  // node i's strong neighbours at [offsets[i], offsets[i + 1])
+  std::vector<std::size_t> neighbours;
+  std::vector<std::uint8_t> entries;  // per off-diagonal entry of a
+  [[nodiscard]] std::size_t size() const { return offsets.size() - 1; }
+  [[nodiscard]] std::span<const std::size_t> of(std::size_t i) const {
+    return {neighbours.data() + offsets[i], offsets[i + 1] - offsets[i]};
+  }
+};
+
+Strength strong_connections(const Rows& a, double threshold) {
   const std::size_t n = a.size();
   std::vector<std::uint8_t> dirichlet(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  for_rows(n, [&](std::size_t i) {
     bool coupled = false;
     for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1] && !coupled; ++k) coupled = a.values[k] != 0.0;
     dirichlet[i] = coupled ? 0 : 1;
-  }
-  std::vector<std::vector<std::size_t>> strong(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (dirichlet[i]) continue;
+  });
+  // One-sided strength of each entry, then its reverse entry (j, i) looked up in row j (columns
+  // ascend). Patterns from neighbour lists and Galerkin products are structurally symmetric; a
+  // strong entry without a reverse falls back to the serial scatter below.
+  Strength out;
+  std::vector<std::uint8_t> one_sided(a.values.size(), 0);
+  for_rows(n, [&](std::size_t i) {
+    if (dirichlet[i]) return;
     for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
       const std::size_t j = a.columns[k];
       if (j == i || dirichlet[j] || a.values[k] == 0.0) continue;
-      if (std::abs(a.values[k]) >= threshold * std::sqrt(std::abs(a.diagonal[i] * a.diagonal[j]))) {
-        strong[i].push_back(j);
-        strong[j].push_back(i);
-      }
+      one_sided[k] = std::abs(a.values[k]) >= threshold * std::sqrt(std::abs(a.diagonal[i] * a.diagonal[j])) ? 1 : 0;
+    }
+  });
+  out.entries.assign(a.values.size(), 0);
+  std::vector<std::size_t> counts(n, 0);
+  std::size_t unpaired = 0;
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static) reduction(+ : unpaired) if (n >= parallel_rows)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+      const std::size_t j = a.columns[k];
+      const auto row_j = a.columns.begin() + static_cast<std::ptrdiff_t>(a.offsets[j]);
+      const auto row_j_end = a.columns.begin() + static_cast<std::ptrdiff_t>(a.offsets[j + 1]);
+      const auto reverse = std::lower_bound(row_j, row_j_end, i);
+      const bool paired = reverse != row_j_end && *reverse == i;
+      if (!paired && one_sided[k]) ++unpaired;
+      const bool strong = one_sided[k] || (paired && one_sided[static_cast<std::size_t>(reverse - a.columns.begin())]);
+      out.entries[k] = strong ? 1 : 0;
+      counts[i] += strong ? 1 : 0;
     }
   }
-  for (auto& s : strong) {
-    std::sort(s.begin(), s.end());
-    s.erase(std::unique(s.begin(), s.end()), s.end());
+  out.offsets.assign(n + 1, 0);
+  if (unpaired == 0) {
+    for (std::size_t i = 0; i < n; ++i) out.offsets[i + 1] = out.offsets[i] + counts[i];
+    out.neighbours.resize(out.offsets.back());
+    for_rows(n, [&](std::size_t i) {
+      std::size_t next = out.offsets[i];
+      for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+        if (out.entries[k]) out.neighbours[next++] = a.columns[k];
+    });
+    return out;
   }
-  return strong;
+  std::vector<std::vector<std::size_t>> strong(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+      if (one_sided[k]) {
+        strong[i].push_back(a.columns[k]);
+        strong[a.columns[k]].push_back(i);
+      }
+  for (std::size_t i = 0; i < n; ++i) {
+    std::sort(strong[i].begin(), strong[i].end());
+    strong[i].erase(std::unique(strong[i].begin(), strong[i].end()), strong[i].end());
+    out.neighbours.insert(out.neighbours.end(), strong[i].begin(), strong[i].end());
+    out.offsets[i + 1] = out.neighbours.size();
+  }
+  for_rows(n, [&](std::size_t i) {
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+      out.entries[k] = std::binary_search(strong[i].begin(), strong[i].end(), a.columns[k]) ? 1 : 0;
+  });
+  return out;
 }
 
 constexpr std::ptrdiff_t unassigned = -1;
@@ -187,46 +224,35 @@ constexpr std::ptrdiff_t unassigned = -1;
 // Greedy aggregation (Vaněk et al. 1996): 1) roots whose strong neighbourhood is still free
 // become aggregates; 2) the rest join a neighbouring aggregate of step 1; 3) what is left forms
 // aggregates of its free neighbourhood. Nodes without strong connections stay unassigned.
-std::vector<std::ptrdiff_t> aggregate(const std::vector<std::vector<std::size_t>>& strong, std::size_t& count) {
-  const std::size_t n = strong.size();
+std::vector<std::ptrdiff_t> aggregate(const Strength& strength, std::size_t& count) {
+  const std::size_t n = strength.size();
   std::vector<std::ptrdiff_t> of(n, unassigned);
   std::ptrdiff_t next = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (of[i] != unassigned || strong[i].empty()) continue;
-    if (std::any_of(strong[i].begin(), strong[i].end(), [&](std::size_t j) { return of[j] != unassigned; })) continue;
+    if (of[i] != unassigned || strength.of(i).empty()) continue;
+    if (std::any_of(strength.of(i).begin(), strength.of(i).end(), [&](std::size_t j) { return of[j] != unassigned; })) continue;
     of[i] = next;
-    for (std::size_t j : strong[i]) of[j] = next;
+    for (std::size_t j : strength.of(i)) of[j] = next;
     ++next;
   }
   const std::vector<std::ptrdiff_t> first = of;
   for (std::size_t i = 0; i < n; ++i) {
     if (of[i] != unassigned) continue;
-    for (std::size_t j : strong[i])
+    for (std::size_t j : strength.of(i))
       if (first[j] != unassigned) {
         of[i] = first[j];
         break;
       }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (of[i] != unassigned || strong[i].empty()) continue;
+    if (of[i] != unassigned || strength.of(i).empty()) continue;
     of[i] = next;
-    for (std::size_t j : strong[i])
+    for (std::size_t j : strength.of(i))
       if (of[j] == unassigned) of[j] = next;
     ++next;
   }
   count = static_cast<std::size_t>(next);
   return of;
-}
-
-// Per off-diagonal entry of a: 1 when its column is in the row's (symmetrised) strong set. Looked
-// up once per set-up; the power iteration and the prolongator read the flags.
-std::vector<std::uint8_t> strong_entries(const Rows& a, const std::vector<std::vector<std::size_t>>& strong) {
-  std::vector<std::uint8_t> flags(a.values.size());
-  for_rows(a.size(), [&](std::size_t i) {
-    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
-      flags[k] = std::binary_search(strong[i].begin(), strong[i].end(), a.columns[k]) ? 1 : 0;
-  });
-  return flags;
 }
 
 // ρ(D⁻¹A_s) by power iteration, A_s = diagonal + strong entries (deterministic start vector).
@@ -253,32 +279,114 @@ double spectral_radius(const Rows& a, const std::vector<std::uint8_t>& strong) {
 }
 
 // Prolongator: piecewise constant on the aggregates, smoothed by P = (I − ω D⁻¹A_s) P_tent.
-SparseRows prolongator(const Rows& a, const std::vector<std::uint8_t>& strong, const std::vector<std::ptrdiff_t>& of,
-                       std::size_t aggregates, bool smoothed) {
+// Row-parallel; each entry sums its terms in the order 1, the diagonal's, the strong entries'
+// (exact zeros dropped).
+detail::CompressedRows prolongator(const Rows& a, const std::vector<std::uint8_t>& strong,
+                                   const std::vector<std::ptrdiff_t>& of, std::size_t aggregates, bool smoothed) {
   const std::size_t n = a.size();
-  std::vector<Eigen::Triplet<double>> entries;
-  if (!smoothed) {
-    for (std::size_t i = 0; i < n; ++i)
-      if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), 1.0);
-  } else {
-    const double omega = 4.0 / 3.0 / spectral_radius(a, strong);
-    entries.reserve(4 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), 1.0);
-      if (a.diagonal[i] == 0.0) continue;
-      const double factor = -omega / a.diagonal[i];
-      if (of[i] != unassigned) entries.emplace_back(static_cast<int>(i), static_cast<int>(of[i]), factor * a.diagonal[i]);
-      for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
-        const std::size_t j = a.columns[k];
-        if (of[j] == unassigned || !strong[k]) continue;
-        entries.emplace_back(static_cast<int>(i), static_cast<int>(of[j]), factor * a.values[k]);
+  detail::CompressedRows tentative;
+  tentative.column_count = aggregates;
+  tentative.offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (of[i] != unassigned) {
+      tentative.columns.push_back(static_cast<std::size_t>(of[i]));
+      tentative.values.push_back(1.0);
+    }
+    tentative.offsets[i + 1] = tentative.columns.size();
+  }
+  if (!smoothed) return tentative;
+  const double omega = 4.0 / 3.0 / spectral_radius(a, strong);
+  const int blocks = n >= parallel_rows ? omp_get_max_threads() : 1;
+  detail::CompressedRows p = detail::combine_rows(n, tentative, blocks, [&](std::size_t i, auto&& emit) {
+    emit(1.0, i);
+    if (a.diagonal[i] == 0.0) return;
+    const double factor = -omega / a.diagonal[i];
+    emit(factor * a.diagonal[i], i);
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+      if (strong[k]) emit(factor * a.values[k], a.columns[k]);
+  });
+  std::size_t kept = 0;  // drop exact zeros (in place: rows only shrink)
+  std::size_t row_begin = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = row_begin; k < p.offsets[i + 1]; ++k)
+      if (p.values[k] != 0.0) {
+        p.columns[kept] = p.columns[k];
+        p.values[kept] = p.values[k];
+        ++kept;
+      }
+    row_begin = p.offsets[i + 1];
+    p.offsets[i + 1] = kept;
+  }
+  p.columns.resize(kept);
+  p.values.resize(kept);
+  return p;
+}
+
+SparseRows sparse_of(const detail::CompressedRows& m) {
+  SparseRows out(static_cast<Eigen::Index>(m.rows()), static_cast<Eigen::Index>(m.column_count));
+  out.reserve(static_cast<Eigen::Index>(m.values.size()));
+  for (std::size_t i = 0; i < m.rows(); ++i) {
+    out.startVec(static_cast<Eigen::Index>(i));
+    for (std::size_t k = m.offsets[i]; k < m.offsets[i + 1]; ++k)
+      out.insertBackByOuterInner(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(m.columns[k])) = m.values[k];
+  }
+  out.finalize();
+  return out;
+}
+
+detail::CompressedRows compressed_of(const SparseRows& m) {
+  detail::CompressedRows out;
+  out.column_count = static_cast<std::size_t>(m.cols());
+  out.offsets.assign(static_cast<std::size_t>(m.rows()) + 1, 0);
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    for (SparseRows::InnerIterator it(m, i); it; ++it) {
+      out.columns.push_back(static_cast<std::size_t>(it.col()));
+      out.values.push_back(it.value());
+    }
+    out.offsets[static_cast<std::size_t>(i) + 1] = out.columns.size();
+  }
+  return out;
+}
+
+// The Galerkin operator Pᵀ A P as two row-parallel products, (A P) then R (A P) with R = Pᵀ;
+// A's row i is taken in column order with its diagonal in place.
+Rows galerkin_product(const Rows& a, const detail::CompressedRows& p_rows, const SparseRows& r) {
+  const int blocks = a.size() >= parallel_rows ? omp_get_max_threads() : 1;
+  const detail::CompressedRows a_p = detail::combine_rows(a.size(), p_rows, blocks, [&](std::size_t i, auto&& emit) {
+    bool diagonal_done = false;
+    for (std::size_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+      if (!diagonal_done && a.columns[k] > i) {
+        emit(a.diagonal[i], i);
+        diagonal_done = true;
+      }
+      if (a.values[k] != 0.0) emit(a.values[k], a.columns[k]);
+    }
+    if (!diagonal_done) emit(a.diagonal[i], i);
+  });
+  const detail::CompressedRows r_rows = compressed_of(r);
+  const detail::CompressedRows coarse =
+      detail::combine_rows(r_rows.rows(), a_p, r_rows.rows() >= parallel_rows ? blocks : 1, [&](std::size_t c, auto&& emit) {
+        for (std::size_t k = r_rows.offsets[c]; k < r_rows.offsets[c + 1]; ++k) emit(r_rows.values[k], r_rows.columns[k]);
+      });
+  // The diagonal apart, exact zeros off it dropped (a Rows never stores them).
+  const std::size_t m = coarse.rows();
+  Rows out;
+  out.diagonal.assign(m, 0.0);
+  out.offsets.assign(m + 1, 0);
+  out.columns.reserve(coarse.columns.size());
+  out.values.reserve(coarse.values.size());
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t k = coarse.offsets[i]; k < coarse.offsets[i + 1]; ++k) {
+      if (coarse.columns[k] == i) {
+        out.diagonal[i] = coarse.values[k];
+      } else if (coarse.values[k] != 0.0) {
+        out.columns.push_back(coarse.columns[k]);
+        out.values.push_back(coarse.values[k]);
       }
     }
+    out.offsets[i + 1] = out.columns.size();
   }
-  SparseRows p(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(aggregates));
-  p.setFromTriplets(entries.begin(), entries.end());  // sums duplicates
-  p.prune(0.0);
-  return p;
+  return out;
 }
 
 }  // namespace
@@ -365,18 +473,16 @@ void AmgPreconditioner::setup(const StencilMatrix& a) {
     if (n <= settings_.coarsest_size) break;
     // θ halves per level: Galerkin operators of smoothed aggregation have wider, weaker stencils.
     const double threshold = settings_.strength_threshold * std::pow(0.5, static_cast<double>(h->levels.size() - 1));
-    const auto strong = strong_connections(level.a, threshold);
+    const Strength strength = strong_connections(level.a, threshold);
     std::size_t aggregates = 0;
-    const auto of = aggregate(strong, aggregates);
+    const auto of = aggregate(strength, aggregates);
     // Nothing to coarsen, or too little gained for a level's cost.
     if (aggregates == 0 || 10 * aggregates > 9 * n) break;
-    level.p = prolongator(level.a, strong_entries(level.a, strong), of, aggregates, settings_.smoothed);
+    const detail::CompressedRows p = prolongator(level.a, strength.entries, of, aggregates, settings_.smoothed);
+    level.p = sparse_of(p);
     level.r = level.p.transpose();
-    const SparseRows fine = sparse_of(level.a);
-    const SparseRows fine_times_p = fine * level.p;
-    const SparseRows coarse = level.r * fine_times_p;
     Hierarchy::Level next;
-    next.a = rows_of(coarse);
+    next.a = galerkin_product(level.a, p, level.r);
     h->levels.push_back(std::move(next));
   }
   for (std::size_t l = 1; l < h->levels.size(); ++l) h->coarse_nonzeros += h->levels[l].a.nonzeros();
