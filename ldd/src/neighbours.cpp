@@ -274,4 +274,52 @@ NeighbourList find_neighbours(std::span<const double> positions, int dimension, 
   return list;
 }
 
+NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension,
+                                double radius) {
+  validate(positions, dimension, radius);
+  const auto dim = static_cast<std::size_t>(dimension);
+  const std::size_t n = candidates.node_count();
+  if (positions.size() != n * dim)
+    throw std::invalid_argument(fmt::format("neighbours_within: {} coordinates for {} candidate nodes in {}D",
+                                            positions.size(), n, dimension));
+  const double radius_squared = radius * radius;
+  // As find_neighbours: Σ (x_j − x_i)² over three components (z = 0 in 2D adds nothing).
+  const auto squared = [&](std::size_t i, std::size_t j) {
+    double sum = 0;
+    for (std::size_t d = 0; d < dim; ++d) {
+      const double delta = positions[j * dim + d] - positions[i * dim + d];
+      sum += delta * delta;
+    }
+    return sum;
+  };
+  NeighbourList list;
+  list.offsets.assign(n + 1, 0);
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    std::size_t kept = 0;
+    for (std::size_t k = candidates.offsets[i]; k < candidates.offsets[i + 1]; ++k)
+      kept += squared(i, candidates.indices[k]) < radius_squared ? 1 : 0;
+    list.offsets[i + 1] = kept;
+  }
+  for (std::size_t i = 0; i < n; ++i) list.offsets[i + 1] += list.offsets[i];
+  list.indices.resize(list.offsets.back());
+  list.distances.resize(list.offsets.back());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    std::size_t next = list.offsets[i];
+    for (std::size_t k = candidates.offsets[i]; k < candidates.offsets[i + 1]; ++k) {
+      const std::size_t j = candidates.indices[k];
+      const double r2 = squared(i, j);
+      if (!(r2 < radius_squared)) continue;
+      list.indices[next] = j;
+      list.distances[next] = std::sqrt(r2);
+      ++next;
+    }
+  }
+  return list;
+}
+
 }  // namespace rheosim::ldd

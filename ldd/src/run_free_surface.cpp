@@ -492,6 +492,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
   summary["iterations_per_step"] = {{"pressure", run.pressure_iterations / steps_done},
                                     {"velocity", run.velocity_iterations / steps_done}};
+  // Neighbour searches by this process (the other steps filtered the Verlet list).
+  summary["neighbour_searches"] = solver.neighbour_searches();
   summary["wall_time"] = run.wall_seconds;
   summary["resumed_at_steps"] = from_doubles<std::size_t>(run.resumed_at_steps);
   nlohmann::ordered_json probes = nlohmann::ordered_json::array();

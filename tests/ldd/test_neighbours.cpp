@@ -83,6 +83,22 @@ TEST(Neighbours, MatchesBruteForceOnRandom3DClouds) {
 
 // On a lattice of spacing 0.25 with h = 0.5 every pair at exactly h is representable, so the
 // boundary case "distance == h is not a neighbour" is exercised on thousands of pairs.
+// A Verlet list: candidates searched with a larger radius, then every node moved by less than
+// half the skin; the pairs now within h are exactly what a fresh search finds, bit for bit.
+TEST(Neighbours, FilteredCandidatesEqualAFreshSearchAfterSmallMoves) {
+  for (int dimension : {2, 3}) {
+    const double h = 1.0, skin = 0.4;
+    std::vector<double> positions = random_cloud(dimension == 2 ? 3000 : 4000, dimension, 12.0, 7);
+    const NeighbourList candidates = find_neighbours(positions, dimension, h + skin);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> step(-0.45 * skin / 2 / std::sqrt(3.0), 0.45 * skin / 2 / std::sqrt(3.0));
+    for (double& x : positions) x += step(rng);
+    expect_same(neighbours_within(candidates, positions, dimension, h), find_neighbours(positions, dimension, h));
+  }
+  const NeighbourList candidates = find_neighbours(std::vector<double>{0, 0, 1, 0}, 2, 2.0);
+  EXPECT_THROW((void)neighbours_within(candidates, std::vector<double>{0, 0, 1, 0, 2, 0}, 2, 1.0), std::invalid_argument);
+}
+
 TEST(Neighbours, LatticeNodesExactlyAtDistanceHAreExcluded) {
   for (const int dimension : {2, 3}) {
     const int side = dimension == 2 ? 20 : 9;

@@ -151,6 +151,10 @@ struct FreeSurfaceParams {
   bool centred_gradient = true;                    // operators.hpp: no self-coupling of ⟨∇p⟩ and ⟨∇·u⟩ (docs/ldd.md)
   double surface_fluid_weight = 0.1;               // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   double neighbour_skin = 0.3;                     // search radius = h + skin·Δ (also the detection radius)
+  // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
+  // this, and each step keeps those now within the search radius (the same list a fresh search
+  // gives) until some node has moved half of it. 0: a fresh search every step.
+  double neighbour_reuse_skin = 0.3;
   int pbd_iterations = 3;                          // PBD sweeps per step (0: none)
   double pbd_stiffness = 0.5;                      // fraction of the PBD correction applied per sweep
   double pbd_max_shift = 0.05;                     // per sweep, units of Δ
@@ -250,6 +254,8 @@ class FreeSurfaceSolver {
   // ρ₀ (kernel sum of a full neighbourhood) and n₀ (neighbour count within the search radius).
   [[nodiscard]] double rest_density() const { return rest_density_; }
   [[nodiscard]] double rest_count() const { return rest_count_; }
+  // Neighbour searches so far (the rest of the steps filtered the Verlet list).
+  [[nodiscard]] std::size_t neighbour_searches() const { return candidate_searches_; }
 
  private:
   void rebuild_neighbours();
@@ -276,6 +282,10 @@ class FreeSurfaceSolver {
   std::size_t steps_ = 0, laplacian_guarded_ = 0;
   bool first_step_ = true;
   NeighbourList neighbours_;
+  NeighbourList candidates_;                // Verlet list (neighbour_reuse_skin)
+  std::vector<double> candidate_positions_;  // where the nodes were when it was searched
+  bool candidates_valid_ = false;
+  std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
   Operators operators_;
   PhaseTimes times_;
   KrylovWorkspace krylov_;

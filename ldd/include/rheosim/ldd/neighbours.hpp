@@ -45,4 +45,12 @@ struct NeighbourList {
 // the cloud's extent exceeds 1e10·h (beyond that the cell arithmetic loses its margin).
 [[nodiscard]] NeighbourList find_neighbours(std::span<const double> positions, int dimension, double support_radius);
 
+// The pairs of `candidates` (a list found with a larger radius) that are now closer than
+// `radius`, in the same order and with the same distances find_neighbours(positions, dimension,
+// radius) would give — identical to it as long as no pair has closed in from beyond the
+// candidates' radius (a Verlet list: FreeSurfaceSolver re-searches once nodes have moved half the
+// skin).
+[[nodiscard]] NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const double> positions,
+                                              int dimension, double radius);
+
 }  // namespace rheosim::ldd
