@@ -50,8 +50,12 @@ void for_rows(std::size_t n, Body&& body) {
 // unit_diagonal): the LDD systems mix rows of both signs and units (the PPE's Laplacian rows have
 // a diagonal ~ −1/Δ², its wall rows +1), and an aggregate summing such rows would cancel or drop
 // some of them from the Galerkin operator.
-Rows scaled_rows_of(const StencilMatrix& a, bool unit_diagonal, std::vector<double>& row_scale) {
-  Rows out{a.diagonal, a.pattern->offsets, a.pattern->indices, a.off_diagonal};
+// Written into `out`, whose storage is reused (copy-assignment keeps a large enough capacity).
+void scaled_rows_of(const StencilMatrix& a, bool unit_diagonal, std::vector<double>& row_scale, Rows& out) {
+  out.diagonal = a.diagonal;
+  out.offsets = a.pattern->offsets;
+  out.columns = a.pattern->indices;
+  out.values = a.off_diagonal;
   const std::size_t n = out.size();
   row_scale.resize(n);
   for_rows(n, [&](std::size_t i) {
@@ -62,7 +66,6 @@ Rows scaled_rows_of(const StencilMatrix& a, bool unit_diagonal, std::vector<doub
     out.diagonal[i] *= scale;
     for (std::size_t k = out.offsets[i]; k < out.offsets[i + 1]; ++k) out.values[k] *= scale;
   });
-  return out;
 }
 
 // Row by row in column order, the diagonal merged in its place (columns within a row ascend, as
@@ -465,7 +468,11 @@ void AmgPreconditioner::setup(const StencilMatrix& a) {
     throw std::invalid_argument("AMG: the stencil matrix does not match its pattern");
   auto h = std::make_unique<Hierarchy>();
   h->levels.emplace_back();
-  h->levels.back().a = scaled_rows_of(a, settings_.unit_diagonal, h->row_scale);
+  if (hierarchy_) {  // reuse the old fine level's storage; the old hierarchy is gone either way
+    h->levels.back().a = std::move(hierarchy_->levels.front().a);
+    hierarchy_.reset();
+  }
+  scaled_rows_of(a, settings_.unit_diagonal, h->row_scale, h->levels.back().a);
   h->fine_nonzeros_at_setup = h->levels.back().a.nonzeros();
   while (h->levels.size() < static_cast<std::size_t>(settings_.max_levels)) {
     Hierarchy::Level& level = h->levels.back();
@@ -511,7 +518,7 @@ bool AmgPreconditioner::prepare(const StencilMatrix& a) {
   if (full) {
     setup(a);
   } else {
-    hierarchy_->levels.front().a = scaled_rows_of(a, settings_.unit_diagonal, hierarchy_->row_scale);
+    scaled_rows_of(a, settings_.unit_diagonal, hierarchy_->row_scale, hierarchy_->levels.front().a);
   }
   ++calls_since_setup_;
   return full;

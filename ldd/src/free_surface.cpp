@@ -358,7 +358,7 @@ void FreeSurfaceSolver::rebuild_neighbours() {
     moved = std::sqrt(most);
     if (candidates_valid_ && 2.0 * moved < 0.9 * skin) {
       ++steps_since_search_;
-      neighbours_ = neighbours_within(candidates_, positions_, dim_, search_radius_);
+      neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
       return;
     }
   }
@@ -369,7 +369,7 @@ void FreeSurfaceSolver::rebuild_neighbours() {
   candidates_valid_ = skin > 0 && (!known_speed || 0.9 * skin >= 2.0 * 2.0 * per_step);
   if (candidates_valid_) {
     candidates_ = find_neighbours(positions_, dim_, search_radius_ + skin);
-    neighbours_ = neighbours_within(candidates_, positions_, dim_, search_radius_);
+    neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
   } else {
     candidates_ = NeighbourList{};
     neighbours_ = find_neighbours(positions_, dim_, search_radius_);
@@ -769,7 +769,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
 
   // 1. Operators (eqs. 13–16) and the free-surface classification.
   auto t0 = Clock::now();
-  operators_ = build_operators(positions_, dim_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient});
+  build_operators(positions_, dim_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient},
+                  operators_);
   keep_laplacian_positive();
   const Operators& ops = operators_;
   last_kinds_ = kinds_;

@@ -276,6 +276,14 @@ NeighbourList find_neighbours(std::span<const double> positions, int dimension, 
 
 NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension,
                                 double radius) {
+  NeighbourList list;
+  neighbours_within(candidates, positions, dimension, radius, list);
+  return list;
+}
+
+void neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension, double radius,
+                       NeighbourList& list) {
+  if (&list == &candidates) throw std::invalid_argument("neighbours_within: the output is the candidate list");
   validate(positions, dimension, radius);
   const auto dim = static_cast<std::size_t>(dimension);
   const std::size_t n = candidates.node_count();
@@ -292,8 +300,8 @@ NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const
     }
     return sum;
   };
-  NeighbourList list;
-  list.offsets.assign(n + 1, 0);
+  list.offsets.resize(n + 1);  // every entry written below
+  list.offsets[0] = 0;
   const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
@@ -319,7 +327,6 @@ NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const
       ++next;
     }
   }
-  return list;
 }
 
 }  // namespace rheosim::ldd

@@ -127,6 +127,13 @@ std::size_t Operators::guarded_count() const {
 
 Operators build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
                           const OperatorSettings& settings) {
+  Operators ops;
+  build_operators(positions, dimension, neighbours, settings, ops);
+  return ops;
+}
+
+void build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
+                     const OperatorSettings& settings, Operators& ops) {
   if (dimension != 2 && dimension != 3)
     throw std::invalid_argument(fmt::format("build_operators: dimension = {}, expected 2 or 3", dimension));
   if (!(settings.support_radius > 0))
@@ -136,7 +143,7 @@ Operators build_operators(std::span<const double> positions, int dimension, cons
   if (positions.size() != n * dim)
     throw std::invalid_argument(
         fmt::format("build_operators: {} coordinates for {} nodes in {}D", positions.size(), n, dimension));
-  Operators ops;
+  // Every entry is written below (build_node), so resizing without clearing is enough.
   ops.dimension = dimension;
   ops.weights.resize(neighbours.pair_count());
   ops.gradient.resize(neighbours.pair_count() * dim);
@@ -152,7 +159,6 @@ Operators build_operators(std::span<const double> positions, int dimension, cons
     else
       build_node<3>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
   }
-  return ops;
 }
 
 void gradient(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {

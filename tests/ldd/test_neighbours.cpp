@@ -95,7 +95,13 @@ TEST(Neighbours, FilteredCandidatesEqualAFreshSearchAfterSmallMoves) {
     for (double& x : positions) x += step(rng);
     expect_same(neighbours_within(candidates, positions, dimension, h), find_neighbours(positions, dimension, h));
   }
-  const NeighbourList candidates = find_neighbours(std::vector<double>{0, 0, 1, 0}, 2, 2.0);
+  // Into a used list (a solver's previous step), and never into the candidates themselves.
+  std::vector<double> positions = random_cloud(2000, 3, 10.0, 5);
+  NeighbourList candidates = find_neighbours(positions, 3, 1.4);
+  NeighbourList used = find_neighbours(random_cloud(2500, 3, 10.0, 6), 3, 1.2);
+  neighbours_within(candidates, positions, 3, 1.0, used);
+  expect_same(used, find_neighbours(positions, 3, 1.0));
+  EXPECT_THROW(neighbours_within(candidates, positions, 3, 1.0, candidates), std::invalid_argument);
   EXPECT_THROW((void)neighbours_within(candidates, std::vector<double>{0, 0, 1, 0, 2, 0}, 2, 1.0), std::invalid_argument);
 }
 

@@ -74,6 +74,23 @@ TEST(Weight, IsCubicAndVanishesAtSupport) {
   EXPECT_NEAR(weight_derivative(r, h), (weight(r + e, h) - weight(r - e, h)) / (2 * e), 1e-8);
 }
 
+// A solver rebuilds its operators into the previous step's storage: built into an Operators
+// that held a larger cloud's coefficients, every entry equals a fresh build.
+TEST(Operators, RebuiltIntoUsedStorageEqualFreshOnes) {
+  const Cloud large = square_cloud(30, 0.3, 1), small = square_cloud(20, 0.3, 2);
+  const double h = 1.6 / 20;
+  const NeighbourList large_nb = find_neighbours(large.x, 2, 1.6 / 30), small_nb = find_neighbours(small.x, 2, h);
+  Operators reused = build_operators(large.x, 2, large_nb, OperatorSettings{1.6 / 30, 1e-3, true});
+  build_operators(small.x, 2, small_nb, OperatorSettings{h, 1e-3, true}, reused);
+  const Operators fresh = build_operators(small.x, 2, small_nb, OperatorSettings{h, 1e-3, true});
+  EXPECT_EQ(reused.weights, fresh.weights);
+  EXPECT_EQ(reused.gradient, fresh.gradient);
+  EXPECT_EQ(reused.laplacian, fresh.laplacian);
+  EXPECT_EQ(reused.offset, fresh.offset);
+  EXPECT_EQ(reused.guarded, fresh.guarded);
+  EXPECT_EQ(reused.conditioning, fresh.conditioning);
+}
+
 TEST(Gradient, ExactForLinearFieldsOnJitteredCloud2D) {
   const Cloud c = square_cloud(20, 0.35);
   const auto b = build(c.x, 2, 1.6 * c.spacing);

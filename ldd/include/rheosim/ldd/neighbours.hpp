@@ -52,5 +52,8 @@ struct NeighbourList {
 // skin).
 [[nodiscard]] NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const double> positions,
                                               int dimension, double radius);
+// The same into `out`, reusing its storage (out must not be `candidates`).
+void neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension, double radius,
+                       NeighbourList& out);
 
 }  // namespace rheosim::ldd

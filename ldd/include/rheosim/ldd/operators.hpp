@@ -81,6 +81,10 @@ struct Operators {
 // Parallel over nodes (OpenMP); the result does not depend on the thread count.
 [[nodiscard]] Operators build_operators(std::span<const double> positions, int dimension,
                                         const NeighbourList& neighbours, const OperatorSettings& settings);
+// The same into `out`, reusing its storage (a solver rebuilding every step: no fresh pages to
+// fault in and zero).
+void build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
+                     const OperatorSettings& settings, Operators& out);
 
 // ⟨∇f⟩ for every node (eq. 14): out has dimension values per node.
 void gradient(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
