@@ -334,7 +334,6 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
   kinds_ = std::move(state.kinds);
   neighbours_ = std::move(state.neighbours);
   candidates_ = NeighbourList{};  // searched afresh at the next step (the same list either way)
-  candidates_valid_ = false;
   candidate_positions_.clear();
   steps_since_search_ = 0;
   times_ = state.times;
@@ -347,7 +346,8 @@ void FreeSurfaceSolver::rebuild_neighbours() {
   // so one of its nodes has moved more than half of it: search again before that (with a 10 %
   // margin for rounding).
   double moved = 0;  // the largest displacement since the last search
-  if (candidate_positions_.size() == positions_.size()) {
+  const bool searched_before = candidate_positions_.size() == positions_.size();
+  if (searched_before) {
     const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
     double most = 0;
 #pragma omp parallel for schedule(static) reduction(max : most)
@@ -356,7 +356,8 @@ void FreeSurfaceSolver::rebuild_neighbours() {
       most = std::max(most, squared_distance(&positions_[dim * i], &candidate_positions_[dim * i], dim));
     }
     moved = std::sqrt(most);
-    if (candidates_valid_ && 2.0 * moved < 0.9 * skin) {
+    const bool verlet_list = candidates_.node_count() == kinds_.size();  // else the last search was plain
+    if (verlet_list && 2.0 * moved < 0.9 * skin) {
       ++steps_since_search_;
       neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
       return;
@@ -364,10 +365,9 @@ void FreeSurfaceSolver::rebuild_neighbours() {
   }
   // A Verlet list costs ~1.5 plain searches: worth it only if the nodes, moving as fast as since
   // the last search, would keep it for two steps or more (not for splashing nodes at δt = 1e-3).
-  const bool known_speed = candidate_positions_.size() == positions_.size() && steps_since_search_ > 0;
+  const bool known_speed = searched_before && steps_since_search_ > 0;
   const double per_step = known_speed ? moved / static_cast<double>(steps_since_search_) : 0.0;
-  candidates_valid_ = skin > 0 && (!known_speed || 0.9 * skin >= 2.0 * 2.0 * per_step);
-  if (candidates_valid_) {
+  if (skin > 0 && (!known_speed || 0.9 * skin >= 2.0 * 2.0 * per_step)) {
     candidates_ = find_neighbours(positions_, dim_, search_radius_ + skin);
     neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
   } else {

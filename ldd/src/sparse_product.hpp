@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "blocks.hpp"  // block_range
+
 namespace rheosim::ldd::detail {
 
 // Compressed rows: row i's entries at [offsets[i], offsets[i + 1]), columns ascending.
@@ -32,11 +34,7 @@ CompressedRows combine_rows(std::size_t rows, const CompressedRows& b, int block
   };
   blocks = std::max(blocks, 1);
   std::vector<Block> parts(static_cast<std::size_t>(blocks));
-  const auto range = [&](int t) {
-    const auto bb = static_cast<std::size_t>(blocks);
-    const auto tt = static_cast<std::size_t>(t);
-    return std::pair<std::size_t, std::size_t>{rows * tt / bb, rows * (tt + 1) / bb};
-  };
+  const auto range = [&](int t) { return block_range(rows, t, blocks); };
 #pragma omp parallel for schedule(static) if (blocks > 1)
   for (int t = 0; t < blocks; ++t) {
     constexpr std::size_t unmarked = std::numeric_limits<std::size_t>::max();

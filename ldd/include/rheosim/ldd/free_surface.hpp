@@ -282,9 +282,8 @@ class FreeSurfaceSolver {
   std::size_t steps_ = 0, laplacian_guarded_ = 0;
   bool first_step_ = true;
   NeighbourList neighbours_;
-  NeighbourList candidates_;                // Verlet list (neighbour_reuse_skin)
-  std::vector<double> candidate_positions_;  // where the nodes were when it was searched
-  bool candidates_valid_ = false;
+  NeighbourList candidates_;                // Verlet list (neighbour_reuse_skin); empty after a plain search
+  std::vector<double> candidate_positions_;  // where the nodes were at the last search
   std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
   Operators operators_;
   PhaseTimes times_;
