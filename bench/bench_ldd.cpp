@@ -14,6 +14,8 @@
 //                                       # velocities to DIR (compare_ldd_dumps.py compares two DIRs)
 //   build-ldd/bin/bench_ldd bandwidth   # memory bandwidth: triad and the stencil product, 1 and 2
 //                                       # threads (the floor of the free-surface step)
+//   build-ldd/bin/bench_ldd floor       # the linear solves' floor of the dam-break and slump steps:
+//                                       # product, V-cycle and AMG set-up times on same-size lattices
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
 //                                       # code path as `rheosim run`, without the other modules)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
@@ -40,6 +42,7 @@
 #include "data/ghia1982.hpp"  // tests/ldd/data
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/ldd/amg.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/krylov.hpp"
 #include "rheosim/ldd/neighbours.hpp"
@@ -282,11 +285,109 @@ void bandwidth() {
   std::printf("(check: a[7] = %g, out[7] = %g)\n", a[7], out[7]);
 }
 
+// The Krylov floor of a free-surface step (docs/performance.md, "Eleventh session"): what the
+// linear solves alone cost at this machine's speed, whatever else the step does. On a lattice
+// cloud the size of the Δ = 2 mm dam break (2D, 227² nodes) and of the slump (3D, 44³ nodes) with
+// the solver's neighbour radius (h + skin = 1.9 Δ): one StencilMatrix product and one AMG V-cycle
+// (the solver's settings: unit-diagonal rows for the 3D PPE) of a PPE-like matrix (Laplacian rows
+// weighted by W, Dirichlet rows on the top layer as a free surface) and of a momentum-like one
+// (ρ + δt μ L with δt μ / (ρ Δ²) = 5, the slump's ratio at μ = 255 Pa·s), and the AMG set-ups.
+// BiCGStab costs 2 products and 2 V-cycles per iteration; the iteration counts are those the
+// runs measured (summary.json of the tenth session's last build, two threads).
+void krylov_floor() {
+  struct Scene {
+    const char* name;
+    int dimension, side;
+    double pressure_iterations, velocity_iterations, measured_ms, seed_ms;
+    int velocity_setups_per_step;  // 2D rebuilds the velocity hierarchy every step, 3D keeps it
+  };
+  const Scene scenes[] = {{"dam break 2 mm (2D)", 2, 227, 7.50, 8.80, 108.9, 35.0, 1},
+                          {"slump (3D)", 3, 44, 8.80, 7.05, 336.9, 55.0, 0}};
+  const auto best_seconds = [](int repetitions, const auto& body) {
+    double best = 1e300;
+    for (int r = 0; r < repetitions; ++r) {
+      const auto start = std::chrono::steady_clock::now();
+      body();
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    return best;
+  };
+  std::printf("| scene | nodes | pairs/node | threads | product ms | PPE V-cycle ms | velocity V-cycle ms | "
+              "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
+  std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  for (const Scene& scene : scenes) {
+    const int d = scene.dimension, side = scene.side;
+    std::vector<double> x;
+    for (int k = 0; k < (d == 3 ? side : 1); ++k)
+      for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i) {
+          x.insert(x.end(), {static_cast<double>(i), static_cast<double>(j)});
+          if (d == 3) x.push_back(static_cast<double>(k));
+        }
+    const double radius = 1.9, support = 1.6;
+    const ldd::NeighbourList nb = ldd::find_neighbours(x, d, radius);
+    const std::size_t n = nb.node_count();
+    const double top = static_cast<double>(side - 1);
+    ldd::StencilMatrix pressure{&nb, std::vector<double>(n), std::vector<double>(nb.pair_count())};
+    ldd::StencilMatrix velocity{&nb, std::vector<double>(n), std::vector<double>(nb.pair_count())};
+    const double viscous_ratio = 5.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool surface = x[static_cast<std::size_t>(d) * i + static_cast<std::size_t>(d - 1)] == top;
+      double sum = 0;
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        const double w = ldd::weight(nb.distances[k], support);
+        sum += w;
+        pressure.off_diagonal[k] = surface ? 0.0 : w;
+        velocity.off_diagonal[k] = -viscous_ratio * w;
+      }
+      pressure.diagonal[i] = surface ? 1.0 : -sum;
+      velocity.diagonal[i] = 1.0 + viscous_ratio * sum;
+    }
+    ldd::AmgSettings pressure_settings;
+    pressure_settings.unit_diagonal = d == 3;
+    ldd::AmgPreconditioner pressure_amg(pressure_settings), velocity_amg;
+    std::vector<double> r(n, 1.0), z(n), out(n);
+    for (std::size_t i = 0; i < n; ++i) r[i] = std::sin(0.37 * static_cast<double>(i));
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      const double product = best_seconds(30, [&] { pressure.multiply(r, out); });
+      const double pressure_setup = best_seconds(3, [&] { pressure_amg.setup(pressure); });
+      const double velocity_setup = best_seconds(3, [&] { velocity_amg.setup(velocity); });
+      const double pressure_cycle = best_seconds(20, [&] { pressure_amg.apply(r, z); });
+      const double velocity_cycle = best_seconds(20, [&] { velocity_amg.apply(r, z); });
+      const double floor_seconds = scene.pressure_iterations * 2.0 * (product + pressure_cycle) +
+                                   scene.velocity_iterations * 2.0 * (product + velocity_cycle) +
+                                   scene.velocity_setups_per_step * velocity_setup;
+      char measured[32] = "";
+      if (threads == 2) std::snprintf(measured, sizeof measured, "%.1f", scene.measured_ms);
+      std::printf("| %s | %zu | %.1f | %d | %.3f | %.3f | %.3f | %.1f | %.1f | %.1f | %s | %.0f |\n", scene.name, n,
+                  static_cast<double>(nb.pair_count()) / static_cast<double>(n), threads, 1e3 * product,
+                  1e3 * pressure_cycle, 1e3 * velocity_cycle, 1e3 * pressure_setup, 1e3 * velocity_setup,
+                  1e3 * floor_seconds, measured, scene.seed_ms);
+    }
+    const auto sizes = [](const ldd::AmgPreconditioner& amg) {
+      std::string text;
+      for (std::size_t l = 0; l < amg.levels(); ++l) text += (l ? " > " : "") + std::to_string(amg.rows(l));
+      return text;
+    };
+    std::printf("(%s: PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n", scene.name,
+                sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(), sizes(velocity_amg).c_str(),
+                velocity_amg.operator_complexity(), z[7]);
+  }
+  std::printf("Krylov floor = PPE iterations × 2 (product + V-cycle) + velocity iterations × 2 (product + "
+              "V-cycle) + the velocity set-ups per step; iterations per step as measured (2D 7.50 / 8.80, "
+              "3D 8.80 / 7.05).\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc == 2 && std::string(argv[1]) == "bandwidth") {
     bandwidth();
+    return 0;
+  }
+  if (argc == 2 && std::string(argv[1]) == "floor") {
+    krylov_floor();
     return 0;
   }
   if (argc == 4 && std::string(argv[1]) == "run") {
