@@ -467,6 +467,9 @@ void AmgPreconditioner::setup(const StencilMatrix& a) {
   if (a.pattern == nullptr || a.off_diagonal.size() != a.pattern->pair_count() || a.pattern->node_count() != a.size())
     throw std::invalid_argument("AMG: the stencil matrix does not match its pattern");
   auto h = std::make_unique<Hierarchy>();
+  // Room for every level up front: a Level (Eigen matrices inside) is copied, not moved, when the
+  // vector grows, and the copies were a tenth of the set-up.
+  h->levels.reserve(static_cast<std::size_t>(settings_.max_levels));
   h->levels.emplace_back();
   if (hierarchy_) {  // reuse the old fine level's storage; the old hierarchy is gone either way
     h->levels.back().a = std::move(hierarchy_->levels.front().a);
