@@ -241,6 +241,17 @@ void accuracy(const AccuracyOptions& o) {
                 max_difference(profiles[r], profiles[r + 1]));
 }
 
+// Wall seconds of the fastest of `repetitions` calls of body.
+double best_seconds(int repetitions, const auto& body) {
+  double best = 1e300;
+  for (int r = 0; r < repetitions; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    body();
+    best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return best;
+}
+
 // What memory bandwidth allows (docs/performance.md, "LDD free surfaces: where the floor is"):
 // a STREAM-like triad over 3 × 160 MB and the free-surface solver's sparse product,
 // StencilMatrix::multiply, on a 50 000-node 2D lattice with the free-surface neighbour radius
@@ -248,15 +259,6 @@ void accuracy(const AccuracyOptions& o) {
 void bandwidth() {
   const std::size_t n = 20'000'000;
   std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
-  const auto best_seconds = [](int repetitions, const auto& body) {
-    double best = 1e300;
-    for (int r = 0; r < repetitions; ++r) {
-      const auto start = std::chrono::steady_clock::now();
-      body();
-      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
-    return best;
-  };
   std::vector<double> x;
   for (int j = 0; j < 200; ++j)
     for (int i = 0; i < 250; ++i) x.insert(x.end(), {static_cast<double>(i), static_cast<double>(j)});
@@ -303,15 +305,6 @@ void krylov_floor() {
   };
   const Scene scenes[] = {{"dam break 2 mm (2D)", 2, 227, 7.50, 8.80, 108.9, 35.0, 1},
                           {"slump (3D)", 3, 44, 8.80, 7.05, 336.9, 55.0, 0}};
-  const auto best_seconds = [](int repetitions, const auto& body) {
-    double best = 1e300;
-    for (int r = 0; r < repetitions; ++r) {
-      const auto start = std::chrono::steady_clock::now();
-      body();
-      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
-    return best;
-  };
   std::printf("| scene | nodes | pairs/node | threads | product ms | PPE V-cycle ms | velocity V-cycle ms | "
               "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
