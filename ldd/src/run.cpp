@@ -323,15 +323,7 @@ CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams&
   double last_time = 0, seconds = 0;
   int quiet = 0;
   for (std::size_t k = 1; k <= total_steps; ++k) {
-    const auto start = std::chrono::steady_clock::now();
-    try {
-      solver.step();
-    } catch (const DivergenceError& e) {
-      result.diverged = true;
-      result.message = e.what();
-    }
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (result.diverged) break;
+    if (!detail::timed_step_into(solver, result, seconds)) break;
     if (k % probe_every != 0) continue;
     const std::vector<double> now = solver.sample_velocity(probes);
     double change = 0;

@@ -556,15 +556,7 @@ DamBreakResult simulate_dam_break(const core::DamBreakScene& scene, const FreeSu
   const auto total_steps = static_cast<std::size_t>(std::llround(end_time / params.time_step));
   double seconds = 0;
   for (std::size_t k = 1; k <= total_steps; ++k) {
-    const auto start = std::chrono::steady_clock::now();
-    try {
-      solver.step();
-    } catch (const DivergenceError& e) {
-      r.diverged = true;
-      r.message = e.what();
-    }
-    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (r.diverged) break;
+    if (!detail::timed_step_into(solver, r, seconds)) break;
     r.times.push_back(solver.time());
     r.front.push_back(mass_front(solver));
     r.kinetic_energy.push_back(solver.kinetic_energy());

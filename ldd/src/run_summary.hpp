@@ -14,22 +14,38 @@
 
 namespace rheosim::ldd::detail {
 
-// One step of `solver`, its wall time added to step_seconds. On DivergenceError the outcome
-// becomes "diverged" with the message (the solver keeps the last good state) and false is
-// returned: the caller stops stepping.
-template <class Solver, class Stats>
-[[nodiscard]] bool timed_step(Solver& solver, Stats& stats, RunOutcome& outcome, double& step_seconds) {
+// One step of `solver`, its wall time added to step_seconds, its statistics into `stats`. On
+// DivergenceError diverged(message) is called (the solver keeps the last good state) and false
+// is returned: the caller stops stepping.
+template <class Solver, class Stats, class Diverged>
+[[nodiscard]] bool timed_step(Solver& solver, Stats& stats, double& step_seconds, Diverged&& diverged) {
   const auto start = std::chrono::steady_clock::now();
   bool ok = true;
   try {
     stats = solver.step();
   } catch (const DivergenceError& e) {
-    outcome.status = "diverged";
-    outcome.message = e.what();
+    diverged(e.what());
     ok = false;
   }
   step_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return ok;
+}
+// A case run's step: a divergence becomes the outcome "diverged" with the message.
+template <class Solver, class Stats>
+[[nodiscard]] bool timed_step(Solver& solver, Stats& stats, RunOutcome& outcome, double& step_seconds) {
+  return timed_step(solver, stats, step_seconds, [&](const char* message) {
+    outcome.status = "diverged";
+    outcome.message = message;
+  });
+}
+// A library simulate_* loop's step: its result (with `diverged` and `message`) records a divergence.
+template <class Solver, class Result>
+[[nodiscard]] bool timed_step_into(Solver& solver, Result& result, double& step_seconds) {
+  decltype(solver.step()) stats;
+  return timed_step(solver, stats, step_seconds, [&](const char* message) {
+    result.diverged = true;
+    result.message = message;
+  });
 }
 
 // Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps, time,
