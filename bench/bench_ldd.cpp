@@ -15,7 +15,7 @@
 //   build-ldd/bin/bench_ldd bandwidth   # memory bandwidth: triad and the stencil product, 1 and 2
 //                                       # threads (the floor of the free-surface step)
 //   build-ldd/bin/bench_ldd floor       # the linear solves' floor of the dam-break and slump steps:
-//                                       # product, V-cycle and AMG set-up times on same-size lattices
+//                                       # product, V-cycle and AMG set-up times on the runs' initial clouds
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
 //                                       # code path as `rheosim run`, without the other modules)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
@@ -35,6 +35,7 @@
 #include <cstdio>
 #include <ctime>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <filesystem>
@@ -44,9 +45,12 @@
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/amg.hpp"
 #include "rheosim/ldd/domain.hpp"
+#include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/krylov.hpp"
 #include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/scenes.hpp"
 #include "rheosim/ldd/solver.hpp"
 
 namespace {
@@ -288,58 +292,77 @@ void bandwidth() {
 }
 
 // The Krylov floor of a free-surface step (docs/performance.md, "Eleventh session"): what the
-// linear solves alone cost at this machine's speed, whatever else the step does. On a lattice
-// cloud the size of the Δ = 2 mm dam break (2D, 227² nodes), of the slump (3D, 44³ nodes) and of
-// the Δ = 1 mm dam break at δt = 1e-4 (2D, 451² nodes; the first 50 steps' iterations) with
-// the solver's neighbour radius (h + skin = 1.9 Δ): one StencilMatrix product and one AMG V-cycle
-// (the solver's settings: unit-diagonal rows for the 3D PPE) of a PPE-like matrix (Laplacian rows
-// weighted by W, Dirichlet rows on the top layer as a free surface) and of a momentum-like one
-// (ρ + δt μ L with δt μ / (ρ Δ²) = 5, the slump's ratio at μ = 255 Pa·s), and the AMG set-ups.
-// BiCGStab costs 2 products and 2 V-cycles per iteration; the iteration counts are those the
-// runs measured (summary.json of the tenth session's last build, two threads).
+// linear solves alone cost at this machine's speed, whatever else the step does. On the initial
+// clouds of the Δ = 2 mm dam break, the 50 000-node slump and the Δ = 1 mm dam break (their case
+// files' scenes, the solver's neighbour radius h + skin = 1.9 Δ, wall nodes included): one
+// StencilMatrix product and one AMG V-cycle (the solver's settings: unit-diagonal rows for the 3D
+// PPE) of a PPE-like matrix and of a momentum-like one, and their AMG set-ups. PPE-like: fluid rows
+// W-weighted Laplacians, Dirichlet where the support is not full (Σ W below 0.85 of the median
+// fluid node's: the free surface), wall rows the Shepard extrapolation from their fluid neighbours; momentum-like:
+// ρ + δt μ L with δt μ / (ρ Δ²) = 5 (the slump's ratio at μ = 255 Pa·s) on fluid rows, identity
+// on wall rows (their entries stored as zeros, as the solver's pattern keeps them). BiCGStab costs
+// 2 products and 2 V-cycles per iteration; the iteration counts are those the runs measured
+// (summary.json of the tenth session's last build, two threads; the 1 mm run's first 50 steps).
 void krylov_floor() {
   struct Scene {
     const char* name;
-    int dimension, side;
+    const char* case_file;  // under the source tree
+    double spacing;         // Δ [m]
     double pressure_iterations, velocity_iterations, measured_ms, seed_ms;
     int velocity_setups_per_step;  // 2D rebuilds the velocity hierarchy every step, 3D keeps it
   };
-  const Scene scenes[] = {{"dam break 2 mm (2D)", 2, 227, 7.50, 8.80, 108.9, 35.0, 1},
-                          {"slump (3D)", 3, 44, 8.80, 7.05, 336.9, 55.0, 0},
-                          {"dam break 1 mm, dt 1e-4 (2D)", 2, 451, 16.22, 8.04, 611.2, 200.0, 1}};
+  const Scene scenes[] = {
+      {"dam break 2 mm (2D)", "cases/ldd_dam_break_bingham.yaml", 0.002, 7.50, 8.80, 108.9, 35.0, 1},
+      {"slump (3D)", "cases/ldd_slump_abrams.yaml", 0.0048, 8.80, 7.05, 336.9, 55.0, 0},
+      {"dam break 1 mm, dt 1e-4 (2D)", "cases/ldd_dam_break_bingham.yaml", 0.001, 16.22, 8.04, 611.2, 200.0, 1}};
   std::printf("| scene | nodes | pairs/node | threads | product ms | PPE V-cycle ms | velocity V-cycle ms | "
               "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const Scene& scene : scenes) {
-    const int d = scene.dimension, side = scene.side;
-    std::vector<double> x;
-    for (int k = 0; k < (d == 3 ? side : 1); ++k)
-      for (int j = 0; j < side; ++j)
-        for (int i = 0; i < side; ++i) {
-          x.insert(x.end(), {static_cast<double>(i), static_cast<double>(j)});
-          if (d == 3) x.push_back(static_cast<double>(k));
-        }
-    const double radius = 1.9, support = 1.6;
-    const ldd::NeighbourList nb = ldd::find_neighbours(x, d, radius);
+    const core::Case c = core::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/" + scene.case_file);
+    const auto& l = std::get<core::LddCase>(c.spec);
+    const ldd::FreeSurfaceScene built =
+        l.dimension == 3 ? ldd::slump_scene(std::get<core::SlumpScene>(l.scene), scene.spacing, l.walls)
+                         : ldd::dam_break_scene(std::get<core::DamBreakScene>(l.scene), scene.spacing);
+    const ldd::FreeSurfaceCloud& cloud = built.cloud;
+    const ldd::NeighbourList nb = ldd::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
     const std::size_t n = nb.node_count();
-    const double top = static_cast<double>(side - 1);
+    const double support = 1.6 * scene.spacing;
+    std::vector<double> kernel_sum(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) kernel_sum[i] += ldd::weight(nb.distances[k], support);
+    std::vector<double> fluid_sums;  // a full support: the median fluid node's (walls packed
+    for (std::size_t i = 0; i < n; ++i)  // densely make some supports fuller than a full one)
+      if (!cloud.is_wall[i]) fluid_sums.push_back(kernel_sum[i]);
+    std::nth_element(fluid_sums.begin(), fluid_sums.begin() + static_cast<std::ptrdiff_t>(fluid_sums.size() / 2),
+                     fluid_sums.end());
+    const double full = fluid_sums[fluid_sums.size() / 2];
     ldd::StencilMatrix pressure{&nb, std::vector<double>(n), std::vector<double>(nb.pair_count())};
-    ldd::StencilMatrix velocity{&nb, std::vector<double>(n), std::vector<double>(nb.pair_count())};
+    ldd::StencilMatrix velocity{&nb, std::vector<double>(n, 1.0), std::vector<double>(nb.pair_count(), 0.0)};
     const double viscous_ratio = 5.0;
     for (std::size_t i = 0; i < n; ++i) {
-      const bool surface = x[static_cast<std::size_t>(d) * i + static_cast<std::size_t>(d - 1)] == top;
-      double sum = 0;
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+      pressure.diagonal[i] = 1.0;
+      if (cloud.is_wall[i]) {
+        double fluid_sum = 0;
+        for (std::size_t k = begin; k < end; ++k)
+          if (!cloud.is_wall[nb.indices[k]]) fluid_sum += ldd::weight(nb.distances[k], support);
+        for (std::size_t k = begin; k < end; ++k)
+          if (!cloud.is_wall[nb.indices[k]] && fluid_sum > 0)
+            pressure.off_diagonal[k] = -ldd::weight(nb.distances[k], support) / fluid_sum;
+        continue;
+      }
+      const bool surface = kernel_sum[i] < 0.85 * full;
+      for (std::size_t k = begin; k < end; ++k) {
         const double w = ldd::weight(nb.distances[k], support);
-        sum += w;
-        pressure.off_diagonal[k] = surface ? 0.0 : w;
+        if (!surface) pressure.off_diagonal[k] = w;
         velocity.off_diagonal[k] = -viscous_ratio * w;
       }
-      pressure.diagonal[i] = surface ? 1.0 : -sum;
-      velocity.diagonal[i] = 1.0 + viscous_ratio * sum;
+      if (!surface) pressure.diagonal[i] = -kernel_sum[i];
+      velocity.diagonal[i] = 1.0 + viscous_ratio * kernel_sum[i];
     }
     ldd::AmgSettings pressure_settings;
-    pressure_settings.unit_diagonal = d == 3;
+    pressure_settings.unit_diagonal = l.dimension == 3;
     ldd::AmgPreconditioner pressure_amg(pressure_settings), velocity_amg;
     std::vector<double> r(n, 1.0), z(n), out(n);
     for (std::size_t i = 0; i < n; ++i) r[i] = std::sin(0.37 * static_cast<double>(i));
@@ -362,12 +385,14 @@ void krylov_floor() {
     }
     const auto sizes = [](const ldd::AmgPreconditioner& amg) {
       std::string text;
-      for (std::size_t l = 0; l < amg.levels(); ++l) text += (l ? " > " : "") + std::to_string(amg.rows(l));
+      for (std::size_t level = 0; level < amg.levels(); ++level)
+        text += (level ? " > " : "") + std::to_string(amg.rows(level));
       return text;
     };
-    std::printf("(%s: PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n", scene.name,
-                sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(), sizes(velocity_amg).c_str(),
-                velocity_amg.operator_complexity(), z[7]);
+    const auto walls = static_cast<std::size_t>(std::count(cloud.is_wall.begin(), cloud.is_wall.end(), 1));
+    std::printf("(%s: %zu wall nodes; PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n",
+                scene.name, walls, sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(),
+                sizes(velocity_amg).c_str(), velocity_amg.operator_complexity(), z[7]);
   }
   std::printf("Krylov floor = PPE iterations × 2 (product + V-cycle) + velocity iterations × 2 (product + "
               "V-cycle) + the velocity set-ups per step; iterations per step as measured (2D 7.50 / 8.80, "
