@@ -578,6 +578,12 @@ TEST(RheologyValidation, OtherRangesAreChecked) {
        "time_constant", core::Range::positive().str()},
       {"{model: cross, zero_shear_viscosity: 1, infinite_shear_viscosity: 0, time_constant: 1, exponent: 1.5}",
        "exponent", core::Range::open_closed(0.0, 1.0).str()},
+      // The plateaus' order: μ∞ below μ0, the range named with μ0's value.
+      {"{model: cross, zero_shear_viscosity: 1, infinite_shear_viscosity: 2, time_constant: 1, exponent: 0.5}",
+       "infinite_shear_viscosity", "[0, 1)"},
+      {"{model: carreau_yasuda, zero_shear_viscosity: 1, infinite_shear_viscosity: 1, time_constant: 1, a: 2, "
+       "n: 0.5}",
+       "infinite_shear_viscosity", "[0, 1)"},
   };
   for (const auto& b : bad) {
     const std::string what = config_error(b.yaml);

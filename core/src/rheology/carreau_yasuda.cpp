@@ -1,19 +1,12 @@
 #include "carreau_yasuda.hpp"
 #include "parameter_check.hpp"
-
-#include <cmath>
-#include <stdexcept>
-
-#include <fmt/format.h>
+#include "plateau_parameters.hpp"
 
 namespace rheosim::core {
 namespace {
 
-// Valid ranges, shared by the YAML reader (located errors) and the constructor (invariants).
-// infinite_shear_viscosity must also be below zero_shear_viscosity.
-const Range zero_shear_viscosity_range = Range::positive();
-const Range infinite_shear_viscosity_range = Range::non_negative();
-const Range time_constant_range = Range::positive();
+// The law's own ranges, shared by the YAML reader (located errors) and the constructor
+// (invariants); the plateaus' are in plateau_parameters.hpp.
 const Range a_range = Range::open_closed(0.0, 10.0);
 const Range n_range = Range::open_closed(0.0, 2.0);
 
@@ -23,14 +16,9 @@ void check(std::string_view key, double value, const Range& range) {
 
 // Validates before the derived constants are computed from the parameters.
 CarreauYasuda::Params checked(CarreauYasuda::Params p) {
-  check("zero_shear_viscosity", p.zero_shear_viscosity, zero_shear_viscosity_range);
-  check("infinite_shear_viscosity", p.infinite_shear_viscosity, infinite_shear_viscosity_range);
-  check("time_constant", p.time_constant, time_constant_range);
+  detail::check_plateaus(CarreauYasuda::name, p);
   check("a", p.a, a_range);
   check("n", p.n, n_range);
-  if (!(p.infinite_shear_viscosity < p.zero_shear_viscosity))
-    throw std::invalid_argument(fmt::format("{}: infinite_shear_viscosity = {} must be below zero_shear_viscosity = {}",
-                                            CarreauYasuda::name, p.infinite_shear_viscosity, p.zero_shear_viscosity));
   return p;
 }
 
@@ -38,19 +26,10 @@ CarreauYasuda::Params checked(CarreauYasuda::Params p) {
 
 CarreauYasuda::Params CarreauYasuda::Params::from(const Section& section) {
   Params p;
-  p.zero_shear_viscosity =
-      section.number({"zero_shear_viscosity", "zero-shear viscosity μ0", "Pa·s"}, zero_shear_viscosity_range);
-  p.infinite_shear_viscosity = section.number(
-      {"infinite_shear_viscosity", "infinite-shear viscosity μ∞ < μ0", "Pa·s"}, infinite_shear_viscosity_range);
-  p.time_constant = section.number({"time_constant", "time constant λ", "s"}, time_constant_range);
+  detail::read_plateaus(section, p);
   p.a = section.number({"a", "Yasuda transition exponent a", "-"}, a_range);
   p.n = section.number({"n", "power-law index n", "-"}, n_range);
-  if (!(p.infinite_shear_viscosity < p.zero_shear_viscosity))
-    section.fail("infinite_shear_viscosity",
-                 fmt::format("{} is not below zero_shear_viscosity = {}", p.infinite_shear_viscosity,
-                             p.zero_shear_viscosity),
-                 fmt::format("infinite-shear viscosity μ∞ in [0, {}), Pa·s", p.zero_shear_viscosity),
-                 "μ∞ is the high-shear plateau and must lie below the zero-shear plateau μ0");
+  detail::check_plateau_order(section, p);
   return p;
 }
 

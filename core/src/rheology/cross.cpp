@@ -1,19 +1,12 @@
 #include "cross.hpp"
 #include "parameter_check.hpp"
-
-#include <cmath>
-#include <stdexcept>
-
-#include <fmt/format.h>
+#include "plateau_parameters.hpp"
 
 namespace rheosim::core {
 namespace {
 
-// Valid ranges, shared by the YAML reader (located errors) and the constructor (invariants).
-// infinite_shear_viscosity must also be below zero_shear_viscosity.
-const Range zero_shear_viscosity_range = Range::positive();
-const Range infinite_shear_viscosity_range = Range::non_negative();
-const Range time_constant_range = Range::positive();
+// The law's own ranges, shared by the YAML reader (located errors) and the constructor
+// (invariants); the plateaus' are in plateau_parameters.hpp.
 const Range exponent_range = Range::open_closed(0.0, 1.0);
 
 void check(std::string_view key, double value, const Range& range) {
@@ -22,13 +15,8 @@ void check(std::string_view key, double value, const Range& range) {
 
 // Validates before the derived constants are computed from the parameters.
 Cross::Params checked(Cross::Params p) {
-  check("zero_shear_viscosity", p.zero_shear_viscosity, zero_shear_viscosity_range);
-  check("infinite_shear_viscosity", p.infinite_shear_viscosity, infinite_shear_viscosity_range);
-  check("time_constant", p.time_constant, time_constant_range);
+  detail::check_plateaus(Cross::name, p);
   check("exponent", p.exponent, exponent_range);
-  if (!(p.infinite_shear_viscosity < p.zero_shear_viscosity))
-    throw std::invalid_argument(fmt::format("{}: infinite_shear_viscosity = {} must be below zero_shear_viscosity = {}",
-                                            Cross::name, p.infinite_shear_viscosity, p.zero_shear_viscosity));
   return p;
 }
 
@@ -36,18 +24,9 @@ Cross::Params checked(Cross::Params p) {
 
 Cross::Params Cross::Params::from(const Section& section) {
   Params p;
-  p.zero_shear_viscosity =
-      section.number({"zero_shear_viscosity", "zero-shear viscosity μ0", "Pa·s"}, zero_shear_viscosity_range);
-  p.infinite_shear_viscosity = section.number(
-      {"infinite_shear_viscosity", "infinite-shear viscosity μ∞ < μ0", "Pa·s"}, infinite_shear_viscosity_range);
-  p.time_constant = section.number({"time_constant", "time constant λ", "s"}, time_constant_range);
+  detail::read_plateaus(section, p);
   p.exponent = section.number({"exponent", "Cross exponent m", "-"}, exponent_range);
-  if (!(p.infinite_shear_viscosity < p.zero_shear_viscosity))
-    section.fail("infinite_shear_viscosity",
-                 fmt::format("{} is not below zero_shear_viscosity = {}", p.infinite_shear_viscosity,
-                             p.zero_shear_viscosity),
-                 fmt::format("infinite-shear viscosity μ∞ in [0, {}), Pa·s", p.zero_shear_viscosity),
-                 "μ∞ is the high-shear plateau and must lie below the zero-shear plateau μ0");
+  detail::check_plateau_order(section, p);
   return p;
 }
 
