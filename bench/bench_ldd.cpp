@@ -328,9 +328,12 @@ void krylov_floor() {
     const ldd::NeighbourList nb = ldd::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
     const std::size_t n = nb.node_count();
     const double support = 1.6 * scene.spacing;
-    std::vector<double> kernel_sum(n, 0.0);
+    std::vector<double> weights(nb.pair_count()), kernel_sum(n, 0.0);  // W of each pair, Σ W of each node
     for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) kernel_sum[i] += ldd::weight(nb.distances[k], support);
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        weights[k] = ldd::weight(nb.distances[k], support);
+        kernel_sum[i] += weights[k];
+      }
     std::vector<double> fluid_sums;  // a full support: the median fluid node's (walls packed
     for (std::size_t i = 0; i < n; ++i)  // densely make some supports fuller than a full one)
       if (!cloud.is_wall[i]) fluid_sums.push_back(kernel_sum[i]);
@@ -346,17 +349,15 @@ void krylov_floor() {
       if (cloud.is_wall[i]) {
         double fluid_sum = 0;
         for (std::size_t k = begin; k < end; ++k)
-          if (!cloud.is_wall[nb.indices[k]]) fluid_sum += ldd::weight(nb.distances[k], support);
+          if (!cloud.is_wall[nb.indices[k]]) fluid_sum += weights[k];
         for (std::size_t k = begin; k < end; ++k)
-          if (!cloud.is_wall[nb.indices[k]] && fluid_sum > 0)
-            pressure.off_diagonal[k] = -ldd::weight(nb.distances[k], support) / fluid_sum;
+          if (!cloud.is_wall[nb.indices[k]] && fluid_sum > 0) pressure.off_diagonal[k] = -weights[k] / fluid_sum;
         continue;
       }
       const bool surface = kernel_sum[i] < 0.85 * full;
       for (std::size_t k = begin; k < end; ++k) {
-        const double w = ldd::weight(nb.distances[k], support);
-        if (!surface) pressure.off_diagonal[k] = w;
-        velocity.off_diagonal[k] = -viscous_ratio * w;
+        if (!surface) pressure.off_diagonal[k] = weights[k];
+        velocity.off_diagonal[k] = -viscous_ratio * weights[k];
       }
       if (!surface) pressure.diagonal[i] = -kernel_sum[i];
       velocity.diagonal[i] = 1.0 + viscous_ratio * kernel_sum[i];
