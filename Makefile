@@ -17,7 +17,8 @@ build: deps
 
 demo: build
 	$(BUILD_DIR)/bin/rheosim run cases/quickstart.yaml --out results/quickstart
-	@echo "report: results/quickstart/report.html"
+	$(BUILD_DIR)/bin/rheosim run cases/suspension_demo.yaml --out results/suspension_demo
+	@echo "reports: results/quickstart/report.html results/suspension_demo/report.html"
 
 test: build
 	cd $(BUILD_DIR) && ctest -L 'unit|validation' --output-on-failure -j $(JOBS) --timeout 1500

@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <optional>
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
+#include "rheosim/core/run_lock.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
+#include "rheosim/rheometer/shear_cell.hpp"
 #include "rheosim/rheometer/report.hpp"
 #include "rheosim/rheometer/run.hpp"
 #include "rheosim/rheometer/sweep.hpp"
@@ -50,6 +54,27 @@ int run_sweep_case(const core::Case& c, const std::string& case_file, const std:
   }
 }
 
+// The model each suspension φ of the case would run, and the box's settings where it is chosen.
+void describe_suspension_model(const core::Case& c) {
+  const core::RheometerCase* r = nullptr;
+  std::vector<double> fractions;
+  if (const auto* sweep = std::get_if<core::SweepCase>(&c.spec)) {
+    r = &sweep->rheometer;
+    fractions = sweep->volume_fractions;
+  } else if (const auto* single = std::get_if<core::RheometerCase>(&c.spec); single && single->particles) {
+    r = single;
+    fractions = {single->particles->volume_fraction};
+  }
+  if (!r || !r->particles) return;
+  for (const double phi : fractions) {
+    if (!(phi > 0.0)) continue;
+    const auto choice = rheometer::choose_suspension_model(*r, phi, default_point_budget);
+    std::cout << fmt::format("  φ = {:g}: {} — {}\n", phi, rheometer::to_string(choice.model), choice.reason);
+    if (choice.model == core::RheometerCase::SuspensionModel::lees_edwards)
+      std::cout << fmt::format("    {}\n", rheometer::describe_box(*r, phi));
+  }
+}
+
 }  // namespace
 
 int validate(const std::vector<std::string>& case_files, const core::Log& log) {
@@ -58,6 +83,7 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
     try {
       const core::Case c = core::load_case(file);
       std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind(), core::describe(c));
+      describe_suspension_model(c);
     } catch (const core::ConfigError& e) {
       status = bad_input(log, e);
     }
@@ -74,6 +100,13 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
     return bad_input(log, e);
   }
   const std::filesystem::path out = out_dir.empty() ? std::filesystem::path("results") / c.name : out_dir;
+  std::optional<core::RunDirectoryLock> lock;  // one writer per run folder, for the whole run
+  try {
+    lock.emplace(out);
+  } catch (const core::RunError& e) {
+    log.error("{}", e.what());
+    return exit_run_failure;
+  }
   if (std::holds_alternative<core::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
   if (std::holds_alternative<core::LddCase>(c.spec)) return run_ldd(c, out, stop_after, log);
   const auto* rheometer_case = std::get_if<core::RheometerCase>(&c.spec);

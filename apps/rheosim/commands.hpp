@@ -12,6 +12,8 @@ namespace rheosim::app {
 inline constexpr int exit_success = 0;
 inline constexpr int exit_run_failure = 1;
 inline constexpr int exit_bad_input = 2;
+// `rheosim run --point-budget` default [s]: the largest estimated one-core cost of a CFD-DEM point.
+inline constexpr double default_point_budget = 600;
 
 int validate(const std::vector<std::string>& case_files, const core::Log& log);
 // point_budget: the largest estimated one-core wall time [s] of a CFD-DEM point that is started.

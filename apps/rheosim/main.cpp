@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   auto* run = cli.add_subcommand("run", "Validate a case, run it and write its results");
   run->add_option("case", run_case, "Case file (YAML)")->required()->check(CLI::ExistingFile);
   run->add_option("-o,--out", run_out, "Output folder (default: results/<case name>)");
-  double point_budget = 600;
+  double point_budget = app::default_point_budget;
   run->add_option("--point-budget", point_budget,
                   "Largest estimated wall time of one CFD-DEM point, in seconds (default 600); dearer points "
                   "fail at once with their estimate")
@@ -88,6 +88,24 @@ int main(int argc, char** argv) {
       "Example:\n"
       "  rheosim export-openfoam cases/quickstart.yaml foam/quickstart --shear-rate 100 --mesh M2");
 
+  // A first word that names no subcommand: name it and the valid ones (CLI11 would only say
+  // that a subcommand is required).
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.starts_with("-")) continue;
+    std::string names;
+    bool known = false;
+    for (const auto* sub : cli.get_subcommands({})) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == word;
+    }
+    if (!known) {
+      std::cerr << fmt::format("error: unknown subcommand '{}'\n  expected one of: {}\n  hint: rheosim --help\n", word,
+                               names);
+      return app::exit_bad_input;
+    }
+    break;
+  }
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -143,6 +143,7 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
 // particles.hydrodynamics (see Hydrodynamics): model `none` or terms joined by '+'.
 Hydrodynamics read_hydrodynamics(const Section& s) {
   Hydrodynamics out;
+  out.specified = true;
   const std::vector<std::string> terms{"lubrication", "none", "repulsion", "single_particle", "stokes_drag",
                                        "stresslet"};
   const std::string model = s.text({"model", "near-field terms, e.g. lubrication+stresslet", "-"});
@@ -223,11 +224,13 @@ RheometerCase read_rheometer(const Section& root, bool is_sweep) {
   require_increasing(root, "shear_rates", out.shear_rates);
   const KeyInfo particles_key{"particles", "suspended particles (omit for a single fluid)", "-"};
   if (auto p = root.optional_section(particles_key)) out.particles = read_particles(*p, out.geometry, !is_sweep);
-  const std::string model = root.choice_or({"model", "suspension model (auto | full_disk | shear_cell)", "-"}, "auto",
-                                           {"auto", "full_disk", "shear_cell"});
-  out.suspension_model = model == "full_disk"    ? RheometerCase::SuspensionModel::full_disk
-                         : model == "shear_cell" ? RheometerCase::SuspensionModel::shear_cell
-                                                 : RheometerCase::SuspensionModel::automatic;
+  const std::string model =
+      root.choice_or({"model", "suspension model (auto | lees_edwards | full_disk | shear_cell)", "-"}, "auto",
+                     {"auto", "lees_edwards", "full_disk", "shear_cell"});
+  out.suspension_model = model == "full_disk"      ? RheometerCase::SuspensionModel::full_disk
+                         : model == "shear_cell"   ? RheometerCase::SuspensionModel::shear_cell
+                         : model == "lees_edwards" ? RheometerCase::SuspensionModel::lees_edwards
+                                                   : RheometerCase::SuspensionModel::automatic;
   return out;
 }
 
@@ -313,6 +316,7 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
           scene.number({"skew_angle", "angle between lid and side walls", "degrees"}, Range::open(0.0, 180.0)));
     out.scene = c;
   } else if (out.scene_type == "dam_break") {
+    require_dimension(2);  // the dam-break scene builds a 2D reservoir and channel
     DamBreakScene d;
     d.reservoir = read_pair(scene, {"reservoir", "reservoir length and height", "m"});
     d.channel_length = scene.number({"channel_length", "channel length", "m"}, Range::positive());
@@ -336,6 +340,7 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
       for (const Section& w : scene.sections({"walls", "extra solid walls (plane, box, cylinder, stl)", "-"}))
         out.walls.push_back(read_wall(w, out.dimension, case_dir));
   } else {
+    require_dimension(2);  // the column scene builds a 2D box
     ColumnScene c;
     c.size = read_pair(scene, {"size", "column width and height", "m"});
     out.scene = c;

@@ -32,9 +32,10 @@ std::string describe_rheometer(const RheometerCase& r) {
   out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
   if (r.particles) {
     using M = RheometerCase::SuspensionModel;
-    out += fmt::format("  suspension model: {}\n", r.suspension_model == M::full_disk    ? "full_disk"
-                                                     : r.suspension_model == M::shear_cell ? "shear_cell"
-                                                                                           : "auto");
+    out += fmt::format("  suspension model: {}\n", r.suspension_model == M::full_disk      ? "full_disk"
+                                                     : r.suspension_model == M::shear_cell   ? "shear_cell"
+                                                     : r.suspension_model == M::lees_edwards ? "lees_edwards"
+                                                                                             : "auto");
   }
   if (const auto& p = r.particles) {
     out += fmt::format(

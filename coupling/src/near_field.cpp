@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "block_cholesky.hpp"
 #include "lubrication.hpp"
 #include "stresslet.hpp"
 
@@ -76,34 +77,6 @@ void check_settings(const NearFieldSettings& s) {
   if (s.max_solver_iterations < 1)
     throw std::invalid_argument(
         fmt::format("hydrodynamics.max_solver_iterations = {}, expected >= 1", s.max_solver_iterations));
-}
-
-// In-place Cholesky factor (lower triangle) of a symmetric positive-definite 6×6 matrix.
-void cholesky_6(double* a) {
-  for (std::size_t j = 0; j < 6; ++j) {
-    double d = a[7 * j];
-    for (std::size_t k = 0; k < j; ++k) d -= a[6 * j + k] * a[6 * j + k];
-    if (!(d > 0.0)) throw std::runtime_error("near field: preconditioner block is not positive definite");
-    a[7 * j] = std::sqrt(d);
-    for (std::size_t i = j + 1; i < 6; ++i) {
-      double x = a[6 * i + j];
-      for (std::size_t k = 0; k < j; ++k) x -= a[6 * i + k] * a[6 * j + k];
-      a[6 * i + j] = x / a[7 * j];
-    }
-  }
-}
-void cholesky_6_solve(const double* l, const double* b, double* x) {
-  std::array<double, 6> y{};
-  for (std::size_t i = 0; i < 6; ++i) {
-    double v = b[i];
-    for (std::size_t k = 0; k < i; ++k) v -= l[6 * i + k] * y[k];
-    y[i] = v / l[7 * i];
-  }
-  for (std::size_t i = 6; i-- > 0;) {
-    double v = y[i];
-    for (std::size_t k = i + 1; k < 6; ++k) v -= l[6 * k + i] * x[k];
-    x[i] = v / l[7 * i];
-  }
 }
 
 Vector3 position(const ParticleSnapshot& p, std::size_t i) {

@@ -91,15 +91,10 @@ const double* table1_column(double spacing, double dt) {
 }
 
 FreeSurfaceScene build_scene(const core::LddCase& l) {
-  if (const auto* d = std::get_if<core::DamBreakScene>(&l.scene)) {
-    if (l.dimension != 2) throw core::RunError("the LDD dam_break scene is built in 2D only (dimension: 2)");
-    return dam_break_scene(*d, l.spacing);
-  }
+  // The case reader refuses dam_break and column outside 2D (core/src/case.cpp).
+  if (const auto* d = std::get_if<core::DamBreakScene>(&l.scene)) return dam_break_scene(*d, l.spacing);
   if (const auto* s = std::get_if<core::SlumpScene>(&l.scene)) return slump_scene(*s, l.spacing, l.walls);
-  if (const auto* c = std::get_if<core::ColumnScene>(&l.scene)) {
-    if (l.dimension != 2) throw core::RunError("the LDD column scene is built in 2D only (dimension: 2)");
-    return column_scene(*c, l.spacing);
-  }
+  if (const auto* c = std::get_if<core::ColumnScene>(&l.scene)) return column_scene(*c, l.spacing);
   throw core::RunError(fmt::format("LDD scene '{}' is not a free-surface scene", l.scene_type));
 }
 

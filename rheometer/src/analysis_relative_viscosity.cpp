@@ -155,6 +155,33 @@ double maron_pierce_relative_viscosity(double phi, double max_packing) {
   return 1.0 / (base * base);
 }
 
+namespace {
+double boyer_viscous_number(double phi, double jamming) {
+  const double root = jamming / phi - 1.0;
+  return root * root;
+}
+}  // namespace
+
+double boyer_friction_coefficient(double phi, double jamming) {
+  if (!(phi > 0.0 && phi < jamming)) return std::numeric_limits<double>::quiet_NaN();
+  const double j = boyer_viscous_number(phi, jamming);
+  constexpr double mu1 = 0.32, mu2 = 0.7, i0 = 0.005;
+  return mu1 + (mu2 - mu1) / (1.0 + i0 / j) + j + 2.5 * jamming * std::sqrt(j);
+}
+
+double boyer_relative_viscosity(double phi, double jamming) {
+  if (phi == 0.0) return 1.0;
+  if (!(phi < jamming)) return std::numeric_limits<double>::infinity();
+  return boyer_friction_coefficient(phi, jamming) / boyer_viscous_number(phi, jamming);
+}
+
+double zarraga_relative_viscosity(double phi) {
+  constexpr double max_packing = 0.62;
+  if (!(phi < max_packing)) return std::numeric_limits<double>::infinity();
+  const double base = 1.0 - phi / max_packing;
+  return std::exp(-2.34 * phi) / (base * base * base);
+}
+
 CorrelationComparison fit_krieger_dougherty(std::span<const RelativeViscosityPoint> points, double intrinsic_viscosity,
                                             const FitOptions& options) {
   check_points(points, "fit_krieger_dougherty");

@@ -265,7 +265,8 @@ ReportFiles write_report(const fs::path& run_dir) {
 
   DataTable rv_table({"fluid", "volume_fraction", "relative_viscosity", "std_error", "reference_shear_rate [1/s]",
                       "model"});
-  DataTable rv_curves({"fluid", "volume_fraction", "einstein", "batchelor", "krieger_dougherty", "maron_pierce"});
+  DataTable rv_curves({"fluid", "volume_fraction", "einstein", "batchelor", "krieger_dougherty", "maron_pierce",
+                       "boyer_2011", "zarraga_2000"});
   for (const auto& rv : relative) {
     const std::string fluid = text(rv, "fluid");
     for (const auto& p : array(rv, "points"))
@@ -283,10 +284,23 @@ ReportFiles write_report(const fs::path& run_dir) {
       rv_curves.add({fluid, csv_number(phi), csv_number(einstein_relative_viscosity(phi)),
                      csv_number(batchelor_relative_viscosity(phi)),
                      csv_number(krieger_dougherty_relative_viscosity(phi, kd_max)),
-                     csv_number(maron_pierce_relative_viscosity(phi, mp_max))});
+                     csv_number(maron_pierce_relative_viscosity(phi, mp_max)),
+                     csv_number(phi < 0.55 ? boyer_relative_viscosity(phi) : std::nan("")),
+                     csv_number(phi < 0.58 ? zarraga_relative_viscosity(phi) : std::nan(""))});
     }
   }
   rv_table.write(run_dir / "relative_viscosity.csv");
+
+  // Normal stresses: the plate's normal force, N1 − N2 from it, and the model's N1, N2.
+  DataTable normal_table({"series", "volume_fraction", "shear_rate [1/s]", "normal_force [N]", "n1_minus_n2 [Pa]",
+                          "n1 [Pa]", "n2 [Pa]", "rim_stress [Pa]"});
+  for (const auto& p : points)
+    if (p.value("converged", false) && p.contains("normal_force"))
+      normal_table.add({label_of(p), csv_number(num(p, "volume_fraction")), csv_number(num(p, "shear_rate")),
+                        csv_number(num(p, "normal_force")), csv_number(num(p, "n1_minus_n2")), csv_number(num(p, "n1")),
+                        csv_number(num(p, "n2")), csv_number(num(p, "rim_stress"))});
+  const bool any_normal_force = !normal_table.empty();
+  if (any_normal_force) normal_table.write(run_dir / "normal_stress.csv");
   rv_curves.write(run_dir / "relative_viscosity_curves.csv");
 
   // ------------------------------------------------------------------ plots
@@ -409,6 +423,8 @@ ReportFiles write_report(const fs::path& run_dir) {
         plot += fmt::format(", 'relative_viscosity_curves.csv' every ::1 using 2:{} with lines lw 2 lc rgb '#1b9e77' dt 2 title 'Batchelor 1 + 2.5φ + 6.2φ²'", col(4));
         plot += fmt::format(", 'relative_viscosity_curves.csv' every ::1 using 2:{} with lines lw 2 lc rgb '#d95f02' title 'Krieger–Dougherty'", col(5));
         plot += fmt::format(", 'relative_viscosity_curves.csv' every ::1 using 2:{} with lines lw 2 lc rgb '#7570b3' dt 4 title 'Maron–Pierce'", col(6));
+        plot += fmt::format(", 'relative_viscosity_curves.csv' every ::1 using 2:{} with lines lw 3 lc rgb '#e7298a' title 'measured: Boyer et al. 2011'", col(7));
+        plot += fmt::format(", 'relative_viscosity_curves.csv' every ::1 using 2:{} with lines lw 3 lc rgb '#66a61e' dt 5 title 'measured: Zarraga et al. 2000'", col(8));
       }
     }
     const std::string title = any_particles
@@ -421,6 +437,25 @@ ReportFiles write_report(const fs::path& run_dir) {
                                "set xrange [0:*]\nset yrange [0.9:*]\nset key inside left top\nset title '{}' font ',10'\n"
                                "plot {}\n",
                                title, plot));
+  }
+  if (any_normal_force) {
+    // N1 − N2 from the plates' normal force (filled) and the model's local N1 (open) and N2 (crosses).
+    std::string plot;
+    for (std::size_t i = 0; i < series.size(); ++i) {
+      const std::string& label = series[i].label;
+      const std::string sep = plot.empty() ? "" : ", \\\n  ";
+      plot += fmt::format("{}'normal_stress.csv' every ::1 using 3:{} with linespoints pt 7 lc {} title '{} N1 − N2 (from F)'",
+                          sep, filter(label, 5), colour(i), label);
+      plot += fmt::format(", \\\n  'normal_stress.csv' every ::1 using 3:{} with points pt 6 ps 1.5 lc {} title '{} N1'",
+                          filter(label, 6), colour(i), label);
+      plot += fmt::format(", \\\n  'normal_stress.csv' every ::1 using 3:{} with points pt 2 ps 1.5 lc {} title '{} N2'",
+                          filter(label, 7), colour(i), label);
+    }
+    if (!plot.empty())
+      scripts["normal_stress"] =
+          gp_header("normal_stress", "Normal stress differences vs rim shear rate") +
+          gp_outputs("normal_stress", "set xlabel 'rim shear rate γ̇_R [1/s]'\nset ylabel 'normal stress difference [Pa]'\n"
+                                      "set format y '%.2e'\nset key outside right\nplot " + plot + "\n");
   }
   if (!yields.empty()) {
     const std::vector<std::string> methods = {"bingham_intercept", "casson_intercept", "herschel_bulkley",
@@ -501,6 +536,13 @@ td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size
   row("input sha256", fmt::format("<code>{}</code>", esc(text(summary, "input_sha256"))));
   html += "</table>\n";
 
+  if (const Json& warnings = array(summary, "warnings"); !warnings.empty()) {
+    html += "<div class=note><b>Rules the run bent</b> (also in summary.json <code>warnings</code> and the log):<ul>\n";
+    for (const auto& w : warnings)
+      html += fmt::format("<li>{} <span class=small>({} point(s))</span></li>\n", esc(text(w, "warning")),
+                          num(w, "points"));
+    html += "</ul></div>\n";
+  }
   if (failed > 0) {
     html += fmt::format("<div class=fail><b>{} point(s) have no result.</b> They are listed here and left out of every "
                         "fit, plot and table below; no number was invented for them.<table>\n<tr><th>fluid</th><th>φ</th>"
@@ -593,7 +635,7 @@ td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size
       std::string params;
       for (const auto& p : array(f, "parameters")) {
         const Json& ci = p.at("ci95");
-        const std::string unit = text(p, "unit") == "-" ? std::string() : " " + esc(text(p, "unit"));
+        const std::string unit = text(p, "unit") == "-" ? std::string() : fmt::format(" {}", esc(text(p, "unit")));
         params += fmt::format("{}{} = {} ± {}{}, 95 %: [{}, {}]", params.empty() ? "" : "<br>", esc(text(p, "symbol")),
                               g4(num(p, "value")), g4(num(p, "std_error")), unit, g4(num(ci[0])), g4(num(ci[1])));
       }
@@ -712,6 +754,28 @@ td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size
   html += figure("relative_viscosity", "η_r(φ) with error bars against Einstein, Batchelor, Krieger–Dougherty "
                                        "([η] = 2.5, φ_m fitted) and Maron–Pierce (φ_m fitted) "
                                        "(<a href=\"relative_viscosity_curves.csv\">relative_viscosity_curves.csv</a>).");
+
+  // Normal stresses.
+  if (any_normal_force) {
+    html += "<h2>Normal stresses</h2>\n<p class=small>The plates' normal force F (positive: pushing them apart), "
+            "N1 − N2 at the rim from it by the parallel-plate relation N1 − N2 = (F/πR²)(2 + d ln F/d ln γ̇_R), and "
+            "the model's local first and second normal stress differences at the rim rate. Measured non-Brownian "
+            "suspensions: N2/τ ≈ −4.4φ³, N1/τ ≈ −0.8φ³ (Dai, Bertevas, Qi &amp; Tanner 2013). "
+            "<a href=\"normal_stress.csv\">normal_stress.csv</a>.</p>\n<table>\n<tr><th class=l>flow curve</th>"
+            "<th>γ̇_R [1/s]</th><th>F [N]</th><th>N1 − N2 [Pa]</th><th>N1 [Pa]</th><th>N2 [Pa]</th><th>N1/τ_R</th>"
+            "<th>N2/τ_R</th></tr>\n";
+    for (const auto& p : points) {
+      if (!p.value("converged", false) || !p.contains("normal_force")) continue;
+      const double tau = num(p, "rim_stress");
+      html += fmt::format("<tr><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                          "<td>{}</td></tr>\n",
+                          esc(label_of(p)), g4(num(p, "shear_rate")), g4(num(p, "normal_force")),
+                          g4(num(p, "n1_minus_n2")), g4(num(p, "n1")), g4(num(p, "n2")), g4(num(p, "n1") / tau),
+                          g4(num(p, "n2") / tau));
+    }
+    html += "</table>\n";
+    html += figure("normal_stress", "N1 − N2 from the normal force, and the model's N1 and N2, per flow curve.");
+  }
 
   // Speed and error.
   html += "<h2>Speed and error of the run</h2>\n<p class=small>Per point: how it was computed, wall time, iterations, "

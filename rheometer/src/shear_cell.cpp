@@ -409,6 +409,7 @@ double plate_torque(const LocalFlowCurve& curve, double radius, double rim_rate)
 
 std::string_view to_string(Model model) {
   switch (model) {
+    case Model::lees_edwards: return "lees_edwards";
     case Model::full_disk: return "full_disk";
     case Model::shear_cell: return "shear_cell";
     case Model::automatic: return "auto";
@@ -426,11 +427,28 @@ double estimate_shear_cell_study_cost(const core::RheometerCase& r, double phi) 
 
 ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, double budget_seconds) {
   const double study = estimate_shear_cell_study_cost(r, phi);
+  if (r.suspension_model == Model::lees_edwards)
+    return {Model::lees_edwards, "model: lees_edwards in the case file", study};
   if (r.suspension_model == Model::full_disk) return {Model::full_disk, "model: full_disk in the case file", study};
   if (r.suspension_model == Model::shear_cell) return {Model::shear_cell, "model: shear_cell in the case file", study};
   if (!r.particles) return {Model::full_disk, "auto: no particles section", study};
   const auto& p = *r.particles;
   const double top_rate = r.shear_rates.back();
+  if (!p.hydrodynamics.specified || p.hydrodynamics.lubrication) {
+    // The predictive model: the near field needs the box, whose cost is fixed in strain.
+    std::string limits;
+    if (r.geometry.radius < 10.0 * r.geometry.gap)
+      limits += fmt::format("; R/H = {:.3g} < 10: the local flow curve misses the rim region", r.geometry.radius / r.geometry.gap);
+    if (const auto g = dimensionless_groups(r, r.fluid, p, top_rate); g.gap_reynolds > regime_limit)
+      limits += fmt::format("; gap Reynolds number {:.3g} > 1 at {:g} 1/s: the disk's secondary flow is not included",
+                            g.gap_reynolds, top_rate);
+    return {Model::lees_edwards,
+            fmt::format("auto: Lees–Edwards box, the predictive model ({}; `particles.hydrodynamics: {{model: none}}` "
+                        "selects the seed's drag-only CFD-DEM){}",
+                        p.hydrodynamics.specified ? "the case's near field with lubrication" : "no hydrodynamics block",
+                        limits),
+            study};
+  }
   const auto disk = estimate_suspension_cost(r, phi, top_rate, coupling::SteadyStateSettings{}.max_strain);
   const double cell = cell_cost_seconds(r, phi, top_rate, ShearCellOptions{}.steady.max_strain, 1e3);
   const auto costs = fmt::format(

@@ -1,9 +1,11 @@
 // Resumable sweeps over fluids × φ × γ̇_R (rheometer/sweep.hpp).
 #include "rheosim/rheometer/sweep.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
+#include "rheosim/rheometer/box_point.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -50,7 +52,7 @@ const core::NamedFluid& fluid_named(const core::RheometerCase& r, const std::str
 struct NumberField {
   const char* name;
   double PointResult::*member;
-  bool since_issue_9 = false;  // absent in points stored before: NaN when loaded
+  bool optional = false;  // may be absent (points of models without it): NaN when loaded
 };
 constexpr NumberField number_fields[] = {
     {"torque", &PointResult::torque},
@@ -69,10 +71,37 @@ constexpr NumberField number_fields[] = {
     {"cost_forces", &PointResult::cost_forces},
     {"cost_fluid", &PointResult::cost_fluid},
     {"cost_near_field", &PointResult::cost_near_field, true},
+    {"normal_force", &PointResult::normal_force, true},
+    {"n1", &PointResult::n1, true},
+    {"n2", &PointResult::n2, true},
 };
 
 nlohmann::ordered_json finite_or_null(double x) {
   return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+}
+
+// N1 − N2 at the rim rate from the plates' normal force over a series of rates (one fluid and
+// φ): N1 − N2 = (F/πR²)(2 + d ln F/d ln γ̇_R) = (2F + γ̇_R dF/dγ̇_R)/(πR²), the derivative
+// from the neighbouring rates (one-sided at the ends), valid for either sign of F.
+void add_normal_stress_differences(nlohmann::ordered_json& points, double radius) {
+  std::map<std::pair<std::string, double>, std::vector<nlohmann::ordered_json*>> series;
+  for (auto& p : points)
+    if (p.value("converged", false) && p.contains("normal_force") && p["normal_force"].is_number())
+      series[{p["fluid"].get<std::string>(), p["volume_fraction"].get<double>()}].push_back(&p);
+  const double area = std::acos(-1.0) * radius * radius;
+  for (auto& [key, list] : series) {
+    if (list.size() < 2) continue;
+    std::sort(list.begin(), list.end(), [](const auto* a, const auto* b) {
+      return (*a)["shear_rate"].template get<double>() < (*b)["shear_rate"].template get<double>();
+    });
+    const auto rate = [&](std::size_t k) { return (*list[k])["shear_rate"].get<double>(); };
+    const auto force = [&](std::size_t k) { return (*list[k])["normal_force"].get<double>(); };
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 == list.size() ? k : k + 1;
+      const double slope = (force(hi) - force(lo)) / (rate(hi) - rate(lo));
+      (*list[k])["n1_minus_n2"] = (2.0 * force(k) + rate(k) * slope) / area;
+    }
+  }
 }
 
 std::string point_label(const SweepPoint& p, bool several_fluids) {
@@ -162,11 +191,14 @@ PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
   using Model = core::RheometerCase::SuspensionModel;
   PointRunner disk = make_full_disk_suspension_runner(rheometer, work_dir, budget_seconds);
   PointRunner cell = make_shear_cell_suspension_runner(rheometer, work_dir);
-  return [r = rheometer, budget_seconds, disk = std::move(disk), cell = std::move(cell)](
+  PointRunner box = make_box_suspension_runner(rheometer);
+  return [r = rheometer, budget_seconds, disk = std::move(disk), cell = std::move(cell), box = std::move(box)](
              const SweepPoint& point, const PointProgressCallback& progress) {
     const ModelChoice choice = choose_suspension_model(r, point.volume_fraction, budget_seconds);
     PointResult out;
-    if (choice.model == Model::full_disk) {
+    if (choice.model == Model::lees_edwards) {
+      out = box(point, progress);
+    } else if (choice.model == Model::full_disk) {
       out = disk(point, progress);
     } else if (choice.cell_study_seconds > budget_seconds) {  // like the disk: fail at once, say why
       out.method = "periodic shear cell";
@@ -322,6 +354,9 @@ void PointStore::store(const SweepPoint& point, const PointResult& result) const
                         {"shear_rate", point.rim_shear_rate},
                         {"iterations", static_cast<double>(result.iterations)},
                         {"converged", result.converged ? 1.0 : 0.0}};
+  std::string warnings;
+  for (const auto& w : result.warnings) warnings += (warnings.empty() ? "" : "\n") + w;
+  if (!warnings.empty()) content.attributes.push_back({"warnings", warnings});
   for (const auto& f : number_fields) content.attributes.push_back({f.name, result.*(f.member)});
   content.datasets = result.fields;
   core::write_hdf5(file(point), content);
@@ -352,13 +387,18 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
   PointResult r;
   r.converged = number("converged") != 0;
   r.method = text("method");
-  r.model = text("model");  // absent in points stored before issue 10: empty / NaN
+  r.model = text("model");
   r.model_reason = text("model_reason");
   if (const auto it = a.find("estimated_error"); it != a.end() && std::holds_alternative<double>(it->second))
     r.estimated_error = std::get<double>(it->second);
   r.iterations = static_cast<int>(number("iterations"));
+  for (std::string rest = text("warnings"); !rest.empty();) {
+    const std::size_t end = rest.find('\n');
+    r.warnings.push_back(rest.substr(0, end));
+    rest = end == std::string::npos ? std::string() : rest.substr(end + 1);
+  }
   for (const auto& f : number_fields)
-    r.*(f.member) = f.since_issue_9 && !a.contains(f.name) ? nan : number(f.name);
+    r.*(f.member) = f.optional && !a.contains(f.name) ? nan : number(f.name);
   return r;
 }
 
@@ -390,6 +430,7 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
   core::Progress progress = core::Progress::for_stderr("sweep", points.size(), progress_options);
   std::size_t done = static_cast<std::size_t>(outcome.reused_points);
   std::set<std::string> failure_reasons;  // a message shared by many points is shown once
+  std::set<std::string> warning_texts;    // likewise for warnings
   for (const auto& point : points) {
     if (results[point.index]) continue;
     const std::string label = point_label(point, several_fluids);
@@ -420,6 +461,8 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
                    ? fmt::format(" (estimated error {:.2g} %)", 100.0 * result.estimated_error)
                    : std::string(),
                result.model_reason);
+    for (const auto& w : result.warnings)
+      if (warning_texts.insert(w).second) log.warn("{}: {}", label, w);
     if (result.converged) {
       store.store(point, result);  // at once: a kill after this line keeps the point
       log.debug("{}: torque {:.6e} N m ({}, {} iterations)", label, result.torque, result.method, result.iterations);
@@ -477,6 +520,12 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
         p["rel_error"] = rel_error;
         p["creeping_rel_error"] = finite_or_null((res.torque_creeping - res.torque_analytic) / res.torque_analytic);
       }
+      if (std::isfinite(res.normal_force)) {
+        p["normal_force"] = res.normal_force;
+        p["n1"] = finite_or_null(res.n1);
+        p["n2"] = finite_or_null(res.n2);
+      }
+      if (!res.warnings.empty()) p["warnings"] = res.warnings;
       p["gap_reynolds_number"] = reynolds;
       p["strain"] = finite_or_null(res.strain);
       p["method"] = res.method;
@@ -538,7 +587,16 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
   summary["points_failed"] = outcome.failed_points;
   summary["points_resumed"] = outcome.reused_points;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  add_normal_stress_differences(json_points, r.geometry.radius);
   summary["points"] = json_points;
+  {  // every rule a point bent, with how many points bent it
+    std::map<std::string, int> counts;
+    for (const auto& point : points)
+      for (const auto& w : results[point.index]->warnings) ++counts[w];
+    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
+    for (const auto& [text, count] : counts) warnings.push_back({{"warning", text}, {"points", count}});
+    summary["warnings"] = warnings;
+  }
   add_flow_analysis(summary, {plate, r.fluids, r.particles});
 
   for (auto& [name, values] : columns) {

@@ -23,7 +23,7 @@ fluid:
   rheology: {model: newtonian, viscosity: 1.0e-3}
 shear_rates: [100]
 volume_fractions: [0]
-particles: {diameter: 2.0e-4, density: 1000}
+particles: {diameter: 2.0e-4, density: 1000, hydrodynamics: {model: none}}
 )",
                                         "coupled_point");
   const auto& sweep = std::get<core::SweepCase>(c.spec);

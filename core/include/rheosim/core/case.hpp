@@ -62,6 +62,9 @@ enum class StressletViscosity { homogenized, secant };
 }
 
 struct Hydrodynamics {
+  // The block was given. Absent, a suspension point runs the predictive default (the
+  // Lees–Edwards box's near field); `{model: none}` is the seed's drag-only CFD-DEM.
+  bool specified = false;
   bool lubrication = false;       // pair and plate lubrication
   bool single_particle = false;   // torque and stresslet in the ambient flow
   bool stokes_drag = false;       // Stokes drag on the imposed ambient flow (cells without a fluid solver)
@@ -128,10 +131,11 @@ struct RheometerCase {  // kind: rheometer
   std::vector<double> shear_rates;                // γ̇_R = ΩR/H [1/s], increasing
   std::optional<ParticleProperties> particles;    // absent: single phase
   FluidSolverSettings solver;
-  // model: which scene computes a suspension point (issue 10): the full disk (CFD-DEM of the
-  // whole gap), the periodic shear cell (local flow curve integrated over the plate), or auto
-  // (the program picks the cheapest faithful one and logs why).
-  enum class SuspensionModel { automatic, full_disk, shear_cell };
+  // model: which scene computes a suspension point: the Lees–Edwards box (bulk stress of a
+  // periodic box of spheres with lubrication and frictional contacts, the local flow curve
+  // integrated over the plate), the full disk (CFD-DEM of the whole gap), the periodic shear
+  // cell (CFD-DEM of a slab of the gap), or auto (the program picks the faithful one and logs why).
+  enum class SuspensionModel { automatic, lees_edwards, full_disk, shear_cell };
   SuspensionModel suspension_model = SuspensionModel::automatic;
 };
 

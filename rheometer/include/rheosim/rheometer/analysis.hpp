@@ -262,6 +262,16 @@ struct RelativeViscosityPoint {
 [[nodiscard]] double krieger_dougherty_relative_viscosity(double phi, double max_packing,
                                                           double intrinsic_viscosity = 2.5);  // (1 − φ/φ_m)^(−[η]φ_m)
 [[nodiscard]] double maron_pierce_relative_viscosity(double phi, double max_packing = 0.63);  // (1 − φ/φ_m)^(−2)
+// Measured non-Brownian suspensions (φ < φ_m):
+// Boyer, Guazzelli & Pouliquen, PRL 107 (2011) 188301, the μ(J) fit of their pressure-imposed
+// rheometry: J = (φ_m/φ − 1)², μ(J) = μ1 + (μ2 − μ1)/(1 + I0/J) + J + (5/2)φ_m J^½, η_r = μ/J,
+// with μ1 = 0.32, μ2 = 0.7, I0 = 0.005 and their jamming fraction φ_m = 0.585 (another φ_m
+// gives the same law's shape around another jamming point); its particle pressure is Π = η_f γ̇/J.
+inline constexpr double boyer_jamming_fraction = 0.585;
+[[nodiscard]] double boyer_relative_viscosity(double phi, double jamming_fraction = boyer_jamming_fraction);
+[[nodiscard]] double boyer_friction_coefficient(double phi, double jamming_fraction = boyer_jamming_fraction);  // τ/Π
+// Zarraga, Hill & Leighton, J. Rheol. 44 (2000) 185: η_r = e^(−2.34φ)/(1 − φ/0.62)³.
+[[nodiscard]] double zarraga_relative_viscosity(double phi);
 
 // A correlation compared with the data: residuals are normalised by σ_i when every point has a
 // positive std_error, else relative ((model − η_r)/η_r).

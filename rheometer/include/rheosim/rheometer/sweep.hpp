@@ -89,6 +89,15 @@ struct PointResult {
   std::string model;
   std::string model_reason;
   double estimated_error = std::numeric_limits<double>::quiet_NaN();
+  // Normal stresses: the plate's normal force (thrust pushing the plates apart) [N] and the
+  // local first and second normal stress differences at the rim rate [Pa] (NaN when the model
+  // has none).
+  double normal_force = std::numeric_limits<double>::quiet_NaN();
+  double n1 = std::numeric_limits<double>::quiet_NaN();
+  double n2 = std::numeric_limits<double>::quiet_NaN();
+  // Every rule the point's model bent (a fallback, a solve above its tolerance, an unconverged
+  // average, a regime it does not model), for the log, summary.json and the report.
+  std::vector<std::string> warnings;
   std::vector<core::Hdf5Dataset> fields;  // stored with the point (paths relative, e.g. "fields/viscosity")
 };
 

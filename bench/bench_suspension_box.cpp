@@ -1,0 +1,63 @@
+// η_r(φ), N1, N2 of the Lees–Edwards suspension box against the measured band, with its cost:
+// one line per φ (docs/suspension-box.md). Every setting is a command-line option.
+//   bench_suspension_box --phi 0.1,0.2,0.3,0.4,0.5 [--particles 500] [--friction 0.3]
+//                        [--stokes 0] [--stiffness 0] [--strain 40] [--seed 1] [--size-ratio 1]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "rheosim/coupling/suspension_box.hpp"
+#include "rheosim/rheometer/analysis.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Lees–Edwards suspension box: η_r(φ), N1, N2 and cost"};
+  std::vector<double> phis{0.1, 0.2, 0.3, 0.4, 0.5};
+  rheosim::coupling::SuspensionBoxSettings s;
+  double size_ratio = 1.0;
+  app.add_option("--phi", phis, "volume fractions")->delimiter(',');
+  app.add_option("--particles", s.particles, "spheres in the box");
+  app.add_option("--friction", s.friction, "Coulomb friction coefficient");
+  app.add_option("--stokes", s.stokes_number, "St = m γ̇/(6πμa); 0 overdamped");
+  app.add_option("--stiffness", s.contact_stiffness, "k_n/(6πμaγ̇); 0 = default for φ");
+  app.add_option("--strain-step", s.strain_step, "Δγ; 0 = default");
+  app.add_option("--strain", s.max_strain, "maximum strain");
+  app.add_option("--min-strain", s.min_averaging_strain, "minimum averaging strain");
+  app.add_option("--warmup", s.warmup_strain, "strain left out of the averages");
+  app.add_option("--block", s.block_strain, "averaging block length (strain)");
+  app.add_option("--tolerance", s.relative_tolerance, "relative standard error to stop at");
+  app.add_option("--roughness", s.roughness, "δ/ā");
+  app.add_option("--cutoff", s.lubrication_cutoff, "h_c/ā");
+  app.add_option("--repulsion", s.repulsion_force, "F_R0/(6πμa²γ̇)");
+  app.add_option("--seed", s.seed, "placement seed");
+  app.add_option("--solver-tolerance", s.solver_tolerance, "relative residual of the implicit solve");
+  app.add_option("--size-ratio", size_ratio, "bidisperse large/small radius at equal volumes (1: monodisperse)");
+  CLI11_PARSE(app, argc, argv);
+  if (size_ratio != 1.0) {
+    s.radii = {1.0, size_ratio};
+    s.volume_shares = {0.5, 0.5};
+  }
+  std::printf("# particles %d, friction %g, St %g, roughness %g, cutoff %g, repulsion %g, size ratio %g\n",
+              s.particles, s.friction, s.stokes_number, s.roughness, s.lubrication_cutoff, s.repulsion_force,
+              size_ratio);
+  std::printf("%6s %8s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %6s %6s %7s %7s %8s\n", "phi", "eta_r", "err",
+              "KD.63", "Boyer", "Zarraga", "lub", "contact", "N1/tau", "+-", "N2/tau", "+-", "Pi/tau", "z", "slide", "ovl",
+              "ovlmax", "strain", "iters", "seconds");
+  for (const double phi : phis) {
+    s.volume_fraction = phi;
+    const auto r = rheosim::coupling::run_suspension_box(s);
+    const double eta = r.relative_viscosity.mean;
+    std::printf("%6.3f %8.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %6.3f %7.3f %6.3f %7.3f %7.2f %7.3f %6.4f %6.4f %7.1f %7.1f %8.2f\n",
+                phi, eta, r.relative_viscosity.error, rheosim::rheometer::krieger_dougherty_relative_viscosity(phi, 0.63),
+                rheosim::rheometer::boyer_relative_viscosity(phi), rheosim::rheometer::zarraga_relative_viscosity(phi),
+                r.part_lubrication, r.part_contact, r.n1.mean / eta, r.n1.error / eta, r.n2.mean / eta, r.n2.error / eta, r.particle_pressure.mean / eta,
+                r.mean_contacts_per_particle, r.sliding_fraction, r.mean_overlap, r.max_overlap, r.strain,
+                r.mean_solver_iterations, r.wall_time);
+    for (const auto& w : r.warnings) std::printf("#   warning: %s\n", w.c_str());
+    std::fflush(stdout);
+  }
+}
