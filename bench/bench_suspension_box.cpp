@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   std::vector<double> phis{0.1, 0.2, 0.3, 0.4, 0.5};
   rheosim::coupling::SuspensionBoxSettings s;
   double size_ratio = 1.0;
+  double bingham = 0.0;
   app.add_option("--phi", phis, "volume fractions")->delimiter(',');
   app.add_option("--particles", s.particles, "spheres in the box");
   app.add_option("--friction", s.friction, "Coulomb friction coefficient");
@@ -36,11 +37,20 @@ int main(int argc, char** argv) {
   app.add_option("--seed", s.seed, "placement seed");
   app.add_option("--solver-tolerance", s.solver_tolerance, "relative residual of the implicit solve");
   app.add_option("--size-ratio", size_ratio, "bidisperse large/small radius at equal volumes (1: monodisperse)");
+  app.add_option("--bingham", bingham,
+                 "Bingham matrix at this Bingham number τ_y/(μ_p γ̇) (0: Newtonian); η_r is then relative to the "
+                 "secant viscosity, and the plastic limit of η_r is τ_y,s/τ_y (Chateau, Ovarlez & Trung 2008)");
   CLI11_PARSE(app, argc, argv);
   if (size_ratio != 1.0) {
     s.radii = {1.0, size_ratio};
     s.volume_shares = {0.5, 0.5};
   }
+  if (bingham > 0.0) {
+    // μ(sγ̇)/μ(γ̇) = (1 + Bn/s)/(1 + Bn); homogenised stresslet μ_S/μ = 0.3 + 0.7 μ_p/μ(γ̇).
+    s.viscosity_ratio = [bingham](double ratio) { return (1.0 + bingham / ratio) / (1.0 + bingham); };
+    s.stresslet_viscosity_ratio = 0.3 + 0.7 / (1.0 + bingham);
+  }
+  std::printf("# Bingham number %g (0: Newtonian matrix)\n", bingham);
   std::printf("# particles %d, friction %g, St %g, roughness %g, cutoff %g, repulsion %g, size ratio %g\n",
               s.particles, s.friction, s.stokes_number, s.roughness, s.lubrication_cutoff, s.repulsion_force,
               size_ratio);

@@ -37,7 +37,8 @@ int run_sweep_case(const core::Case& c, const std::string& case_file, const std:
                   out.string());
     const auto& sweep = std::get<core::SweepCase>(c.spec);
     auto runners = rheometer::default_point_runners(sweep.rheometer);
-    runners.suspension = rheometer::make_coupled_suspension_runner(sweep.rheometer, out / "dem", point_budget);
+    runners.suspension =
+        rheometer::make_coupled_suspension_runner(sweep.rheometer, out / "dem", point_budget, sweep.volume_fractions);
     const auto outcome = rheometer::run_sweep(c, out, log_file, runners);
     log_file.info("{} points: {} computed now, {} read back from an earlier run, {} failed; summary: {}; report: {}",
                   outcome.points, outcome.computed_points, outcome.reused_points, outcome.failed_points,

@@ -3,6 +3,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <future>
+#include <limits>
+#include <thread>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -160,11 +165,61 @@ double plate_normal_force(const std::vector<double>& rates, const std::vector<do
 
 namespace {
 
+// Runs queued boxes on up to one worker per core; each job's result through a shared future.
+class BoxPool {
+ public:
+  using Future = std::shared_future<coupling::SuspensionBoxResult>;
+  ~BoxPool() {
+    {
+      const std::lock_guard lock(mutex_);
+      stop_ = true;
+      queue_.clear();  // unstarted jobs are dropped; nobody waits for them any more
+    }
+    wake_.notify_all();
+    for (auto& w : workers_) w.join();
+  }
+  Future submit(coupling::SuspensionBoxSettings settings) {
+    std::packaged_task<coupling::SuspensionBoxResult()> task(
+        [s = std::move(settings)] { return coupling::run_suspension_box(s); });
+    Future future = task.get_future().share();
+    {
+      const std::lock_guard lock(mutex_);
+      queue_.push_back(std::move(task));
+      const std::size_t cores = std::max(1U, std::thread::hardware_concurrency());
+      if (workers_.size() < cores) workers_.emplace_back([this] { work(); });
+    }
+    wake_.notify_one();
+    return future;
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      std::packaged_task<coupling::SuspensionBoxResult()> task;
+      {
+        std::unique_lock lock(mutex_);
+        wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        task = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      task();  // an exception is stored in the future
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::packaged_task<coupling::SuspensionBoxResult()>> queue_;
+  std::vector<std::thread> workers_;
+  bool stop_ = false;
+};
+
 class BoxRunner {
  public:
-  explicit BoxRunner(core::RheometerCase r) : r_(std::move(r)) {}
+  BoxRunner(core::RheometerCase r, std::vector<double> volume_fractions)
+      : r_(std::move(r)), volume_fractions_(std::move(volume_fractions)) {}
 
-  PointResult run(const SweepPoint& point, const PointProgressCallback& progress) {
+  // No strain progress: a box runs on a worker, perhaps before its point is asked for.
+  PointResult run(const SweepPoint& point) {
     PointResult out;
     out.model = "lees_edwards";
     out.method = "Lees–Edwards suspension box (bulk stress: lubrication, isolated-sphere drag and stresslet, "
@@ -177,7 +232,7 @@ class BoxRunner {
     bool fresh = false;
     const std::vector<BoxRun>* runs = nullptr;
     try {
-      runs = &runs_for(point.volume_fraction, progress, fresh);
+      runs = &runs_for(point.volume_fraction, fresh);
     } catch (const std::exception& e) {
       out.failure = fmt::format("suspension box failed: {}", e.what());
       return out;
@@ -259,32 +314,46 @@ class BoxRunner {
   }
 
  private:
-  const std::vector<BoxRun>& runs_for(double phi, const PointProgressCallback& progress, bool& fresh) {
-    const std::lock_guard lock(mutex_);
-    if (const auto it = runs_.find(phi); it != runs_.end()) return it->second;
-    fresh = true;
-    std::vector<BoxRun> runs;
-    const auto rates = box_is_rate_independent(r_) ? std::vector<double>{0.0} : r_.shear_rates;
-    for (const double rate : rates) {
-      auto s = box_settings(r_, phi, rate > 0.0 ? rate : r_.shear_rates.back());
-      if (progress) s.on_block = [&progress, &s](double strain) { progress({strain, s.max_strain}); };
-      runs.push_back({rate, coupling::run_suspension_box(s)});
+  // The boxes of φ, waiting for them; the first call for a φ queues them and those of every
+  // later φ of the sweep.
+  const std::vector<BoxRun>& runs_for(double phi, bool& fresh) {
+    std::vector<std::pair<double, BoxPool::Future>> pending;
+    {
+      const std::lock_guard lock(mutex_);
+      if (const auto it = done_.find(phi); it != done_.end()) return it->second;
+      fresh = true;
+      queue(phi);
+      for (const double later : volume_fractions_)
+        if (later > phi) queue(later);
+      pending = queued_.at(phi);
     }
-    return runs_.emplace(phi, std::move(runs)).first->second;
+    std::vector<BoxRun> runs;
+    for (auto& [rate, future] : pending) runs.push_back({rate, future.get()});
+    const std::lock_guard lock(mutex_);
+    return done_.emplace(phi, std::move(runs)).first->second;
+  }
+
+  void queue(double phi) {  // mutex_ held
+    if (queued_.contains(phi)) return;
+    auto& jobs = queued_[phi];
+    const auto rates = box_is_rate_independent(r_) ? std::vector<double>{0.0} : r_.shear_rates;
+    for (const double rate : rates)
+      jobs.emplace_back(rate, pool_.submit(box_settings(r_, phi, rate > 0.0 ? rate : r_.shear_rates.back())));
   }
 
   core::RheometerCase r_;
+  std::vector<double> volume_fractions_;
   std::mutex mutex_;
-  std::map<double, std::vector<BoxRun>> runs_;
+  std::map<double, std::vector<std::pair<double, BoxPool::Future>>> queued_;
+  std::map<double, std::vector<BoxRun>> done_;
+  BoxPool pool_;  // last: its workers stop before the maps they fill go
 };
 
 }  // namespace
 
-PointRunner make_box_suspension_runner(const core::RheometerCase& rheometer) {
-  auto runner = std::make_shared<BoxRunner>(rheometer);
-  return [runner](const SweepPoint& point, const PointProgressCallback& progress) {
-    return runner->run(point, progress);
-  };
+PointRunner make_box_suspension_runner(const core::RheometerCase& rheometer, std::vector<double> volume_fractions) {
+  auto runner = std::make_shared<BoxRunner>(rheometer, std::move(volume_fractions));
+  return [runner](const SweepPoint& point, const PointProgressCallback&) { return runner->run(point); };
 }
 
 }  // namespace rheosim::rheometer

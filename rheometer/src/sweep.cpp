@@ -187,11 +187,11 @@ SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, do
 }
 
 PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
-                                           double budget_seconds) {
+                                           double budget_seconds, std::vector<double> volume_fractions) {
   using Model = core::RheometerCase::SuspensionModel;
   PointRunner disk = make_full_disk_suspension_runner(rheometer, work_dir, budget_seconds);
   PointRunner cell = make_shear_cell_suspension_runner(rheometer, work_dir);
-  PointRunner box = make_box_suspension_runner(rheometer);
+  PointRunner box = make_box_suspension_runner(rheometer, std::move(volume_fractions));
   return [r = rheometer, budget_seconds, disk = std::move(disk), cell = std::move(cell), box = std::move(box)](
              const SweepPoint& point, const PointProgressCallback& progress) {
     const ModelChoice choice = choose_suspension_model(r, point.volume_fraction, budget_seconds);

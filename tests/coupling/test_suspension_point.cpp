@@ -123,46 +123,5 @@ TEST(SuspensionPoint, ZeroVolumeFractionRunsTheFluidAlone) {
   EXPECT_EQ(p.torque_contact, 0.0);
 }
 
-// Cost measurement at the seed's particle and contact parameters (CD §4: d = 200 µm, ρ_p = 1000,
-// E = 3 GPa, ν = 0.33, φ = 0.1, coupling interval 100, Newtonian 1 mPa·s, γ̇_R = 100 1/s) on a
-// disk of R = 3 mm (seed: 15 mm; particle count scales with R²). Not part of `make test`:
-//   build-coupling/tests/coupling_test_suspension_point --gtest_also_run_disabled_tests --gtest_filter='*SeedLike*'
-// Overrides for studies: RHEOSIM_PHI, RHEOSIM_MAX_STRAIN, RHEOSIM_VOID_FRACTION, RHEOSIM_AXIAL_CELLS.
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::stod(v) : fallback;
-}
-
-TEST(SuspensionPoint, DISABLED_SeedLikeCost) {
-  testing::RunFolder folder;
-  SuspensionPointSettings s;
-  s.geometry = {.radius = 0.003, .gap = 0.0005};
-  s.fluid = {.density = 1000, .rheology = testing::newtonian(1e-3)};
-  s.particles = {.volume_fraction = env_or("RHEOSIM_PHI", 0.1), .diameter = 2e-4, .density = 1000, .youngs_modulus = 3e9,
-                 .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
-  s.rim_shear_rate = 100.0;
-  s.radial_cells = 6;
-  s.azimuthal_cells = 8;
-  s.axial_cells = static_cast<int>(env_or("RHEOSIM_AXIAL_CELLS", 2));
-  s.coupling.coupling_interval = 100;
-  if (const char* scheme = std::getenv("RHEOSIM_VOID_FRACTION")) s.coupling.void_fraction = scheme;
-  s.steady = {.strain_window = 0.25, .relative_tolerance = 0.02, .min_strain = 0.5,
-              .max_strain = env_or("RHEOSIM_MAX_STRAIN", 1.0)};
-  s.run_directory = folder.path();
-  const SuspensionPoint p = run_point(s);
-  const double omega = 100.0 * 0.0005 / 0.003;
-  const double newtonian = std::numbers::pi * 1e-3 * omega * std::pow(0.003, 4) / (2 * 0.0005);
-  std::printf("seed-like point: %lld particles, DEM δt %.3e s, CFD δt %.3e s, %lld steps, strain %.2f, converged %d\n"
-              "  torque %.4e ± %.1e N·m (fluid %.4e, contact %.4e, fluid on the bottom plate %.4e; single-phase creeping %.4e,"
-              " ratio %.3f)\n"
-              "  cost: DEM %.2f s, void fraction %.3f s, forces %.3f s, fluid %.2f s; coupling overhead %.1f %% of DEM;"
-              " wall %.1f s\n",
-              static_cast<long long>(p.particles), p.dem_time_step, p.fluid_time_step,
-              static_cast<long long>(p.cost.steps), p.strain, p.converged, p.torque, p.torque_error, p.torque_fluid,
-              p.torque_contact, p.bottom_torque_fluid, newtonian, p.torque / newtonian, p.cost.dem, p.cost.void_fraction, p.cost.forces,
-              p.cost.fluid, 100 * p.cost.coupling_overhead(), p.wall_time);
-  EXPECT_GT(p.torque_fluid, 0.0);
-}
-
 }  // namespace
 }  // namespace rheosim::coupling

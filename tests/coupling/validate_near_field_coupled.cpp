@@ -155,14 +155,9 @@ TEST(NearFieldCoupledValidation, DiskTorqueParts) {
 namespace rheosim::coupling {
 namespace {
 
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v != nullptr ? std::atof(v) : fallback;
-}
-
 // The seed's particles (d = 200 µm, ρ_p = 1000, E/softening) in water at γ̇ in a coupled shear cell
 // with lubrication + stresslet (+ repulsion F_R0 = repulsion_ratio × 6πμa²γ̇, Mari et al.'s stress
-// scale), run to a fixed strain: the settings of the like-for-like test and the study below.
+// scale), run to a fixed strain: the settings of the like-for-like test below.
 struct SeedCell {
   double gap = 5e-4, cell = 1.6e-3, phi = 0.3, rate = 100.0;  // m, m, -, 1/s
   double softening = 1e4, friction = 0.3, axial_cell_over_d = 1.25, strain = 20.0;
@@ -198,8 +193,7 @@ ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
 // Like for like with the imposed-flow FLD cell (validate_near_field_shear_cell.cpp, the same
 // definition of η_r: stresslet + symmetric pair virial, no plates): at φ = 0.3, F_R0 = 10×, in
 // the same 8 d × 20 d cell at the same particle Stokes number (St = ργ̇a²/μ = 1) that cell gives
-// 3.265 ± 0.013 (`RHEOSIM_NF_REPULSION=10 RHEOSIM_NF_PHIS=0.3 RHEOSIM_NF_RATES=100
-// RHEOSIM_NF_VISCOSITY=1e-3 RHEOSIM_NF_GAP=20 RHEOSIM_NF_CELL=8` on its ViscosityCurveStudy). With
+// 3.265 ± 0.013 (a study of that cell, F_R0 = 10 × 6πμa²γ̇, H = 20 d, 8 d × 8 d). With
 // the drag the case files pick for lubricated suspensions (particles.drag auto = the isolated
 // sphere) the coupled cell must agree within 4 %; Di Felice's hindrance on each sphere's slip
 // counts the crowding twice and gives 3.480 (+6.6 %, docs/hydrodynamics.md). ~45 s.
@@ -218,66 +212,6 @@ TEST(NearFieldCoupledValidation, ShearCellWithTheIsolatedSphereDragMatchesTheImp
   // The plate reading adds the wall layers' plate lubrication and the antisymmetric pair part.
   EXPECT_GT(p.stress / liquid, eta_r);
   EXPECT_LT(p.stress / liquid, 1.12 * eta_r);
-}
-
-// Study (not run by make test): one coupled shear-cell point with the near field at the seed's
-// particles softened by RHEOSIM_NF_SOFTENING, φ = RHEOSIM_NF_PHI, cell RHEOSIM_NF_CELL m,
-// RHEOSIM_NF_STRAIN strain units, lubrication cutoff RHEOSIM_NF_CUTOFF (h_c/ā), drag law RHEOSIM_NF_DRAG
-// (default di_felice), printing the stress parts and the running stress per strain unit.
-TEST(NearFieldCoupledValidation, DISABLED_SeedCellStudy) {
-  SeedCell c;
-  c.gap = env_or("RHEOSIM_NF_GAP", c.gap);
-  c.cell = env_or("RHEOSIM_NF_CELL", c.cell);
-  c.phi = env_or("RHEOSIM_NF_PHI", c.phi);
-  c.rate = env_or("RHEOSIM_NF_RATE", c.rate);
-  c.softening = env_or("RHEOSIM_NF_SOFTENING", c.softening);
-  c.friction = env_or("RHEOSIM_NF_FRICTION", c.friction);
-  c.axial_cell_over_d = env_or("RHEOSIM_NF_AXIAL_CELL", c.axial_cell_over_d);  // fluid cells, in d
-  c.strain = env_or("RHEOSIM_NF_STRAIN", c.strain);
-  c.hydrodynamics.lubrication_cutoff = env_or("RHEOSIM_NF_CUTOFF", c.hydrodynamics.lubrication_cutoff);
-  c.hydrodynamics.roughness = env_or("RHEOSIM_NF_ROUGHNESS", c.hydrodynamics.roughness);
-  c.repulsion_ratio = env_or("RHEOSIM_NF_REPULSION", 0.0);
-  c.repulsion_length = env_or("RHEOSIM_NF_REPULSION_LENGTH", c.repulsion_length);
-  if (const char* drag = std::getenv("RHEOSIM_NF_DRAG"); drag != nullptr) {
-    const std::string_view name = drag;
-    ASSERT_TRUE(name == core::name_of(core::DragLaw::di_felice) || name == core::name_of(core::DragLaw::schiller_naumann))
-        << "RHEOSIM_NF_DRAG=" << name;
-    if (name == core::name_of(core::DragLaw::schiller_naumann)) c.drag = core::DragLaw::schiller_naumann;
-  }
-  ShearCellPointSettings s = seed_cell_settings(c);
-  const double softening = c.softening;
-  s.run_directory = fs::temp_directory_path() / fmt::format("rheosim_study_nf_cell_{}", ::getpid());
-  const auto p = run_shear_cell_point(s);
-  fs::remove_all(s.run_directory);
-  const double liquid = mu * s.shear_rate;
-  std::printf("E/%g, phi %.4f, N %lld, dt %.3g s: eta_r %.4f +- %.4f (fluid %.4f contact %.4f lubrication %.4f "
-              "stresslet %.4f couple %.4f; bulk %.4f), DEM %.1f s, near field %.1f s, max CG %d\n",
-              softening, p.volume_fraction, static_cast<long long>(p.particles), p.dem_time_step, p.stress / liquid,
-              p.stress_error / liquid, p.stress_fluid / liquid, p.stress_contact / liquid,
-              p.stress_lubrication / liquid, p.stress_stresslet / liquid, p.stress_couple / liquid,
-              p.bulk_stress / liquid, p.cost.dem, p.cost.near_field, p.max_near_field_iterations);
-  // The bulk stress by parts, and the imposed-flow cell's definition of it (symmetric pair
-  // virial, no plate gaps, no couple, no drag offsets; validate_near_field_shear_cell.cpp).
-  const auto& b = p.bulk_parts;
-  std::printf("bulk parts: fluid %.4f stresslet %.4f couple %.4f pair lubrication %.4f (antisymmetric %.4f) plate "
-              "lubrication %.4f pair contact %.4f plate contact %.4f drag %.4f; imposed cell's definition %.4f\n",
-              b.fluid / liquid, b.stresslet / liquid, b.couple / liquid, b.pair_lubrication / liquid,
-              b.pair_lubrication_antisymmetric / liquid, b.plate_lubrication / liquid, b.pair_contact / liquid,
-              b.plate_contact / liquid, b.drag / liquid, b.imposed_cell_definition() / liquid);
-  // Running mean per strain unit.
-  double sum = 0.0;
-  int count = 0;
-  double next = 1.0;
-  for (const auto& r : p.series) {
-    sum += r.total_top();
-    ++count;
-    if (r.time * s.shear_rate >= next) {
-      std::printf("  strain %4.1f: eta_r over the last unit %.4f\n", next, sum / count / liquid);
-      sum = 0.0;
-      count = 0;
-      next += 1.0;
-    }
-  }
 }
 
 }  // namespace

@@ -1,7 +1,6 @@
 // Issue 10 item 5: the shear cell's plate torque against CFD-DEM of the whole disk, one φ and two
-// rim shear rates (about 2 minutes on one core of a quiet machine; also run by
-//   bench/shear_cell_vs_disk.sh BUILD_DIR
-// with environment overrides for studies; docs/shear-cell.md and docs/performance.md record it).
+// rim shear rates (about 2 minutes on one core of a quiet machine; docs/shear-cell.md and
+// docs/performance.md record it).
 //
 // Set-up (stated, as the issue allows a smaller disk): the CD §4 liquid and spheres (η = 1 mPa·s,
 // d = 0.2 mm, ρ = ρ_p = 1000 kg/m³), gap H = 0.5 mm, φ = 0.1, a disk of R = 5 mm (R/H = 10, the
@@ -18,15 +17,6 @@
 // the cell grew with the rate") and docs/performance.md. Within 3 % only with the cell's
 // placement shaken like the disk's (the former layered lattice never let spheres meet and gave
 // 1.000×, −1.9 % / −2.8 % against the disk's seed means). Deterministic per seed (one thread).
-// Environment overrides: RHEOSIM_PHI, RHEOSIM_DISK_RADIUS, RHEOSIM_CELL_LENGTH,
-// RHEOSIM_YOUNGS_MODULUS, RHEOSIM_MAX_STRAIN, RHEOSIM_AXIAL_CELLS, RHEOSIM_FLUID_STEP, and for the
-// disk only (diagnostics) RHEOSIM_DISK_FORCES (e.g. "di_felice,viscous"), RHEOSIM_VOID_FRACTION;
-// RHEOSIM_SKIP_DISK=1 runs the cell alone. Studies of the disk's excess (docs/shear-cell.md):
-// RHEOSIM_RATES ("50,100"), RHEOSIM_SEEDS (placements, both; "1,2,3": the torques compared are
-// means over them), RHEOSIM_DENSITY (ρ = ρ_p, both: the
-// Stokes number), RHEOSIM_STRAIN_WINDOW, RHEOSIM_MIN_STRAIN (both), and for the disk
-// RHEOSIM_PG_FILTER_STEPS (∇p filter, fluid steps), RHEOSIM_DISK_RADIAL_CELLS,
-// RHEOSIM_DISK_AZIMUTHAL_CELLS, RHEOSIM_DISK_GRAVITY (0: off in DEM and fluid).
 // Cell: 1.6 mm × 1.6 mm (the size the seed sweep converged to at φ = 0.1), the same steady-state
 // detector.
 #include <gtest/gtest.h>
@@ -56,40 +46,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
-double env_or(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v != nullptr ? std::stod(v) : fallback;
-}
-
-std::vector<std::string> env_list(const char* name, const std::string& fallback) {
-  const char* v = std::getenv(name);
-  const std::string list = v != nullptr ? v : fallback;
-  std::vector<std::string> out;
-  for (std::size_t start = 0; start <= list.size();) {
-    const std::size_t end = std::min(list.find(',', start), list.size());
-    out.push_back(list.substr(start, end - start));
-    start = end + 1;
-  }
-  return out;
-}
-
 TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
   const auto doc = core::Document::from_string("model: newtonian\nviscosity: 1.0e-3\n", "rheology");
-  const double density = env_or("RHEOSIM_DENSITY", 1000.0);  // ρ = ρ_p
+  const double density = 1000.0;  // ρ = ρ_p
   const core::FluidProperties fluid{.density = density, .rheology = core::make_rheology(doc.root())};
-  const double phi = env_or("RHEOSIM_PHI", 0.1);
-  const double radius = env_or("RHEOSIM_DISK_RADIUS", 5e-3);
+  const double phi = 0.1;
+  const double radius = 5e-3;
   const double gap = 5e-4;
-  const double cell_length = env_or("RHEOSIM_CELL_LENGTH", 1.6e-3);
+  const double cell_length = 1.6e-3;
   core::ParticleProperties particles{.volume_fraction = phi, .diameter = 2e-4, .density = density,
-                                     .youngs_modulus = env_or("RHEOSIM_YOUNGS_MODULUS", 5e6)};
-  const coupling::SteadyStateSettings steady{.strain_window = env_or("RHEOSIM_STRAIN_WINDOW", 2.0),
+                                     .youngs_modulus = 5e6};
+  const coupling::SteadyStateSettings steady{.strain_window = 2.0,
                                              .relative_tolerance = 0.02,
-                                             .min_strain = env_or("RHEOSIM_MIN_STRAIN", 4.0),
-                                             .max_strain = env_or("RHEOSIM_MAX_STRAIN", 20.0)};
+                                             .min_strain = 4.0,
+                                             .max_strain = 20.0};
   const double dt = 0.3 * dem::rayleigh_time({1e-4, density, particles.youngs_modulus, particles.poisson_ratio});
-  const int interval = std::max(1, static_cast<int>(env_or("RHEOSIM_FLUID_STEP", 1e-5) / dt));
-  const int axial_cells = static_cast<int>(env_or("RHEOSIM_AXIAL_CELLS", 4));
+  const int interval = std::max(1, static_cast<int>(1e-5 / dt));
+  const int axial_cells = static_cast<int>(4);
   const fs::path dir = fs::temp_directory_path() / fmt::format("rheosim_cell_vs_disk_{}", ::getpid());
 
   // Mean and standard error over the placements (seeds): one run's batch-means error (0.1–0.3 %)
@@ -101,13 +74,10 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
     const double n = static_cast<double>(v.size());
     return std::pair{m, v.size() > 1 ? std::sqrt(var / (n - 1.0) / n) : 0.0};
   };
-  std::vector<std::uint64_t> seeds;
-  for (const std::string& s : env_list("RHEOSIM_SEEDS", "1,2,3")) seeds.push_back(std::stoull(s));
-  const bool skip_disk = env_or("RHEOSIM_SKIP_DISK", 0.0) != 0.0;
+  const std::vector<std::uint64_t> seeds{1, 2, 3};
   LocalFlowCurve curve;
   std::vector<double> cell_error, disk_torque, disk_error, disk_liquid;
-  std::vector<double> rates;
-  for (const std::string& r : env_list("RHEOSIM_RATES", "50,100")) rates.push_back(std::stod(r));
+  const std::vector<double> rates{50.0, 100.0};
   for (const double rate : rates) {
     std::vector<double> cell_stress, disk_torques;
     coupling::SuspensionPointSettings d;
@@ -132,28 +102,20 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
                   static_cast<long long>(cell.particles), cell.strain, cell.converged, cell.wall_time);
       cell_stress.push_back(cell.stress);
 
-      if (skip_disk) continue;  // cell only (its own studies)
       d.geometry = {.radius = radius, .gap = gap};
       d.fluid = fluid;
       d.particles = particles;
       d.rim_shear_rate = rate;
-      // Fluid inertia off by default (RHEOSIM_DISK_INERTIA=1 switches it on): the cell is
+      // Fluid inertia off: the cell is
       // creeping, and with inertia on the disk at φ = 0.1 did not reach a steady torque by strain
       // 20 (1.57× / 1.43× its liquid, bottom-plate torque above the top's; docs/shear-cell.md).
       // The creeping disk's spheres get the centripetal pressure the fluid's inertia would give
       // (forces.hpp), so they are not flung outward.
-      d.inertia = env_or("RHEOSIM_DISK_INERTIA", 0.0) != 0.0;
+      d.inertia = false;
       d.axial_cells = axial_cells;
       d.coupling.coupling_interval = interval;
-      d.coupling.pressure_gradient_filter_steps =
-          env_or("RHEOSIM_PG_FILTER_STEPS", d.coupling.pressure_gradient_filter_steps);
-      d.radial_cells = static_cast<int>(env_or("RHEOSIM_DISK_RADIAL_CELLS", d.radial_cells));
-      d.azimuthal_cells = static_cast<int>(env_or("RHEOSIM_DISK_AZIMUTHAL_CELLS", d.azimuthal_cells));
-      d.gravity = env_or("RHEOSIM_DISK_GRAVITY", 1.0) != 0.0;
+      d.gravity = true;
       d.seed = seed;
-      if (std::getenv("RHEOSIM_DISK_FORCES") != nullptr)  // diagnostics, e.g. "di_felice,viscous"
-        d.coupling.forces = env_list("RHEOSIM_DISK_FORCES", "");
-      if (const char* scheme = std::getenv("RHEOSIM_VOID_FRACTION")) d.coupling.void_fraction = scheme;
       d.steady = steady;
       d.run_directory = dir / fmt::format("disk_{}_{}", rate, seed);
       fs::create_directories(d.run_directory);
@@ -169,7 +131,6 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
     curve.shear_rate.push_back(rate);
     curve.stress.push_back(cell_mean);
     cell_error.push_back(cell_se / cell_mean);
-    if (skip_disk) continue;
     const auto [disk_mean, disk_se] = mean_and_error(disk_torques);
     disk_torque.push_back(disk_mean);
     disk_error.push_back(disk_se);
@@ -188,7 +149,6 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
     const double liquid = newtonian_torque(plate, 1e-3, rates[i]);
     std::printf("rate %g: cell torque %.5g N m (%.4f +- %.4f x creeping liquid, %zu seeds)\n", rates[i], cell_torque,
                 cell_torque / liquid, cell_error[i] * cell_torque / liquid, seeds.size());
-    if (skip_disk) continue;
     // Compared as torque ratios to each model's own liquid (the cell is creeping; the disk's
     // liquid carries its inertia and grid), and as plain torques; means over the seeds.
     const double difference = (cell_torque / liquid) / (disk_torque[i] / disk_liquid[i]) - 1.0;
@@ -200,7 +160,6 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
     EXPECT_LE(std::abs(difference), 0.03) << rates[i];
   }
   fs::remove_all(dir);
-  if (skip_disk) GTEST_SKIP() << "RHEOSIM_SKIP_DISK: cell only";
 }
 
 }  // namespace

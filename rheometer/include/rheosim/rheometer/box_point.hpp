@@ -44,6 +44,11 @@ inline constexpr double particle_reynolds_limit = 0.1;
 
 // φ > 0 by the box. The first point of each φ runs the boxes it needs (one, or one per rate)
 // and is charged with their wall time; every point of that φ gets T, F, N1, N2 from them.
-[[nodiscard]] PointRunner make_box_suspension_runner(const core::RheometerCase& rheometer);
+// volume_fractions (the sweep's, increasing): the first point of a φ also queues the boxes of
+// every later φ, which run on the machine's other cores meanwhile (each box is deterministic,
+// so the results do not depend on the order; a resumed sweep queues only from its first missing
+// point on).
+[[nodiscard]] PointRunner make_box_suspension_runner(const core::RheometerCase& rheometer,
+                                                     std::vector<double> volume_fractions = {});
 
 }  // namespace rheosim::rheometer

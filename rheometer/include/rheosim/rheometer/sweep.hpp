@@ -127,8 +127,10 @@ struct PointRunners {
 // With the case's `model:` (issue 10) this runner dispatches each point: model full_disk runs
 // the disk as above; shear_cell runs rheometer::make_shear_cell_suspension_runner
 // (shear_cell.hpp); auto asks choose_suspension_model() and records the reason.
+// volume_fractions: the sweep's, for the box runner to queue later φ on free cores.
 [[nodiscard]] PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
-                                                         std::filesystem::path work_dir, double budget_seconds);
+                                                         std::filesystem::path work_dir, double budget_seconds,
+                                                         std::vector<double> volume_fractions = {});
 // The full-disk CFD-DEM runner alone (what make_coupled_suspension_runner did before issue 10).
 [[nodiscard]] PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheometer,
                                                            std::filesystem::path work_dir, double budget_seconds);
