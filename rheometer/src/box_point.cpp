@@ -136,7 +136,7 @@ std::string describe_box(const core::RheometerCase& r, double phi) {
       h.specified && r.particles->hydrodynamics.lubrication ? "from particles.hydrodynamics" : "by default", s.roughness,
       s.lubrication_cutoff,
       s.repulsion_force > 0.0 ? fmt::format(" + repulsion F_R0 = {:g} N", h.repulsion_force) : std::string(),
-      coupling::default_contact_stiffness(phi), s.friction, re_high, r.geometry.gap / p.diameter,
+      s.contact_stiffness > 0.0 ? s.contact_stiffness : coupling::default_contact_stiffness(phi), s.friction, re_high, r.geometry.gap / p.diameter,
       box_is_rate_independent(r) ? "the same dimensionless box serves every rate (Newtonian, overdamped)"
                                  : "one box per rate");
 }

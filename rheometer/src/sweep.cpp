@@ -246,9 +246,13 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
     s.coupling.forces = coupling::force_models(s.particles.drag);
     s.rim_shear_rate = point.rim_shear_rate;
     s.inertia = r.solver.inertia;
-    // The fluid grid is coupling::SuspensionPointSettings' default (8 × 8 × 2); its cells are
-    // barely wider than a particle in z, an open accuracy question (docs/coupling.md).
+    // The fluid grid is coupling::SuspensionPointSettings' (8 × 8 × 2), not the case's `solver:`
+    // grid, which is the φ = 0 swirl solver's: unresolved CFD-DEM needs cells wider than a
+    // particle (docs/coupling.md). The point says which grid it used.
     s.seed = 1 + point.index;
+    out.method += fmt::format("; CFD-DEM fluid grid {} × {} × {} (r × θ × z; the case's solver: grid is the φ = 0 "
+                              "swirl solver's)",
+                              s.radial_cells, s.azimuthal_cells, s.axial_cells);
     s.run_directory = work / fmt::format("point_{:04d}", point.index);
     try {
       fs::create_directories(s.run_directory);
@@ -575,11 +579,13 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
   summary["input_sha256"] = c.sha256;
   summary["radius"] = r.geometry.radius;
   summary["gap"] = r.geometry.gap;
+  // The φ = 0 swirl solver's grid; suspension points name theirs in `method`.
   summary["grid"] = {{"radial_cells", r.solver.radial_cells},
                      {"axial_cells", r.solver.axial_cells},
                      {"radial_grading", r.solver.radial_grading},
                      {"axial_stretching", r.solver.axial_stretching},
-                     {"extrapolate", r.solver.extrapolate}};
+                     {"extrapolate", r.solver.extrapolate},
+                     {"applies_to", "the φ = 0 points (steady swirl solve); a CFD-DEM point names its grid in method"}};
   summary["inertia"] = r.solver.inertia;
   summary["volume_fractions"] = sweep.volume_fractions;
   summary["shear_rates"] = r.shear_rates;

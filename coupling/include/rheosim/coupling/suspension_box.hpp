@@ -47,7 +47,7 @@ struct SuspensionBoxSettings {
   // h_c/ā: beyond about 0.25ā the leading singular terms overestimate the pair resistance
   // (their O(1) remainder is negative there); 0.5 raises η_r by 2 % at φ = 0.1 and 11–17 % at 0.3–0.4.
   double lubrication_cutoff = 0.25;
-  double contact_stiffness = 2000;  // k_n/(6πμaγ̇) (0: chosen from φ, see default_contact_stiffness)
+  double contact_stiffness = 0.0;   // k_n/(6πμaγ̇); 0: default_contact_stiffness(φ)
   double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t/k_n
   double repulsion_force = 0.0;     // F_R0/(6πμa²γ̇); 0: no repulsion
   double repulsion_length = 0.05;   // λ/ā
@@ -70,8 +70,8 @@ struct SuspensionBoxSettings {
   std::function<void(double)> on_block;
 };
 
-// The normal contact stiffness [6πμaγ̇] that keeps overlaps near 1 % of a at volume fraction φ:
-// grows with the Krieger–Dougherty estimate of the stress (φ_m = 0.6).
+// The normal contact stiffness [6πμaγ̇] at volume fraction φ: 2000 (see suspension_box.cpp for
+// the measured overlaps and the stress's sensitivity to it).
 [[nodiscard]] double default_contact_stiffness(double volume_fraction);
 // Δγ: 5e-3 (the springs are implicit, so accuracy sets it); with inertia at most half the
 // particle relaxation time St, and a tenth of the contact oscillation period where the squeeze
