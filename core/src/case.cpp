@@ -1,10 +1,14 @@
+
 #include "rheosim/core/case.hpp"
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <utility>
 
 #include "rheosim/core/units.hpp"
@@ -138,6 +142,43 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
                                    geometry.gap),
            "every diameter smaller than the gap");
   return out;
+}
+
+// Memory and time an LDD case needs, estimated from its geometry before anything is allocated.
+// Per node, measured peak memory: 6.1 kB (2D cavity, with its sparse LU), 2.5 kB (2D dam break),
+// 4.7 kB (3D slump) — 8 kB bounds them; per node and step about 2 µs (the 50 000-node dam break,
+// 109 ms per step on two threads, docs/performance.md).
+constexpr double ldd_bytes_per_node = 8192.0;
+constexpr double ldd_seconds_per_node_step = 2e-6;
+struct LddSizeEstimate {
+  double nodes = 0, bytes = 0, steps = 0, node_steps = 0;
+};
+LddSizeEstimate estimate_ldd_size(const LddCase& l) {
+  const double d = l.spacing;
+  double nodes = 0;
+  if (const auto* c = std::get_if<CavityScene>(&l.scene)) {
+    nodes = (c->size[0] / d + 1) * (c->size[1] / d + 1);
+  } else if (const auto* b = std::get_if<DamBreakScene>(&l.scene)) {
+    nodes = b->reservoir[0] * b->reservoir[1] / (d * d) + 3.0 * (b->channel_length + 2.0 * b->reservoir[1]) / d;
+  } else if (const auto* s = std::get_if<SlumpScene>(&l.scene)) {
+    const double big = 0.5 * s->cone_bottom_diameter, small = 0.5 * s->cone_top_diameter;
+    const double cone = std::numbers::pi * s->cone_height * (big * big + big * small + small * small) / 3.0;
+    const double floor = std::pow(4.0 * s->cone_bottom_diameter, 2);  // the spread's reach, two wall layers
+    nodes = cone / (d * d * d) + 2.0 * floor / (d * d);
+  } else if (const auto* k = std::get_if<ColumnScene>(&l.scene)) {
+    nodes = (k->size[0] / d + 1) * (k->size[1] / d + 5);
+  }
+  LddSizeEstimate e;
+  e.nodes = nodes;
+  e.bytes = nodes * ldd_bytes_per_node;
+  e.steps = l.end_time / l.time_step;
+  e.node_steps = e.nodes * e.steps;
+  return e;
+}
+
+double physical_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 1e300;
 }
 
 // particles.hydrodynamics (see Hydrodynamics): model `none` or terms joined by '+'.
@@ -358,6 +399,23 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
   if (out.end_time < out.time_step)
     time.fail("end", fmt::format("end time {} s is shorter than one step of {} s", out.end_time, out.time_step),
               "an end time of at least one time step");
+  // A case that cannot fit the machine is refused here, before anything is allocated.
+  const LddSizeEstimate size = estimate_ldd_size(out);
+  const double memory = physical_memory_bytes();
+  if (size.bytes > 0.8 * memory) {
+    const double fitting = out.spacing * std::pow(size.bytes / (0.8 * memory), 1.0 / out.dimension);
+    resolution.fail("spacing",
+                    fmt::format("about {:.3g} nodes need about {:.3g} GiB ({:.0f} kB per node), more than 80 % of "
+                                "this machine's {:.3g} GiB",
+                                size.nodes, size.bytes / (1 << 30), ldd_bytes_per_node / 1024.0, memory / (1 << 30)),
+                    fmt::format("a spacing of at least {:.3g} m on this machine", fitting),
+                    "a coarser spacing, or a smaller scene");
+  }
+  if (size.node_steps * ldd_seconds_per_node_step > 365.0 * 86400.0)
+    time.fail("step",
+              fmt::format("about {:.3g} nodes × {:.3g} steps ≈ {:.3g} years of this machine", size.nodes, size.steps,
+                          size.node_steps * ldd_seconds_per_node_step / (365.0 * 86400.0)),
+              "a run of less than a year: a larger time step, a shorter end time or a coarser spacing");
   out.steady_tolerance = time.number_or(
       {"steady_tolerance", "stop when the centre-line rate of change (units of U²/L) drops below this; 0: never", "-"},
       out.steady_tolerance, Range::closed(0.0, 1.0));

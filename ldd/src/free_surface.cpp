@@ -1096,6 +1096,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   if (!velocity_converged && !(stats.velocity_residual < 1e3 * params_.velocity_tolerance))
     throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}", next_time,
                                       steps_ + 1, stats.velocity_residual));
+  stats.pressure_accepted_unconverged = !pressure_result.converged;
+  stats.velocity_accepted_unconverged = !velocity_converged;
 
   // 6. Commit, advect (eq. 20), move the walls, keep fluid off the boundaries.
   t0 = Clock::now();

@@ -237,8 +237,19 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   double step_seconds = 0;
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
   StepStats stats;
+  const auto requested_preconditioner = solver.params().pressure_preconditioner;
+  long pressure_unconverged = 0, velocity_unconverged = 0;
+  double worst_ratio = 0.0;
   for (std::size_t k = 1; k <= total_steps; ++k) {
     if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
+    if (stats.pressure_accepted_unconverged) {
+      ++pressure_unconverged;
+      worst_ratio = std::max(worst_ratio, stats.pressure_residual / solver.params().pressure_tolerance);
+    }
+    if (stats.velocity_accepted_unconverged) {
+      ++velocity_unconverged;
+      worst_ratio = std::max(worst_ratio, stats.velocity_residual / solver.params().velocity_tolerance);
+    }
     if (k % probe_every == 0 || k == total_steps) {
       const Centerlines now = sample_centerlines(solver, cavity);
       const double residual = residual_between(now, last, solver.time() - last_probe_time, cavity);
@@ -295,6 +306,19 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   summary["final_residual"] = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   summary["centerlines"] = {{"vertical", vertical_json}, {"horizontal", horizontal_json}};
+  {  // every rule the run bent
+    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
+    if (pressure_unconverged + velocity_unconverged > 0)
+      warnings.push_back(fmt::format(
+          "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most {:.3g}× "
+          "the tolerance (a step stops as diverged beyond 1000×)",
+          pressure_unconverged, velocity_unconverged, solver.steps(), worst_ratio));
+    if (solver.params().pressure_preconditioner != requested_preconditioner)
+      warnings.push_back(
+          "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi preconditioning");
+    for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
+    summary["warnings"] = warnings;
+  }
   core::write_json(out_dir / "summary.json", summary);
   write_plots(out_dir, fmt::format("{} ({} nodes, t = {:.3g} s)", c.name, solver.node_count(), solver.time()), log);
   outcome.summary = out_dir / "summary.json";

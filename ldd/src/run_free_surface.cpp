@@ -107,6 +107,10 @@ struct RunRecord {
   double step_seconds = 0, wall_seconds = 0;           // over all processes that ran the case
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
+  // Steps whose pressure or velocity solve did not converge and was accepted (up to 1000× its
+  // tolerance, the solver's limit before it stops as diverged), and the largest ratio
+  // residual/tolerance among them.
+  double pressure_above_tolerance = 0, velocity_above_tolerance = 0, worst_tolerance_ratio = 0;
 };
 
 template <class T>
@@ -144,6 +148,9 @@ void write_checkpoint(const std::filesystem::path& path, const core::Case& c, co
                   {"velocity_iterations", r.velocity_iterations},
                   {"repeated_solves", r.repeated_solves},
                   {"repeated_with_lu", r.repeated_with_lu},
+                  {"pressure_above_tolerance", r.pressure_above_tolerance},
+                  {"velocity_above_tolerance", r.velocity_above_tolerance},
+                  {"worst_tolerance_ratio", r.worst_tolerance_ratio},
                   {"seconds_neighbours", t.neighbours},
                   {"seconds_operators", t.operators},
                   {"seconds_rheology", t.rheology},
@@ -260,6 +267,11 @@ std::string read_checkpoint(const std::filesystem::path& path, const core::Case&
   r.velocity_iterations = number("velocity_iterations");
   r.repeated_solves = number("repeated_solves");
   r.repeated_with_lu = number("repeated_with_lu");
+  for (auto [name, value] : {std::pair<const char*, double*>{"pressure_above_tolerance", &r.pressure_above_tolerance},
+                             {"velocity_above_tolerance", &r.velocity_above_tolerance},
+                             {"worst_tolerance_ratio", &r.worst_tolerance_ratio}})
+    if (const auto it = a.find(name); it != a.end() && std::holds_alternative<double>(it->second.value))
+      *value = std::get<double>(it->second.value);
   r.front_time = data("run/front_time");
   r.front = data("run/front");
   r.frame_times = data("run/frame_times");
@@ -430,6 +442,19 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     ++steps_now;
     run.pressure_iterations += stats.pressure_iterations;
     run.velocity_iterations += stats.velocity_iterations;
+    {
+      const auto& params = solver.params();
+      if (stats.pressure_accepted_unconverged) {
+        ++run.pressure_above_tolerance;
+        run.worst_tolerance_ratio =
+            std::max(run.worst_tolerance_ratio, stats.pressure_residual / params.pressure_tolerance);
+      }
+      if (stats.velocity_accepted_unconverged) {
+        ++run.velocity_above_tolerance;
+        run.worst_tolerance_ratio =
+            std::max(run.worst_tolerance_ratio, stats.velocity_residual / params.velocity_tolerance);
+      }
+    }
     if (stats.repeated_solves > 0) {
       run.repeated_solves += stats.repeated_solves;
       run.repeated_with_lu += stats.repeated_with_lu;
@@ -482,6 +507,19 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   summary["volume_drift"] = run.max_drift;
   summary["kinetic_energy_peak"] = run.peak_energy;
   summary["repeated_solves"] = static_cast<int>(run.repeated_solves);
+  {  // every rule the run bent
+    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
+    if (run.pressure_above_tolerance + run.velocity_above_tolerance > 0)
+      warnings.push_back(fmt::format(
+          "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most {:.3g}× "
+          "the tolerance (a step stops as diverged beyond 1000×)",
+          run.pressure_above_tolerance, run.velocity_above_tolerance, solver.steps(), run.worst_tolerance_ratio));
+    if (run.repeated_solves > 0)
+      warnings.push_back(fmt::format("{} linear solves failed and were repeated ({} with the sparse LU)",
+                                     run.repeated_solves, run.repeated_with_lu));
+    for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
+    summary["warnings"] = warnings;
+  }
   summary["repeated_with_lu"] = static_cast<int>(run.repeated_with_lu);  // of which; the rest with a fresh AMG hierarchy
   // Krylov iterations per step (velocity: all components), to compare preconditioners.
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));

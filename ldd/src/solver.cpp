@@ -646,6 +646,8 @@ StepStats Solver::step() {
   if (!velocity_converged && !(velocity_residual < 1e3 * params_.velocity_tolerance))
     throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
                                       next_time, steps_ + 1, velocity_residual));
+  stats.pressure_accepted_unconverged = !pressure_result.converged;
+  stats.velocity_accepted_unconverged = !velocity_converged;
 
   // 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler.
   t0 = Clock::now();

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "rheosim/core/error.hpp"
@@ -51,6 +52,7 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
                        core::CsvTable::Column{"fluid", ""});
   core::Hdf5Content fields;
   RunOutcome outcome;
+  std::map<std::string, int> warning_counts;
   core::Progress progress = core::Progress::for_stderr("rheometer", r.fluids.size() * r.shear_rates.size());
   int done = 0;
 
@@ -103,6 +105,11 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
       p["iterations"] = full.iterations + (r.solver.inertia ? stokes.iterations : 0);
       p["converged"] = converged;
       if (!converged) p["failure"] = failure;
+      if (const auto warnings = swirl_warnings(r, stokes, full); !warnings.empty()) {
+        p["warnings"] = warnings;
+        for (const auto& w : warnings) log.warn("{} at {} 1/s: {}", named.name, rate, w);
+        for (const auto& w : warnings) ++warning_counts[w];
+      }
       p["wall_time"] = full.wall_time + (r.solver.inertia ? stokes.wall_time : 0.0);
       points.push_back(p);
 
@@ -166,6 +173,11 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
   summary["points_failed"] = outcome.failed_points;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary["points"] = points;
+  {  // every rule a point bent, with how many points bent it (as a sweep's summary)
+    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
+    for (const auto& [text, count] : warning_counts) warnings.push_back({{"warning", text}, {"points", count}});
+    summary["warnings"] = warnings;
+  }
   // The same analysis and report as a sweep, with one flow curve per fluid (φ = 0).
   add_flow_analysis(summary, {plate, r.fluids, r.particles});
   core::write_json(out_dir / "summary.json", summary);

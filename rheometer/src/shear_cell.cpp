@@ -105,6 +105,7 @@ struct PhiStudy {
   int cell_runs = 0;
   double wall_time = 0.0;
   std::string summary;             // the choices, for model_reason
+  std::vector<std::string> warnings;  // rules the study bent (checks passed on noise)
   // Cost of the whole study, for PointResult's cost split.
   coupling::CostSplit cost;
 };
@@ -155,6 +156,10 @@ class ShearCellRunner {
     // a last-window mean ± standard error, which the estimated error carries; the point keeps it.
     out.converged = std::isfinite(out.torque) && std::isfinite(out.estimated_error);
     if (!out.converged) out.failure = "the shear cell gave no finite stress";
+    out.warnings = study.warnings;
+    if (!study.all_converged)
+      out.warnings.push_back("shear cell: not every cell run met the steady-state tolerance within its maximum strain; "
+                             "their last-window means (± standard error, in the estimated error) are used");
     const auto groups = dimensionless_groups(r_, fluid, *r_.particles, rate);
     out.model_reason = fmt::format(
         "{}; this rate: Re_gap {:.3g}, Re_p {:.3g}, St {:.3g}, Bn {:.3g}, μγ̇/E* {:.2g} (softened: {:.2g}){}, liquid "
@@ -239,11 +244,18 @@ class ShearCellRunner {
   }
 
   // The change between two measurements, and whether it passes: within the tolerance, or within
-  // two combined standard errors (what one pair of runs can resolve).
-  [[nodiscard]] std::pair<double, bool> compare(const Measured& a, const Measured& b) const {
+  // two combined standard errors (what one pair of runs can resolve; then the study says so).
+  [[nodiscard]] std::pair<double, bool> compare(const Measured& a, const Measured& b, PhiStudy& study,
+                                                const char* check) const {
     const double change = std::abs(a.stress - b.stress) / std::abs(b.stress);
     const double noise = 2.0 * std::hypot(a.error, b.error) / std::abs(b.stress);
-    return {change, change <= std::max(options_.tolerance, noise)};
+    const bool ok = change <= std::max(options_.tolerance, noise);
+    if (ok && change > options_.tolerance)
+      study.warnings.push_back(fmt::format(
+          "shear cell: the {} check passed on noise: stress change {:.2g} % above the {:g} % tolerance but within two "
+          "standard errors ({:.2g} %)",
+          check, 100.0 * change, 100.0 * options_.tolerance, 100.0 * noise));
+    return {change, ok};
   }
 
   const PhiStudy& study_for(double phi, const PointProgressCallback& progress, bool& fresh) {
@@ -269,7 +281,7 @@ class ShearCellRunner {
     study.softening = 1.0;
     for (int k = options_.softening_decades; k >= 1; --k) {
       const double soft = std::pow(10.0, k);
-      const auto [change, ok] = compare(at(soft), at(soft / 10.0));
+      const auto [change, ok] = compare(at(soft), at(soft / 10.0), study, "contact stiffness");
       if (ok) {
         study.softening = soft;
         study.stiffness_change = change;
@@ -282,7 +294,7 @@ class ShearCellRunner {
     for (int doubling = 0; doubling < options_.max_cell_doublings; ++doubling) {
       const Measured bigger = cell(phi, top_rate, study.softening, 2.0 * length, tag(study.softening, 2.0 * length, top_rate),
                                    study, progress);
-      const auto [change, ok] = compare(base, bigger);
+      const auto [change, ok] = compare(base, bigger, study, "cell size");
       study.size_change = change;
       if (ok) break;
       length *= 2.0;
@@ -296,7 +308,7 @@ class ShearCellRunner {
       const Measured finer = cell(phi, top_rate, study.softening, length,
                                   tag(study.softening, length, top_rate) + "_finer", study, progress,
                                   2 * options_.axial_cells);
-      study.grid_change = compare(finer, base).first;
+      study.grid_change = std::abs(finer.stress - base.stress) / std::abs(base.stress);
     }
 
     // 2. Similarity: the Stokes shortcut, else every rate.
@@ -316,6 +328,11 @@ class ShearCellRunner {
       study.linearity_deviation = std::abs(eta_top - eta_second) / eta_top;
       const double noise = 2.0 * std::hypot(measured[top_rate].error / top_rate, measured[second].error / second) / eta_top;
       study.curve.linear = study.linearity_deviation <= std::max(options_.tolerance, noise);
+      if (study.curve.linear && study.linearity_deviation > options_.tolerance)
+        study.warnings.push_back(fmt::format(
+            "shear cell: the linearity check passed on noise: η changes {:.2g} % between the two highest rates, above "
+            "the {:g} % tolerance but within two standard errors ({:.2g} %)",
+            100.0 * study.linearity_deviation, 100.0 * options_.tolerance, 100.0 * noise));
     }
     if (!study.curve.linear)
       for (const double rate : rates) measure(rate);

@@ -136,6 +136,7 @@ PointRunner make_swirl_point_runner(const core::RheometerCase& rheometer) {
     out.torque_analytic = closed_form_torque(plate, *fluid.rheology, rate).value_or(nan);
     out.iterations = full.iterations + (r.solver.inertia ? stokes.iterations : 0);
     out.wall_time = full.wall_time + (r.solver.inertia ? stokes.wall_time : 0.0);
+    out.warnings = swirl_warnings(r, stokes, full);
     const auto& grid = creeping.grid();
     const std::size_t nr = grid.radial_cells(), nz = grid.axial_cells();
     const auto& s = full.state;

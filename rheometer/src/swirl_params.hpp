@@ -1,6 +1,11 @@
 #pragma once
 // The steady swirl solver's settings for one liquid of a rheometer case (private to rheometer/:
 // the single-point run and the sweep's liquid points build the same solver).
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
 #include "rheosim/core/case.hpp"
 #include "rheosim/fluid/swirl.hpp"
 
@@ -25,6 +30,22 @@ inline fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core:
 inline double reported_torque(const core::RheometerCase& r, const fluid::SwirlResult& full) {
   const bool extrapolated = r.solver.inertia && r.solver.extrapolate && full.extrapolated_torque != 0.0;
   return extrapolated ? full.extrapolated_torque : full.torque;
+}
+
+// The warnings of a point's solves: each one accepted at its iteration's floor above the
+// tolerance (fluid::SwirlResult::accepted_change) says so.
+inline std::vector<std::string> swirl_warnings(const core::RheometerCase& r, const fluid::SwirlResult& creeping,
+                                               const fluid::SwirlResult& inertial) {
+  std::vector<std::string> out;
+  const auto note = [&](const fluid::SwirlResult& s, const char* which) {
+    if (s.converged && s.accepted_change > r.solver.tolerance)
+      out.push_back(fmt::format("{} swirl solve accepted at its Newton floor: relative change {:.2g} over its last "
+                                "five iterations, above solver.tolerance {:.2g}",
+                                which, s.accepted_change, r.solver.tolerance));
+  };
+  note(creeping, "creeping");
+  if (r.solver.inertia) note(inertial, "inertial");
+  return out;
 }
 
 }  // namespace rheosim::rheometer

@@ -78,6 +78,9 @@ struct SwirlResult {
   bool converged = false;
   std::string failure;        // why it did not converge (empty when converged)
   std::vector<double> residual_history;  // relative change per iteration
+  // Converged at the iteration's floor rather than at the tolerance: the largest relative change
+  // of the last iterations, which stopped gaining (0 when the tolerance itself was met).
+  double accepted_change = 0;
   double wall_time = 0;       // [s]
   // Grid sequencing only (else 0): the torque on the grid with half the cells in r and z, and
   // the Richardson extrapolation of the pair assuming second order, T + (T − T_2h)/3, with

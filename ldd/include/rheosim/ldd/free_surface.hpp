@@ -192,6 +192,9 @@ struct FreeSurfaceStats {
   // (the failed iterations are counted in the totals above).
   int repeated_solves = 0;
   int repeated_with_lu = 0;  // of which: pressure solves repeated with the sparse LU (the rest: fresh AMG)
+  // The step's pressure / velocity solve did not converge and was accepted (its residual below
+  // 1000× the tolerance; beyond that the step stops as diverged).
+  bool pressure_accepted_unconverged = false, velocity_accepted_unconverged = false;
   // FreeSurfaceParams::stability_probe_iterations > 0: largest growth factor per step of the
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;

@@ -128,6 +128,9 @@ struct StepStats {
   double max_divergence = 0;      // max |⟨∇·u⟩| over fluid nodes before the pressure step [1/s]
   double max_pbd_shift = 0;       // largest PBD displacement this step, in units of Δ
   std::size_t guarded_nodes = 0;  // nodes using an operator guard (operators.hpp)
+  // The step's pressure / velocity solve did not converge and was accepted (its residual below
+  // 1000× the tolerance; beyond that the step stops as diverged).
+  bool pressure_accepted_unconverged = false, velocity_accepted_unconverged = false;
 };
 
 // Wall-clock seconds per phase, accumulated over all steps (for the benchmark and summary.json).
