@@ -19,25 +19,12 @@
 #include "rheosim/dem/size_distribution.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
+#include "gauss_legendre.hpp"
 
 namespace rheosim::rheometer {
 namespace {
 
 constexpr double pi = std::numbers::pi;
-
-// 8-point Gauss–Legendre on [a, b].
-double integrate(double a, double b, const auto& f) {
-  constexpr std::array<double, 8> x{-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                    -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                    0.7966664774136267,  0.9602898564975363};
-  constexpr std::array<double, 8> w{0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                    0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                    0.2223810344533745, 0.1012285362903763};
-  double sum = 0.0;
-  const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-  for (std::size_t i = 0; i < x.size(); ++i) sum += w[i] * f(mid + half * x[i]);
-  return half * sum;
-}
 
 double stokes_number(const core::RheometerCase& r, double rate) {
   const auto& p = *r.particles;
@@ -159,7 +146,7 @@ double plate_normal_force(const std::vector<double>& rates, const std::vector<do
   edges.push_back(rim_rate);
   double integral = 0.0;  // ∫₀^γ̇_R ΔN(s) s ds = ∫ c(s) s² ds
   for (std::size_t k = 0; k + 1 < edges.size(); ++k)
-    integral += integrate(edges[k], edges[k + 1], [&](double s) { return ratio(s) * s * s; });
+    integral += integrate_gauss_legendre_8(edges[k], edges[k + 1], [&](double s) { return ratio(s) * s * s; });
   return pi * radius * radius / (rim_rate * rim_rate) * integral;
 }
 

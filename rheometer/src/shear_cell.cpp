@@ -22,6 +22,7 @@
 #include "rheosim/dem/shear_cell_scene.hpp"
 #include "rheosim/fluid/swirl.hpp"
 #include "rheosim/rheometer/plate.hpp"
+#include "gauss_legendre.hpp"
 
 namespace rheosim::rheometer {
 namespace {
@@ -30,21 +31,6 @@ namespace fs = std::filesystem;
 using Model = core::RheometerCase::SuspensionModel;
 
 constexpr double regime_limit = 1.0;  // Re_p, St, Re_gap at most this: Stokes regime
-
-// 8-point Gauss–Legendre nodes and weights on [−1, 1].
-constexpr std::array<double, 8> gauss_nodes{-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                            -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                            0.7966664774136267,  0.9602898564975363};
-constexpr std::array<double, 8> gauss_weights{0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                              0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                              0.2223810344533745, 0.1012285362903763};
-
-double integrate(double a, double b, const auto& f) {
-  double sum = 0.0;
-  const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
-  for (std::size_t i = 0; i < gauss_nodes.size(); ++i) sum += gauss_weights[i] * f(mid + half * gauss_nodes[i]);
-  return half * sum;
-}
 
 // Expected cell cost [s]: particles × DEM steps to max_strain at the rate the cell runs (measured
 // on this machine: about 3e6 particle-steps/s including the coupling, docs/shear-cell.md).
@@ -420,7 +406,7 @@ double plate_torque(const LocalFlowCurve& curve, double radius, double rim_rate)
                                                       std::log(curve.shear_rate[1] / curve.shear_rate[0]);
   double integral = curve.stress_at(edges[1]) * edges[1] * edges[1] * edges[1] / (exponent + 3.0);
   for (std::size_t i = 1; i + 1 < edges.size(); ++i)
-    integral += integrate(edges[i], edges[i + 1], [&](double s) { return curve.stress_at(s) * s * s; });
+    integral += integrate_gauss_legendre_8(edges[i], edges[i + 1], [&](double s) { return curve.stress_at(s) * s * s; });
   return 2.0 * core::units::pi * radius * radius * radius / (rim_rate * rim_rate * rim_rate) * integral;
 }
 
