@@ -3,7 +3,8 @@
 # the error of each run against the experiment (docs/ldd.md, docs/performance.md LDD sections).
 #
 #   bench/ldd_dam_break_table1.sh [BUILD_DIR] [OUT_DIR] [PAIRS...]
-#   PAIRS default: "0.002:1e-3 0.002:1e-4 0.001:1e-3 0.001:1e-4" (Δ in m : δt in s)
+#   PAIRS default: "0.002:1e-3 0.002:1e-4 0.001:1e-3 0.001:1e-4" (Δ in m : δt in s); a pair
+#   may end in ":plain" for `solver.pressure_amg: plain` (e.g. 0.001:1e-4:plain)
 #
 # Each run goes through ldd::run_case (bench_ldd run, the same code as `rheosim run`). Costs on
 # the 2-core machine: Δ = 2 mm, δt = 1e-3 about 1 h; the δt = 1e-4 and Δ = 1 mm runs are 10× and
@@ -17,10 +18,11 @@ pairs=${*:-"0.002:1e-3 0.002:1e-4 0.001:1e-3 0.001:1e-4"}
 here=$(cd "$(dirname "$0")/.." && pwd)
 mkdir -p "$out"
 for pair in $pairs; do
-  dx=${pair%%:*}; dt=${pair##*:}
-  name="dx${dx}_dt${dt}"
+  IFS=: read -r dx dt amg <<< "$pair"
+  name="dx${dx}_dt${dt}${amg:+_$amg}"
   # Kept once written: a run goes on from its checkpoint only with the very deck that started it.
   [ -f "$out/$name.yaml" ] || sed -e "s/spacing: 0.002/spacing: ${dx}/" -e "s/step: 1.0e-3/step: ${dt}/" \
+      -e "s/^solver: {velocity_tolerance: 1.0e-6}/solver: {velocity_tolerance: 1.0e-6${amg:+, pressure_amg: $amg}}/" \
       "$here/cases/ldd_dam_break_bingham.yaml" > "$out/$name.yaml"
   # A run that was stopped (killed, or status interrupted) goes on from its checkpoint.h5.
   if ! grep -qE '"status": "(end_time|diverged)"' "$out/$name/summary.json" 2>/dev/null; then
@@ -34,10 +36,12 @@ times = [0.09, 0.23, 0.38, 0.56, 0.74, 1.14]
 exp = [0.103, 0.198, 0.297, 0.399, 0.499, 0.596]
 cols = []
 for p in pairs:
-    dx, dt = p.split(':')
-    f = os.path.join(out, f"dx{dx}_dt{dt}", "table1.csv")
+    dx, dt, *amg = p.split(':')
+    name = f"dx{dx}_dt{dt}" + (f"_{amg[0]}" if amg else "")
+    f = os.path.join(out, name, "table1.csv")
     rows = list(csv.reader(open(f)))[1:] if os.path.exists(f) else []
-    cols.append((f"Δ={float(dx)*1e3:g} mm δt={dt}", [float(r[2]) for r in rows] if rows else [float('nan')] * 6))
+    label = f"Δ={float(dx)*1e3:g} mm δt={dt}" + (f" {amg[0]} AMG" if amg else "")
+    cols.append((label, [float(r[2]) for r in rows] if rows else [float('nan')] * 6))
 print("| Time (s) | Exp. Data | " + " | ".join(c[0] for c in cols) + " |")
 print("| --- | --- | " + " | ".join("---" for _ in cols) + " |")
 for q, t in enumerate(times):

@@ -454,6 +454,8 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},
                                              v.velocity_preconditioner, {"auto", "jacobi", "lu", "amg"});
+    v.pressure_amg = s->choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"},
+                                  v.pressure_amg, {"smoothed", "plain"});
     if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.velocity_preconditioner == "lu")
       s->fail("velocity_preconditioner", "a cavity's velocity solve has no sparse-LU preconditioner",
               "auto, jacobi or amg");

@@ -73,7 +73,6 @@ struct Pair {
   std::size_t i = 0, j = 0;
   Vector3 spring{};
   bool in_contact = false;
-  bool sliding = false;
 };
 
 class Box {
@@ -458,7 +457,6 @@ class Box {
         }
         p.spring = spring;
         p.in_contact = true;
-        p.sliding = slides;
         force_i = normal_force + tangential_force;
         torque_i = cross(ai * nrm, tangential_force);
         torque_j = cross(aj * nrm, tangential_force);  // −a_j n × (−F_t)
@@ -487,7 +485,6 @@ class Box {
         loads.max_overlap = std::max(loads.max_overlap, overlap / mean);
       } else {
         p.in_contact = false;
-        p.sliding = false;
         p.spring = {};
       }
       if (h < s_.lubrication_cutoff * mean) {

@@ -314,6 +314,7 @@ FreeSurfaceParams free_surface_params(const core::LddCase& l) {
   p.pressure_preconditioner = preconditioner_named(l.solver.pressure_preconditioner, Preconditioner::amg);
   p.velocity_preconditioner = preconditioner_named(l.solver.velocity_preconditioner, Preconditioner::amg);
   p.pressure_amg.unit_diagonal = l.dimension == 3;
+  p.pressure_amg.smoothed = l.solver.pressure_amg != "plain";
   // 2D: the velocity hierarchy is rebuilt every step (μ(γ̇) changes fast; reused, its iterations
   // rose 8.7 → 12 per step and the saving vanished), the PPE's is kept for 4 steps (the Δ = 2 mm
   // dam break's first 0.3 s: pressure 85 → 58 ms/step, 6.6 → 7.4 iterations, front equal to

@@ -217,6 +217,10 @@ class ShearCellRunner {
                          p.stress_stresslet, p.stress_couple, p.bulk_stress, p.wall_time);
     }
     ++study.cell_runs;
+    if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
+      study.warnings.push_back(fmt::format("near field: implicit solves stopped at their iteration cap ({}) in the cell "
+                                           "run {}; their forces are the last iterate's",
+                                           cap, tag));
     study.wall_time += p.wall_time;
     study.cost.dem += p.cost.dem;
     study.cost.void_fraction += p.cost.void_fraction;

@@ -16,6 +16,7 @@
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/coupling/forces.hpp"
+#include "rheosim/coupling/near_field.hpp"
 #include "rheosim/coupling/suspension_point.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/fluid/swirl.hpp"
@@ -272,6 +273,15 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
         out.torque_couple = p.torque_couple;
       }
       out.torque_std_error = p.torque_error;
+      if (p.cost.fluid_split_steps > 0)
+        out.warnings.push_back(fmt::format(
+            "fluid: {} of {} coupling steps broke the fluid's Courant limit and were split into up to {} substeps "
+            "(fluid step {:.3g} s)",
+            p.cost.fluid_split_steps, p.cost.steps, p.cost.max_fluid_substeps, p.fluid_time_step));
+      if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
+        out.warnings.push_back(fmt::format("near field: implicit solves stopped at their iteration cap ({}) on some DEM "
+                                           "steps; their forces are the last iterate's",
+                                           cap));
       out.strain = p.strain;
       out.iterations = static_cast<int>(p.cost.steps);
       out.wall_time = p.wall_time;

@@ -195,6 +195,10 @@ struct LddSolverSettings {
   std::string gradient = "auto";        // auto | centred | renormalised (auto: centred for free-surface scenes, eq. 14 for cavities)
   std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
   std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
+  // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain
+  // (piecewise-constant) aggregation, which keeps the PPE's iterations flat when the flow has
+  // thinned into a spread-out layer (docs/ldd.md, the dam break's late steps).
+  std::string pressure_amg = "smoothed";  // smoothed | plain
 };
 
 // output: — what a run writes and how often (all optional).

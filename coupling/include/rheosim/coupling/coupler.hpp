@@ -60,6 +60,10 @@ struct CostSplit {
   double fluid = 0.0;
   double near_field = 0.0;  // near-field models inside the DEM steps (issue 9), not counted in dem
   std::int64_t steps = 0;
+  // Coupling steps whose fluid step broke the fluid's Courant limit and was split into
+  // substeps (the coupling forces held over them), and the most substeps one needed.
+  std::int64_t fluid_split_steps = 0;
+  int max_fluid_substeps = 1;
   [[nodiscard]] double total() const { return dem + void_fraction + forces + fluid + near_field; }
   // (void fraction + forces) / DEM: the coupling overhead issue 5 bounds by 25 %.
   [[nodiscard]] double coupling_overhead() const { return dem > 0.0 ? (void_fraction + forces) / dem : 0.0; }
@@ -131,6 +135,7 @@ class Coupler {
   ParticleView particles() const;
   void update_void_fraction(bool reset);
   void update_forces();
+  fluid::StepReport advance_fluid(double dt);
 
   CouplerSettings settings_;
   dem::RheometerScene* scene_;
