@@ -26,10 +26,9 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
+// St and Re_p by the one definition of shear_cell.hpp's dimensionless_groups().
 double stokes_number(const core::RheometerCase& r, double rate) {
-  const auto& p = *r.particles;
-  const double a = 0.5 * p.diameter;
-  return 2.0 / 9.0 * p.density * a * a * rate / r.fluid.rheology->viscosity(rate);
+  return dimensionless_groups(r, r.fluid, *r.particles, rate).stokes;
 }
 
 // The near field the box runs: the case's block, or the predictive default.
@@ -109,8 +108,7 @@ std::string describe_box(const core::RheometerCase& r, double phi) {
   const auto s = box_settings(r, phi, high);
   const double st_low = stokes_number(r, low), st_high = stokes_number(r, high);
   const auto& p = *r.particles;
-  const double a = 0.5 * p.diameter;
-  const double re_high = r.fluid.density * high * a * a / r.fluid.rheology->viscosity(high);
+  const double re_high = dimensionless_groups(r, r.fluid, p, high).particle_reynolds;
   const core::Hydrodynamics h = box_near_field(r);
   return fmt::format(
       "Lees–Edwards box of {} spheres ({}), {} integrator (St = (2/9)ρ_p a²γ̇/μ = {:.3g}–{:.3g}{} {:g}), near field "
@@ -228,7 +226,7 @@ class BoxRunner {
     const auto& matrix = *r_.fluid.rheology;
     // Local flow curve and normal-stress curve in SI from the dimensionless boxes.
     LocalFlowCurve curve;
-    std::vector<double> rates, n12;
+    std::vector<double> n12;  // N1 − N2 at curve.shear_rate
     bool all_converged = true;
     const BoxRun* nearest = &runs->front();
     double statistical = 0.0;
@@ -238,7 +236,6 @@ class BoxRunner {
         const double scale = matrix.viscosity(s) * s;  // μ(γ̇)γ̇ [Pa]
         curve.shear_rate.push_back(s);
         curve.stress.push_back(run.result.relative_viscosity.mean * scale);
-        rates.push_back(s);
         n12.push_back((run.result.n1.mean - run.result.n2.mean) * scale);
       }
       all_converged = all_converged && run.result.converged;
@@ -261,7 +258,7 @@ class BoxRunner {
     out.torque_lubrication = out.torque * (b.part_lubrication + b.part_repulsion) / eta;
     out.torque_stresslet = out.torque * b.part_stresslet / eta;
     out.torque_couple = 0.0;
-    out.normal_force = plate_normal_force(rates, n12, r_.geometry.radius, rate);
+    out.normal_force = plate_normal_force(curve.shear_rate, n12, r_.geometry.radius, rate);
     out.n1 = b.n1.mean * scale;
     out.n2 = b.n2.mean * scale;
     out.strain = b.strain;
@@ -272,8 +269,7 @@ class BoxRunner {
     if (!all_converged && b.converged)
       out.warnings.push_back("suspension box: a box of another rate of this φ did not reach its averaging tolerance");
     const auto& p = *r_.particles;
-    const double a = 0.5 * p.diameter;
-    const double re_p = r_.fluid.density * rate * a * a / matrix.viscosity(rate);
+    const double re_p = dimensionless_groups(r_, r_.fluid, p, rate).particle_reynolds;
     if (re_p > particle_reynolds_limit)
       out.warnings.push_back(fmt::format(
           "particle Reynolds number ρ γ̇ a²/μ = {:.3g} > {:g}: the box solves Stokes flow around each sphere; fluid "
