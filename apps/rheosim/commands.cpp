@@ -71,7 +71,8 @@ void describe_suspension_model(const core::Case& c) {
     if (!(phi > 0.0)) continue;
     const auto choice = rheometer::choose_suspension_model(*r, phi, default_point_budget);
     std::cout << fmt::format("  φ = {:g}: {} — {}\n", phi, rheometer::to_string(choice.model), choice.reason);
-    if (choice.model == core::RheometerCase::SuspensionModel::lees_edwards)
+    if (choice.model == core::RheometerCase::SuspensionModel::lees_edwards ||
+        choice.model == core::RheometerCase::SuspensionModel::walled_box)
       std::cout << fmt::format("    {}\n", rheometer::describe_box(*r, phi));
   }
 }

@@ -266,11 +266,12 @@ RheometerCase read_rheometer(const Section& root, bool is_sweep) {
   const KeyInfo particles_key{"particles", "suspended particles (omit for a single fluid)", "-"};
   if (auto p = root.optional_section(particles_key)) out.particles = read_particles(*p, out.geometry, !is_sweep);
   const std::string model =
-      root.choice_or({"model", "suspension model (auto | lees_edwards | full_disk | shear_cell)", "-"}, "auto",
-                     {"auto", "lees_edwards", "full_disk", "shear_cell"});
+      root.choice_or({"model", "suspension model (auto | lees_edwards | walled_box | full_disk | shear_cell)", "-"},
+                     "auto", {"auto", "lees_edwards", "walled_box", "full_disk", "shear_cell"});
   out.suspension_model = model == "full_disk"      ? RheometerCase::SuspensionModel::full_disk
                          : model == "shear_cell"   ? RheometerCase::SuspensionModel::shear_cell
                          : model == "lees_edwards" ? RheometerCase::SuspensionModel::lees_edwards
+                         : model == "walled_box"   ? RheometerCase::SuspensionModel::walled_box
                                                    : RheometerCase::SuspensionModel::automatic;
   return out;
 }

@@ -35,6 +35,7 @@ std::string describe_rheometer(const RheometerCase& r) {
     out += fmt::format("  suspension model: {}\n", r.suspension_model == M::full_disk      ? "full_disk"
                                                      : r.suspension_model == M::shear_cell   ? "shear_cell"
                                                      : r.suspension_model == M::lees_edwards ? "lees_edwards"
+                                                     : r.suspension_model == M::walled_box   ? "walled_box"
                                                                                              : "auto");
   }
   if (const auto& p = r.particles) {

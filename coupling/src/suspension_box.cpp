@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <span>
 #include <stdexcept>
@@ -14,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "block_cholesky.hpp"
+#include "box_mean_flow.hpp"
 #include "lubrication.hpp"
 
 namespace rheosim::coupling {
@@ -64,6 +66,11 @@ void check(const SuspensionBoxSettings& s) {
     fail(fmt::format("max strain {} <= warm-up {} + minimum averaging {}", s.max_strain, s.warmup_strain,
                      s.min_averaging_strain));
   if (!(s.block_strain > 0.0) || !(s.relative_tolerance > 0.0)) fail("block strain and tolerance must be > 0");
+  if (s.wall_gap != 0.0) {
+    const double largest = *std::max_element(s.radii.begin(), s.radii.end());
+    if (!(s.wall_gap >= 2.5 * largest) || !std::isfinite(s.wall_gap))
+      fail(fmt::format("wall gap {} a outside [2.5 a_max = {:g}, ∞) (0: Lees–Edwards)", s.wall_gap, 2.5 * largest));
+  }
 }
 
 // One entry of the Verlet list: a pair within the interaction range plus a skin, with the
@@ -94,6 +101,13 @@ class Box {
       mass_[i] = s_.stokes_number * a * a * a;
       inertia_[i] = 0.4 * mass_[i] * a * a;
     }
+    wall_spring_.assign(2 * n, Vector3{});
+    wall_contact_.assign(2 * n, false);
+    if (walls_ && s_.mean_flow_coupling) {
+      flow_.emplace(height_, length_ * length_, unit_viscosity, s_.stresslet_viscosity_ratio);
+      for (std::size_t i = 0; i < n; ++i) flow_->add_sphere(position_[i][2], radius_[i], 0.0, 0.0);
+      flow_->relax(1.0);  // the placement's solid fraction, no forces yet
+    }
     build_pairs();
   }
 
@@ -102,16 +116,18 @@ class Box {
     SuspensionBoxResult out;
     out.particles = static_cast<int>(radius_.size());
     out.box_length = length_;
-    out.volume_fraction = solid_volume_ / (length_ * length_ * length_);
+    out.box_height = height_;
+    const double volume = length_ * length_ * height_;
+    out.volume_fraction = solid_volume_ / volume;
     out.strain_step = dt_;
     out.contact_stiffness = stiffness_;
-    const double volume = length_ * length_ * length_;
     const double stress_unit = 6.0 * pi / volume;  // virial [6πμa³γ̇] → stress [μγ̇]
     out.part_stresslet = 2.5 * out.volume_fraction * s_.stresslet_viscosity_ratio;
 
     // Block sums of the stress parts, over block_strain each.
     struct Block {
       Tensor lubrication{}, contact{}, repulsion{};
+      double plate = 0.0;  // ∫ plate stress dγ [μγ̇] (walled box with the mean flow)
       double strain = 0.0;
     };
     std::vector<Block> blocks;
@@ -120,10 +136,13 @@ class Box {
     long solver_iterations = 0;
     double contacts = 0.0, sliding = 0.0, overlap_sum = 0.0;
     long contact_samples = 0;
-    const auto block_viscosity = [&](const Block& b) {
+    double slip_sum = 0.0;
+    long slip_samples = 0;
+    const auto block_virial = [&](const Block& b) {
       return 1.0 + out.part_stresslet +
              stress_unit * (sym(b.lubrication, 0, 2) + sym(b.contact, 0, 2) + sym(b.repulsion, 0, 2)) / b.strain;
     };
+    const auto block_viscosity = [&](const Block& b) { return flow_ ? b.plate / b.strain : block_virial(b); };
     const auto standard_error = [&](const auto& value) {
       BoxMean m;
       const std::size_t k = blocks.size();
@@ -157,12 +176,15 @@ class Box {
         current.contact[k] += dt_ * loads.contact[k];
         current.repulsion[k] += dt_ * loads.repulsion[k];
       }
+      current.plate += dt_ * loads.plate_stress;
       current.strain += dt_;
       contacts += static_cast<double>(loads.contacts);
       sliding += static_cast<double>(loads.sliding);
       overlap_sum += loads.overlap_sum;
       out.max_overlap = std::max(out.max_overlap, loads.max_overlap);
       ++contact_samples;
+      slip_sum += loads.wall_slip_sum;
+      slip_samples += loads.wall_layer;
       if (current.strain >= s_.block_strain - 1e-12) {
         blocks.push_back(current);
         current = Block{};
@@ -197,12 +219,24 @@ class Box {
         sum.contact[k] += b.contact[k];
         sum.repulsion[k] += b.repulsion[k];
       }
+      sum.plate += b.plate;
       sum.strain += b.strain;
     }
     if (sum.strain > 0.0) {
       out.part_lubrication = stress_unit * sym(sum.lubrication, 0, 2) / sum.strain;
       out.part_contact = stress_unit * sym(sum.contact, 0, 2) / sum.strain;
       out.part_repulsion = stress_unit * sym(sum.repulsion, 0, 2) / sum.strain;
+      if (flow_) {
+        // The plates read the stress; the virial's parts, scaled to it, say where it comes from.
+        const double scale = (sum.plate / sum.strain) / block_virial(sum);
+        out.part_fluid *= scale;
+        out.part_stresslet *= scale;
+        out.part_lubrication *= scale;
+        out.part_contact *= scale;
+        out.part_repulsion *= scale;
+        out.core_shear_rate = flow_->mean_shear_rate(height_ / 3.0, 2.0 * height_ / 3.0);
+        out.plate_shear_rate = 0.5 * (flow_->mean_shear_rate(0.0, 1.0) + flow_->mean_shear_rate(height_ - 1.0, height_));
+      }
     }
     {
       const std::size_t half = blocks.size() / 2;
@@ -219,6 +253,7 @@ class Box {
     out.mean_contacts_per_particle = contact_samples > 0 ? 2.0 * contacts / (n * contact_samples) : 0.0;
     out.sliding_fraction = contacts > 0.0 ? sliding / contacts : 0.0;
     out.mean_overlap = contacts > 0.0 ? overlap_sum / contacts : 0.0;
+    out.wall_slip = slip_samples > 0 ? slip_sum / static_cast<double>(slip_samples) : 0.0;
     if (!out.converged)
       out.warnings.push_back(fmt::format(
           "suspension box: η_r standard error {:.2g} % after strain {:g} is above the {:g} % tolerance (max_strain); "
@@ -247,6 +282,9 @@ class Box {
     double residual = 0.0;
     long contacts = 0, sliding = 0;
     double overlap_sum = 0.0, max_overlap = 0.0;
+    double wall_slip_sum = 0.0;  // Σ lag behind u∞ over the spheres of the plate layers [āγ̇]
+    long wall_layer = 0;
+    double plate_stress = 0.0;  // [μγ̇], walled box with the mean flow
   };
 
   static double sym(const Tensor& t, std::size_t a, std::size_t b) { return 0.5 * (t[3 * a + b] + t[3 * b + a]); }
@@ -274,18 +312,33 @@ class Box {
     }
     solid_volume_ = 0.0;
     for (const double a : radius_) solid_volume_ += 4.0 / 3.0 * pi * a * a * a;
-    length_ = std::cbrt(solid_volume_ / s_.volume_fraction);
     max_radius_ = *std::max_element(radius_.begin(), radius_.end());
+    walls_ = s_.wall_gap > 0.0;
+    if (walls_) {
+      height_ = s_.wall_gap;
+      length_ = std::sqrt(solid_volume_ / (s_.volume_fraction * height_));
+    } else {
+      length_ = height_ = std::cbrt(solid_volume_ / s_.volume_fraction);
+    }
+    const double range = 2.0 * max_radius_ * (1.0 + 0.5 * s_.lubrication_cutoff) + 0.3 * max_radius_;
+    if (walls_ && length_ < 2.0 * range)
+      throw std::invalid_argument(fmt::format(
+          "suspension box: {} spheres at φ = {:g} between plates {:g} a apart give a side of {:.3g} a, below twice "
+          "the interaction range ({:.3g} a); use more spheres",
+          radius_.size(), s_.volume_fraction, height_, length_, 2.0 * range));
     const std::size_t n = radius_.size();
     std::mt19937_64 random(s_.seed);
-    std::uniform_real_distribution<double> uniform(0.0, length_);
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
     position_.resize(n);
-    for (auto& x : position_) x = {uniform(random), uniform(random), uniform(random)};
-    // Relaxation with a cell list of cells >= 2 a_max.
-    const int cells = std::max(1, static_cast<int>(length_ / (2.0 * max_radius_)));
+    for (std::size_t i = 0; i < n; ++i) {
+      // Between plates the centres stay a radius clear of them.
+      const double low = walls_ ? radius_[i] : 0.0, span = walls_ ? height_ - 2.0 * radius_[i] : height_;
+      position_[i] = {length_ * uniform(random), length_ * uniform(random), low + span * uniform(random)};
+    }
+    // Relaxation, pairs pushed apart and centres kept off the plates.
     for (int sweep = 0; sweep < 20000; ++sweep) {
       double worst = 0.0;
-      for_each_near_pair(cells, 2.0 * max_radius_, [&](std::size_t i, std::size_t j, const Vector3& r, double d) {
+      for_each_near_pair(2.0 * max_radius_, [&](std::size_t i, std::size_t j, const Vector3& r, double d) {
         const double overlap = radius_[i] + radius_[j] - d;
         if (overlap <= 0.0) return;
         worst = std::max(worst, overlap);
@@ -294,6 +347,9 @@ class Box {
         position_[j] = position_[j] + push;
       });
       for (auto& x : position_) wrap(x);
+      if (walls_)
+        for (std::size_t i = 0; i < n; ++i)
+          position_[i][2] = std::clamp(position_[i][2], radius_[i] * (1.0 + 1e-4), height_ - radius_[i] * (1.0 + 1e-4));
       if (worst < 1e-4) return;
     }
     throw std::runtime_error(
@@ -302,10 +358,10 @@ class Box {
 
   void wrap(Vector3& x) const {
     // Lees–Edwards: leaving through z = L re-enters at z = 0 shifted back by the offset.
-    if (x[2] >= length_) {
+    if (!walls_ && x[2] >= length_) {
       x[2] -= length_;
       x[0] -= offset_;
-    } else if (x[2] < 0.0) {
+    } else if (!walls_ && x[2] < 0.0) {
       x[2] += length_;
       x[0] += offset_;
     }
@@ -315,46 +371,52 @@ class Box {
   // Minimum-image separation x_j − x_i under the Lees–Edwards offset.
   [[nodiscard]] Vector3 separation(std::size_t i, std::size_t j) const {
     Vector3 r = position_[j] - position_[i];
-    const double k = std::round(r[2] / length_);
-    r[2] -= k * length_;
-    r[0] -= k * offset_;
+    if (!walls_) {
+      const double k = std::round(r[2] / length_);
+      r[2] -= k * length_;
+      r[0] -= k * offset_;
+    }
     r[0] -= length_ * std::round(r[0] / length_);
     r[1] -= length_ * std::round(r[1] / length_);
     return r;
   }
 
-  // Every pair closer than range (cell list in the sheared frame: a z-neighbour cell row is
-  // searched over all x cells, which the offset may shift).
+  // Every pair closer than range (cell list in the sheared frame: across the Lees–Edwards z
+  // boundary a neighbour row is searched over all x cells, which the offset may shift; between
+  // plates z is not periodic).
   template <class Visit>
-  void for_each_near_pair(int cells, double range, Visit&& visit) const {
+  void for_each_near_pair(double range, Visit&& visit) const {
     const std::size_t n = radius_.size();
     const auto visit_if_near = [&](std::size_t i, std::size_t j) {
       const Vector3 r = separation(i, j);
       const double d = norm(r);
       if (d < range) visit(i, j, r, d);
     };
-    if (cells < 4 || n < 64) {
+    const int cells = std::max(1, static_cast<int>(length_ / range));
+    const int layers = std::max(1, static_cast<int>(height_ / range));
+    if (cells < 4 || (!walls_ && layers < 4) || n < 64) {
       for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j) visit_if_near(i, j);
       return;
     }
-    const double cell = length_ / cells;
-    std::vector<std::vector<std::size_t>> grid(static_cast<std::size_t>(cells * cells * cells));
+    const double cell = length_ / cells, layer = height_ / layers;
+    std::vector<std::vector<std::size_t>> grid(static_cast<std::size_t>(cells * cells * layers));
     const auto id = [&](int x, int y, int z) {
-      const auto m = [&](int v) { return ((v % cells) + cells) % cells; };
-      return static_cast<std::size_t>((m(x) * cells + m(y)) * cells + m(z));
+      const auto m = [](int v, int k) { return ((v % k) + k) % k; };
+      return static_cast<std::size_t>((m(x, cells) * cells + m(y, cells)) * layers + m(z, layers));
     };
     std::vector<std::array<int, 3>> where(n);
     for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t d = 0; d < 3; ++d)
-        where[i][d] = std::clamp(static_cast<int>(position_[i][d] / cell), 0, cells - 1);
+      where[i] = {std::clamp(static_cast<int>(position_[i][0] / cell), 0, cells - 1),
+                  std::clamp(static_cast<int>(position_[i][1] / cell), 0, cells - 1),
+                  std::clamp(static_cast<int>(position_[i][2] / layer), 0, layers - 1)};
       grid[id(where[i][0], where[i][1], where[i][2])].push_back(i);
     }
     for (std::size_t i = 0; i < n; ++i) {
       const auto [cx, cy, cz] = where[i];
       for (int dz = -1; dz <= 1; ++dz) {
-        // Across the z boundary the rows are shifted by the offset: search every x cell there.
-        const bool crosses = cz + dz < 0 || cz + dz >= cells;
+        const bool crosses = cz + dz < 0 || cz + dz >= layers;
+        if (crosses && walls_) continue;
         const int x_from = crosses ? 0 : cx - 1, x_to = crosses ? cells - 1 : cx + 1;
         for (int x = x_from; x <= x_to; ++x)
           for (int dy = -1; dy <= 1; ++dy)
@@ -367,12 +429,11 @@ class Box {
   void build_pairs() {
     skin_ = 0.3 * max_radius_;
     const double range = 2.0 * max_radius_ * (1.0 + 0.5 * s_.lubrication_cutoff) + skin_;
-    const int cells = std::max(1, static_cast<int>(length_ / range));
     std::unordered_map<std::size_t, Vector3> springs;
     for (const auto& p : pairs_)
       if (p.in_contact) springs.emplace(p.i * radius_.size() + p.j, p.spring);
     pairs_.clear();
-    for_each_near_pair(cells, range, [&](std::size_t i, std::size_t j, const Vector3&, double) {
+    for_each_near_pair(range, [&](std::size_t i, std::size_t j, const Vector3&, double) {
       Pair p{.i = i, .j = j};
       if (const auto it = springs.find(i * radius_.size() + j); it != springs.end()) {
         p.spring = it->second;
@@ -398,18 +459,32 @@ class Box {
     return v;
   }
 
-  // Which pair a gap of the implicit system belongs to, and for a contact its explicit force.
+  // Which pair (or sphere and plate) a gap of the implicit system belongs to, and for a contact
+  // its explicit force.
   struct GapSource {
     std::size_t pair = 0;
     bool contact = false;
     Vector3 explicit_force{};
+    int plate = -1;  // 0 bottom, 1 top; pair is then the sphere
   };
+
+  // A plate at z = 0 (plate 0) or z = H (plate 1): its unit normal from a sphere, and the
+  // sphere's velocity relative to it as a local 6-vector [U Ω] (affine, plus V' when given).
+  [[nodiscard]] Vector3 plate_normal(int plate) const { return {0.0, 0.0, plate == 0 ? -1.0 : 1.0}; }
+  [[nodiscard]] std::array<double, 6> plate_local_velocities(std::size_t i, int plate, bool with_fluctuation) const {
+    std::array<double, 6> v{};
+    v[0] = position_[i][2] - (plate == 0 ? 0.0 : height_);  // u∞(z_i) − U_plate
+    v[4] = spin_ambient;
+    if (with_fluctuation)
+      for (std::size_t k = 0; k < 6; ++k) v[k] += velocity_[6 * i + k];
+    return v;
+  }
 
   // Adds a gap to the implicit system and its drive by the affine motion, −R_gap V∞, to rhs.
   void add_gap(const lubrication::Gap& g, std::size_t pair, const Vector3& r, std::vector<double>& rhs, bool contact,
                const Vector3& explicit_force) {
     gaps_.push_back(g);
-    gap_source_.push_back({pair, contact, explicit_force});
+    gap_source_.push_back({pair, contact, explicit_force, -1});
     lubrication::Gap local = g;
     local.i = 0;
     local.j = 1;
@@ -420,6 +495,96 @@ class Box {
       rhs[6 * g.i + c] += f[c];
       rhs[6 * g.j + c] += f[6 + c];
     }
+  }
+
+  void add_plate_gap(const lubrication::Gap& g, int plate, std::vector<double>& rhs, bool contact,
+                     const Vector3& explicit_force) {
+    gaps_.push_back(g);
+    gap_source_.push_back({g.i, contact, explicit_force, plate});
+    lubrication::Gap local = g;
+    local.i = 0;
+    const auto v = plate_local_velocities(g.i, plate, false);
+    std::array<double, 6> f{};
+    lubrication::add_gap_forces(local, v, f, false);
+    for (std::size_t c = 0; c < 6; ++c) rhs[6 * g.i + c] += f[c];
+  }
+
+  // The two plates' contacts and lubrication for every sphere near them (walled box).
+  void add_plates(std::vector<double>& rhs, StepLoads& loads) {
+    for (std::size_t i = 0; i < radius_.size(); ++i)
+      for (const int plate : {0, 1}) {
+        const double a = radius_[i], z = position_[i][2];
+        const double h = plate == 0 ? z - a : height_ - z - a;
+        const std::size_t slot = 2 * i + static_cast<std::size_t>(plate);
+        const Vector3 nrm = plate_normal(plate);
+        const Vector3 r{0.0, 0.0, (plate == 0 ? 0.0 : height_) - z};  // the plate point under i, minus x_i
+        if (h < 2.0 * a) {  // the layer whose slip is reported
+          const double lag = -velocity_[6 * i];
+          loads.wall_slip_sum += plate == 0 ? -lag : lag;
+          ++loads.wall_layer;
+        }
+        if (h < 0.0) {  // contact, as between spheres (Cundall & Strack) with the plate as partner
+          const double overlap = -h;
+          const Vector3 normal_force = (-stiffness_ * overlap) * nrm;
+          Vector3 spring = wall_contact_[slot] ? wall_spring_[slot] : Vector3{};
+          spring = spring - dot(spring, nrm) * nrm;
+          Vector3 tangential_force = (-tangential_) * spring;
+          const double limit = s_.friction * stiffness_ * overlap;
+          const double magnitude = norm(tangential_force);
+          bool slides = false;
+          if (magnitude > limit) {
+            const double scale = magnitude > 0.0 ? limit / magnitude : 0.0;
+            spring = scale * spring;
+            tangential_force = scale * tangential_force;
+            slides = true;
+          }
+          wall_spring_[slot] = spring;
+          wall_contact_[slot] = true;
+          const Vector3 force = normal_force + tangential_force;
+          const Vector3 torque = cross(a * nrm, tangential_force);
+          lubrication::Gap g;
+          g.i = i;
+          g.plate = static_cast<std::size_t>(plate);
+          g.n = nrm;
+          g.separation = r;
+          g.k_squeeze = dt_ * stiffness_;
+          if (!slides) {
+            const double kt = dt_ * tangential_;
+            g.k_shear = kt;
+            g.b_i = kt * a;
+            g.c_ii = kt * a * a;
+          }
+          add_plate_gap(g, plate, rhs, true, force);
+          for (std::size_t c = 0; c < 3; ++c) {
+            rhs[6 * i + c] += force[c];
+            rhs[6 * i + 3 + c] += torque[c];
+          }
+          ++loads.contacts;
+          loads.sliding += slides ? 1 : 0;
+          loads.overlap_sum += overlap / a;
+          loads.max_overlap = std::max(loads.max_overlap, overlap / a);
+        } else {
+          wall_contact_[slot] = false;
+          wall_spring_[slot] = {};
+        }
+        if (h < s_.lubrication_cutoff * a) {
+          lubrication::Gap g;
+          g.i = i;
+          g.plate = static_cast<std::size_t>(plate);
+          g.n = nrm;
+          g.separation = r;
+          double viscosity = unit_viscosity;
+          if (s_.viscosity_ratio) {
+            lubrication::Gap probe = g;
+            probe.i = 0;
+            const auto v = plate_local_velocities(i, plate, true);
+            const double slip = lubrication::surface_slip_speed(probe, a, 0.0, v);
+            viscosity *= s_.viscosity_ratio(std::max(slip / (std::max(h, 0.0) + s_.roughness * a), 1.0));
+          }
+          lubrication::set_plate_coefficients(g, a, h, viscosity, s_.roughness);
+          add_plate_gap(g, plate, rhs, false, {});
+        }
+      }
   }
 
   StepLoads step() {
@@ -521,6 +686,14 @@ class Box {
         rhs[6 * p.j + 3 + c] += torque_j[c];
       }
     }
+    if (walls_) add_plates(rhs, loads);
+    if (flow_)
+      for (std::size_t i = 0; i < n; ++i) {
+        // Drag and rotation relative to the liquid's profile instead of u∞ (V' stays relative to u∞).
+        const double a = radius_[i], z = position_[i][2];
+        rhs[6 * i] += a * (flow_->velocity(z) - z);
+        rhs[6 * i + 4] += 4.0 / 3.0 * a * a * a * 0.5 * (flow_->shear_rate(z) - 1.0);
+      }
     if (s_.stokes_number > 0.0)
       for (std::size_t i = 0; i < n; ++i) {
         const double m = mass_[i] / dt_, rot = inertia_[i] / dt_;
@@ -534,11 +707,19 @@ class Box {
 
     // Stress of the solved motion: lubrication, and the contacts' forces at the end of the step
     // (explicit part + implicit change); the tangential springs advance with the new velocities.
+    std::array<double, 2> plate_force{};  // x force of each plate on the spheres
     for (std::size_t g = 0; g < gaps_.size(); ++g) {
       const GapSource& source = gap_source_[g];
-      const Pair& p = pairs_[source.pair];
       lubrication::Gap local = gaps_[g];
       local.i = 0;
+      if (source.plate >= 0) {
+        const Vector3 f = lubrication::gap_force_on_i(local, plate_local_velocities(gaps_[g].i, source.plate, true));
+        const Vector3 total = source.contact ? source.explicit_force + f : f;
+        add_dyad(source.contact ? loads.contact : loads.lubrication, gaps_[g].separation, total);
+        plate_force[static_cast<std::size_t>(source.plate)] += total[0];
+        continue;
+      }
+      const Pair& p = pairs_[source.pair];
       local.j = 1;
       const Vector3& r = separations[source.pair];
       const auto v = local_velocities(p, r, true);
@@ -559,6 +740,29 @@ class Box {
       slip = slip - dot(slip, nrm) * nrm;
       p.spring = p.spring + dt_ * slip;
     }
+    for (std::size_t slot = 0; slot < wall_contact_.size(); ++slot) {
+      if (!wall_contact_[slot]) continue;
+      const std::size_t i = slot / 2;
+      const int plate = static_cast<int>(slot % 2);
+      const auto v = plate_local_velocities(i, plate, true);
+      const Vector3 nrm = plate_normal(plate);
+      Vector3 slip = Vector3{v[0], v[1], v[2]} + cross(radius_[i] * Vector3{v[3], v[4], v[5]}, nrm);
+      slip = slip - dot(slip, nrm) * nrm;
+      wall_spring_[slot] = wall_spring_[slot] + dt_ * slip;
+    }
+    if (flow_) {
+      // The liquid takes the reaction of each sphere's drag and couple; the plates read τ₀ less
+      // their share of the liquid's load, plus what they exert on the spheres directly.
+      for (std::size_t i = 0; i < n; ++i) {
+        const double a = radius_[i], z = position_[i][2];
+        const double slip = z + velocity_[6 * i] - flow_->velocity(z);
+        const double spin = 0.5 + velocity_[6 * i + 4] - 0.5 * flow_->shear_rate(z);
+        flow_->add_sphere(z, a, a * slip, 4.0 / 3.0 * a * a * a * spin);
+      }
+      flow_->relax(std::min(1.0, dt_ / s_.mean_flow_relaxation));
+      const double area = length_ * length_;
+      loads.plate_stress = 6.0 * pi * (flow_->liquid_stress() + 0.5 * (plate_force[1] - plate_force[0]) / area);
+    }
     // Move: affine + fluctuating, then the Lees–Edwards wrap.
     double max_drift = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -575,6 +779,11 @@ class Box {
     strain_since_build_ += dt_;
     offset_ = std::fmod(offset_ + dt_ * length_, length_);
     for (auto& x : position_) wrap(x);
+    if (walls_)
+      for (const auto& x : position_)
+        if (!(x[2] > 0.0 && x[2] < height_))
+          throw std::runtime_error(
+              fmt::format("suspension box diverged at strain {:.4g}: a sphere passed through a plate", strain_));
     if (loads.max_overlap > 1.0)
       throw std::runtime_error(fmt::format(
           "suspension box diverged at strain {:.4g}: a contact overlaps by {:.3g} radii (contact stiffness {:g})",
@@ -658,10 +867,14 @@ class Box {
   std::vector<Vector3> position_, drift_;
   std::vector<double> velocity_;  // V' = V − V∞, 6 per sphere [aγ̇, γ̇]
   std::vector<Pair> pairs_;
+  std::optional<BoxMeanFlow> flow_;  // walled box with mean_flow_coupling
+  std::vector<Vector3> wall_spring_;  // tangential springs of the plate contacts, 2 per sphere
+  std::vector<bool> wall_contact_;
   std::vector<lubrication::Gap> gaps_;
   std::vector<GapSource> gap_source_;
   std::vector<double> factor_, scratch_;
-  double length_ = 0.0, solid_volume_ = 0.0, max_radius_ = 0.0, skin_ = 0.0;
+  bool walls_ = false;
+  double length_ = 0.0, height_ = 0.0, solid_volume_ = 0.0, max_radius_ = 0.0, skin_ = 0.0;
   double offset_ = 0.0, strain_ = 0.0, strain_since_build_ = 0.0;
   double stiffness_ = 0.0, tangential_ = 0.0, dt_ = 0.0;
 };

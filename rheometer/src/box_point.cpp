@@ -52,6 +52,13 @@ struct BoxRun {
 
 }  // namespace
 
+bool box_has_walls(const core::RheometerCase& r) {
+  using Model = core::RheometerCase::SuspensionModel;
+  if (r.suspension_model == Model::walled_box) return true;
+  return r.suspension_model == Model::automatic && r.particles &&
+         r.geometry.gap < walled_box_gap_limit * r.particles->diameter;
+}
+
 coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& r, double phi, double rate) {
   const auto& p = *r.particles;
   const auto& matrix = *r.fluid.rheology;
@@ -60,6 +67,7 @@ coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& r, doubl
   coupling::SuspensionBoxSettings s;
   s.volume_fraction = phi;
   s.friction = p.friction;
+  if (box_has_walls(r)) s.wall_gap = r.geometry.gap / a;
   const double st = stokes_number(r, rate);
   s.stokes_number = st <= overdamped_stokes_limit ? 0.0 : st;
   const core::Hydrodynamics h = box_near_field(r);
@@ -111,9 +119,13 @@ std::string describe_box(const core::RheometerCase& r, double phi) {
   const double re_high = dimensionless_groups(r, r.fluid, p, high).particle_reynolds;
   const core::Hydrodynamics h = box_near_field(r);
   return fmt::format(
-      "Lees–Edwards box of {} spheres ({}), {} integrator (St = (2/9)ρ_p a²γ̇/μ = {:.3g}–{:.3g}{} {:g}), near field "
+      "{} of {} spheres ({}), {} integrator (St = (2/9)ρ_p a²γ̇/μ = {:.3g}–{:.3g}{} {:g}), near field "
       "{}: lubrication (roughness δ/ā {:g}, cutoff h_c/ā {:g}) + isolated-sphere drag, rotation and stresslet{}, "
       "contacts k_n = {:g}·6πμaγ̇ with friction μ_c = {:g}; Re_p = ρ γ̇ a²/μ up to {:.3g}; H/d = {:.3g}; {}",
+      s.wall_gap > 0.0 ? fmt::format("walled box (plates H = {:g} d apart, periodic across, the liquid's mean "
+                                     "velocity carrying the spheres' drag)",
+                                     r.geometry.gap / p.diameter)
+                       : std::string("Lees–Edwards box"),
       s.particles,
       p.size_distribution.type == core::SizeDistribution::Type::none ? "equal spheres" : "the case's size distribution",
       st_high <= overdamped_stokes_limit ? "overdamped (inertialess, strain units)" : "inertial (implicit, strain units)",
@@ -206,9 +218,13 @@ class BoxRunner {
   // No strain progress: a box runs on a worker, perhaps before its point is asked for.
   PointResult run(const SweepPoint& point) {
     PointResult out;
-    out.model = "lees_edwards";
-    out.method = "Lees–Edwards suspension box (bulk stress: lubrication, isolated-sphere drag and stresslet, "
-                 "frictional contacts), torque and normal force from the local flow curve";
+    const bool walls = box_has_walls(r_);
+    out.model = walls ? "walled_box" : "lees_edwards";
+    out.method = walls ? "walled suspension box (the plates at the case's gap: lubrication, isolated-sphere drag and "
+                         "stresslet, frictional contacts with spheres and plates), torque and normal force from the "
+                         "local flow curve"
+                       : "Lees–Edwards suspension box (bulk stress: lubrication, isolated-sphere drag and stresslet, "
+                         "frictional contacts), torque and normal force from the local flow curve";
     if (!r_.particles) {
       out.failure = fmt::format("φ = {:g} needs a particles: section", point.volume_fraction);
       return out;
@@ -275,22 +291,27 @@ class BoxRunner {
           "particle Reynolds number ρ γ̇ a²/μ = {:.3g} > {:g}: the box solves Stokes flow around each sphere; fluid "
           "inertia at the particle scale is not modelled",
           re_p, particle_reynolds_limit));
-    if (r_.geometry.gap < 10.0 * p.diameter)
+    if (!walls && r_.geometry.gap < walled_box_gap_limit * p.diameter)
       out.warnings.push_back(fmt::format(
-          "H/d = {:.3g} < 10: the box gives the bulk stress; wall layering and slip in a gap of a few diameters are "
-          "not modelled",
-          r_.geometry.gap / p.diameter));
+          "H/d = {:.3g} < {:g}: the Lees–Edwards box gives the bulk stress; the layering and slip at the plates of a "
+          "gap of a few diameters are left out (model: walled_box simulates them)",
+          r_.geometry.gap / p.diameter, walled_box_gap_limit));
     out.model_reason = fmt::format(
         "{}; box at {}: η_r {:.4g} ± {:.2g} (liquid 1 + stresslet {:.3g} + lubrication {:.3g} + contact {:.3g}{}), "
         "N1 {:.3g} μγ̇, N2 {:.3g} μγ̇, particle pressure {:.3g} μγ̇; {} spheres, strain {:.3g} (averaged {:.3g}, Δγ "
         "{:.2g}), {:.3g} contacts per sphere ({:.0f} % sliding), overlap mean {:.2g} / max {:.2g} ā, {:.1f} solver "
-        "iterations per step, {:.1f} s",
+        "iterations per step, {:.1f} s{}",
         describe_box(r_, point.volume_fraction), nearest->rate > 0.0 ? fmt::format("{:g} 1/s", nearest->rate) : "every rate",
         eta, b.relative_viscosity.error, b.part_stresslet, b.part_lubrication, b.part_contact,
         b.part_repulsion != 0.0 ? fmt::format(" + repulsion {:.3g}", b.part_repulsion) : std::string(), b.n1.mean,
         b.n2.mean, b.particle_pressure.mean, b.particles, b.strain, b.averaged_strain, b.strain_step,
         b.mean_contacts_per_particle, 100.0 * b.sliding_fraction, b.mean_overlap, b.max_overlap,
-        b.mean_solver_iterations, b.wall_time);
+        b.mean_solver_iterations, b.wall_time,
+        walls ? fmt::format("; plates: box {:.3g} × {:.3g} × {:.3g} ā, liquid shear rate {:.3g} γ̇ in the middle third "
+                            "and {:.3g} γ̇ within ā of the plates, near-plate spheres lag u∞ by {:.3g} āγ̇",
+                            b.box_length, b.box_length, b.box_height, b.core_shear_rate, b.plate_shear_rate,
+                            b.wall_slip)
+              : std::string());
     out.iterations = fresh ? static_cast<int>(runs->size()) : 0;
     out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;

@@ -2,6 +2,8 @@
 // (issue 10; see shear_cell.hpp).
 #include "rheosim/rheometer/shear_cell.hpp"
 
+#include "rheosim/rheometer/box_point.hpp"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -417,6 +419,7 @@ double plate_torque(const LocalFlowCurve& curve, double radius, double rim_rate)
 std::string_view to_string(Model model) {
   switch (model) {
     case Model::lees_edwards: return "lees_edwards";
+    case Model::walled_box: return "walled_box";
     case Model::full_disk: return "full_disk";
     case Model::shear_cell: return "shear_cell";
     case Model::automatic: return "auto";
@@ -436,6 +439,7 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
   const double study = estimate_shear_cell_study_cost(r, phi);
   if (r.suspension_model == Model::lees_edwards)
     return {Model::lees_edwards, "model: lees_edwards in the case file", study};
+  if (r.suspension_model == Model::walled_box) return {Model::walled_box, "model: walled_box in the case file", study};
   if (r.suspension_model == Model::full_disk) return {Model::full_disk, "model: full_disk in the case file", study};
   if (r.suspension_model == Model::shear_cell) return {Model::shear_cell, "model: shear_cell in the case file", study};
   if (!r.particles) return {Model::full_disk, "auto: no particles section", study};
@@ -449,9 +453,16 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
     if (const auto g = dimensionless_groups(r, r.fluid, p, top_rate); g.gap_reynolds > regime_limit)
       limits += fmt::format("; gap Reynolds number {:.3g} > 1 at {:g} 1/s: the disk's secondary flow is not included",
                             g.gap_reynolds, top_rate);
-    return {Model::lees_edwards,
-            fmt::format("auto: Lees–Edwards box, the predictive model ({}; `particles.hydrodynamics: {{model: none}}` "
-                        "selects the seed's drag-only CFD-DEM){}",
+    const double gap_ratio = r.geometry.gap / p.diameter;
+    const bool walled = gap_ratio < walled_box_gap_limit;
+    return {walled ? Model::walled_box : Model::lees_edwards,
+            fmt::format("auto: {}, the predictive model ({}; `particles.hydrodynamics: {{model: none}}` selects the "
+                        "seed's drag-only CFD-DEM){}",
+                        walled ? fmt::format("walled box (H/d = {:.3g} < {:g}: the plates are simulated; `model: "
+                                             "lees_edwards` gives the bulk stress)",
+                                             gap_ratio, walled_box_gap_limit)
+                               : fmt::format("Lees–Edwards box (H/d = {:.3g} >= {:g}: the bulk stress)", gap_ratio,
+                                             walled_box_gap_limit),
                         p.hydrodynamics.specified ? "the case's near field with lubrication" : "no hydrodynamics block",
                         limits),
             study};

@@ -198,7 +198,7 @@ PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
              const SweepPoint& point, const PointProgressCallback& progress) {
     const ModelChoice choice = choose_suspension_model(r, point.volume_fraction, budget_seconds);
     PointResult out;
-    if (choice.model == Model::lees_edwards) {
+    if (choice.model == Model::lees_edwards || choice.model == Model::walled_box) {
       out = box(point, progress);
     } else if (choice.model == Model::full_disk) {
       out = disk(point, progress);

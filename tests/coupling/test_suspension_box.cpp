@@ -1,5 +1,6 @@
 // coupling/suspension_box.hpp: settings are checked, the placement fills the box at φ without
-// overlaps, and the stress bookkeeping gives Einstein's 1 + 2.5φ exactly when no pair interacts.
+// overlaps, and the stress bookkeeping gives Einstein's 1 + 2.5φ exactly when no pair interacts,
+// in the Lees–Edwards box and on the plates of the walled box.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -69,6 +70,47 @@ TEST(SuspensionBox, DensePlacementHasNoOverlapAndShears) {
   EXPECT_FALSE(r.converged);  // one strain unit is far too short for the tolerance
   ASSERT_FALSE(r.warnings.empty());
   EXPECT_NE(r.warnings.front().find("tolerance"), std::string::npos) << r.warnings.front();
+}
+
+TEST(SuspensionBox, WalledBoxRejectsAGapTheSpheresDoNotFit) {
+  auto s = short_run(0.1);
+  s.wall_gap = 2.0;  // H/a: a sphere would touch both plates
+  EXPECT_THROW((void)run_suspension_box(s), std::invalid_argument);
+  s.wall_gap = 1000.0;  // 40 spheres between plates 500 d apart: a side of 0.9 a
+  EXPECT_THROW((void)run_suspension_box(s), std::invalid_argument);
+}
+
+TEST(SuspensionBox, WalledBoxOfIsolatedSpheresGivesEinsteinOnThePlates) {
+  // 40 spheres at φ = 0.001 between plates 40 a apart, a lubrication cutoff of 0.01 a: nothing
+  // interacts, the spheres ride the liquid, and the plates read μγ̇ over the harmonic mean of
+  // 1 + 2.5φ(z) — Einstein's 1 + 2.5φ to O(φ²). The one-way box (linear liquid, virial) gives
+  // it exactly. A slip of the plate reading's units or of the couple's half would show here.
+  auto s = short_run(0.001);
+  s.wall_gap = 40.0;
+  s.lubrication_cutoff = 0.01;
+  const auto r = run_suspension_box(s);
+  EXPECT_NEAR(r.box_height, 40.0, 1e-12);
+  EXPECT_NEAR(r.volume_fraction, 0.001, 1e-12);
+  EXPECT_NEAR(r.relative_viscosity.mean, 1.0 + 2.5 * 0.001, 2e-5);
+  EXPECT_NEAR(r.core_shear_rate, 1.0, 1e-3);
+  // The layer within ā of a plate holds less solid than the mean, so its liquid shears faster.
+  EXPECT_GT(r.plate_shear_rate, 1.0);
+  EXPECT_LT(r.plate_shear_rate, 1.0 + 2.0 * 2.5 * 0.001);
+  EXPECT_EQ(r.mean_contacts_per_particle, 0.0);
+  s.mean_flow_coupling = false;
+  EXPECT_NEAR(run_suspension_box(s).relative_viscosity.mean, 1.0 + 2.5 * 0.001, 1e-9);
+}
+
+TEST(SuspensionBox, WalledBoxKeepsDenseSpheresBetweenThePlates) {
+  // φ = 0.4 in a gap of 2.5 d: the plates' contacts hold the spheres in, no sphere passes a
+  // plate (the run would throw), the overlaps stay small and the stress is above the liquid's.
+  auto s = short_run(0.4);
+  s.particles = 60;
+  s.wall_gap = 5.0;
+  const auto r = run_suspension_box(s);
+  EXPECT_GT(r.relative_viscosity.mean, 2.0);
+  EXPECT_LT(r.max_overlap, 0.05);
+  EXPECT_GT(r.mean_contacts_per_particle, 0.0);
 }
 
 TEST(SuspensionBox, DefaultsFollowThePhysics) {

@@ -1,7 +1,7 @@
-// rheometer/shear_cell.hpp (issue 10 items 1, 2, 4): the plate torque integrated from a local
+// rheometer/shear_cell.hpp: the plate torque integrated from a local
 // flow curve reproduces the closed forms (Newtonian CD eq. 8, power law CD eq. 9); the piecewise
 // power-law curve is exact at its points; dimensionless groups of the seed; the case key
-// `model:` and the automatic choice with its reason.
+// `model:` and the automatic choice with its reason (the walled box below H/d = 10).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +11,7 @@
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/rheology.hpp"
+#include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
 
@@ -76,25 +77,39 @@ TEST(ShearCellModelChoice, CaseKeyAndAutomaticChoice) {
   EXPECT_EQ(seed("model: shear_cell\n").suspension_model, Model::shear_cell);
   EXPECT_EQ(seed("model: full_disk\n").suspension_model, Model::full_disk);
   EXPECT_EQ(seed("model: lees_edwards\n").suspension_model, Model::lees_edwards);
+  EXPECT_EQ(seed("model: walled_box\n").suspension_model, Model::walled_box);
   EXPECT_THROW((void)seed("model: shearcell\n"), core::ConfigError);
   EXPECT_EQ(to_string(Model::shear_cell), "shear_cell");
   EXPECT_EQ(to_string(Model::lees_edwards), "lees_edwards");
+  EXPECT_EQ(to_string(Model::walled_box), "walled_box");
 
   // No hydrodynamics block: the predictive box, and the reason names how to get the seed's model.
+  // The seed's gap is 2.5 diameters: the plates are simulated (the walled box); `model:
+  // lees_edwards` gives the bulk there, and from H/d = 10 on auto gives it too.
   const auto predictive = choose_suspension_model(seed(), 0.3, 600);
-  EXPECT_EQ(predictive.model, Model::lees_edwards);
+  EXPECT_EQ(predictive.model, Model::walled_box);
   EXPECT_NE(predictive.reason.find("no hydrodynamics block"), std::string::npos) << predictive.reason;
   EXPECT_NE(predictive.reason.find("{model: none}"), std::string::npos) << predictive.reason;
+  EXPECT_NE(predictive.reason.find("H/d = 2.5 < 10"), std::string::npos) << predictive.reason;
+  EXPECT_TRUE(box_has_walls(seed()));
+  EXPECT_FALSE(box_has_walls(seed("model: lees_edwards\n")));
+  EXPECT_EQ(choose_suspension_model(seed("model: lees_edwards\n"), 0.3, 600).model, Model::lees_edwards);
+  EXPECT_DOUBLE_EQ(box_settings(seed(), 0.3, 100.0).wall_gap, 5.0);  // H/a
+  EXPECT_EQ(box_settings(seed("model: lees_edwards\n"), 0.3, 100.0).wall_gap, 0.0);
+  auto wide = seed();
+  wide.geometry.gap = 0.002;  // H/d = 10
+  EXPECT_EQ(choose_suspension_model(wide, 0.3, 600).model, Model::lees_edwards);
+  EXPECT_FALSE(box_has_walls(wide));
   // A near field with lubrication runs in the box too; a small disk (R/H = 6) is still the box,
   // with the rim named as a limit.
   auto lubricated = seed();
   lubricated.particles->hydrodynamics.specified = true;
   lubricated.particles->hydrodynamics.lubrication = true;
-  EXPECT_EQ(choose_suspension_model(lubricated, 0.3, 600).model, Model::lees_edwards);
+  EXPECT_EQ(choose_suspension_model(lubricated, 0.3, 600).model, Model::walled_box);
   auto small_predictive = seed();
   small_predictive.geometry.radius = 0.003;
   const auto small_box = choose_suspension_model(small_predictive, 0.1, 1e9);
-  EXPECT_EQ(small_box.model, Model::lees_edwards);
+  EXPECT_EQ(small_box.model, Model::walled_box);
   EXPECT_NE(small_box.reason.find("R/H = 6"), std::string::npos) << small_box.reason;
 
 }

@@ -11,7 +11,12 @@
 //   - normal stress differences against Dai, Bertevas, Qi & Tanner (2013): N2/τ ≈ −4.4φ³,
 //     N1/τ ≈ −0.8φ³, signs right and magnitudes within a factor 1.5 at φ = 0.3 and 0.45;
 //   - the runner: T = η_r × the liquid's torque, F = πR²(N1 − N2)/3 for a rate-independent
-//     suspension, and the sweep's N1 − N2 from F(γ̇_R) by the parallel-plate relation.
+//     suspension, and the sweep's N1 − N2 from F(γ̇_R) by the parallel-plate relation;
+//   - the walled box: Einstein's dilute limit on the plates, the bulk approached as the gap
+//     widens with an excess that falls like d/H (a wall layer), the viscosity lowered at gaps of
+//     a whole number of diameters, where the spheres form layers that slide on each other
+//     (Fornari, Brandt, Chaudhuri et al., PRL 116 (2016) 018301), and the runner using it below
+//     H/d = 10.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -67,6 +72,20 @@ const SuspensionBoxResult& box(double phi, double friction = 0.3, double stokes 
               r.n2.mean / r.relative_viscosity.mean, r.n2.error / r.relative_viscosity.mean,
               r.particle_pressure.mean / r.relative_viscosity.mean, r.mean_contacts_per_particle, r.max_overlap,
               r.strain, r.wall_time);
+  return runs.emplace(key, r).first->second;
+}
+
+// The walled box at φ between plates gap_diameters d apart (500 spheres, the defaults).
+const SuspensionBoxResult& walled(double phi, double gap_diameters) {
+  static std::map<std::array<double, 2>, SuspensionBoxResult> runs;
+  const std::array<double, 2> key{phi, gap_diameters};
+  if (const auto it = runs.find(key); it != runs.end()) return it->second;
+  auto s = at(phi);
+  s.wall_gap = 2.0 * gap_diameters;
+  const auto r = coupling::run_suspension_box(s);
+  std::printf("walled box φ %.3f H/d %.2f: η_r %.4f ± %.4f, liquid shear core %.3f plates %.3f, %.1f s\n", phi,
+              gap_diameters, r.relative_viscosity.mean, r.relative_viscosity.error, r.core_shear_rate,
+              r.plate_shear_rate, r.wall_time);
   return runs.emplace(key, r).first->second;
 }
 
@@ -184,6 +203,66 @@ TEST(SuspensionBoxValidation, YieldStressOfAPlasticMatrixFollowsChateauOvarlezTr
                 plastic.part_contact);
     EXPECT_NEAR(yield_ratio, cot, 0.2 * cot) << phi;
     EXPECT_GT(yield_ratio, 1.0 + 0.75 * phi) << phi;  // above the dilute plastic limit
+  }
+}
+
+TEST(SuspensionBoxValidation, WalledBoxDiluteLimitIsEinstein) {
+  // φ = 0.05 between plates 10 d apart: Einstein within 5 %, and within 3 % of the bulk box
+  // (at this φ few spheres meet a plate or each other).
+  const double phi = 0.05;
+  const double eta = walled(phi, 10.0).relative_viscosity.mean;
+  EXPECT_NEAR(eta, 1.0 + 2.5 * phi, 0.05 * (1.0 + 2.5 * phi));
+  EXPECT_NEAR(eta, box(phi).relative_viscosity.mean, 0.03 * box(phi).relative_viscosity.mean);
+}
+
+TEST(SuspensionBoxValidation, WalledBoxApproachesTheBulkAsTheGapWidens) {
+  // φ = 0.3: the plates add a layer about a diameter thick to the bulk stress, so the excess
+  // over the Lees–Edwards box falls like d/H — about halves from H/d = 10 to 20 — and is under
+  // 15 % at 20 d.
+  const double bulk = box(0.3).relative_viscosity.mean;
+  const double excess_10 = walled(0.3, 10.0).relative_viscosity.mean / bulk - 1.0;
+  const double excess_20 = walled(0.3, 20.0).relative_viscosity.mean / bulk - 1.0;
+  EXPECT_GT(excess_20, 0.0);
+  EXPECT_LT(excess_20, 0.15);
+  EXPECT_GT(excess_10 / excess_20, 1.3);
+  EXPECT_LT(excess_10 / excess_20, 3.0);
+}
+
+TEST(SuspensionBoxValidation, WalledBoxLayersAtWholeNumbersOfDiameters) {
+  // Fornari et al. (2016): at H = 2d and 3d the spheres layer and the viscosity drops; at 2.5 d
+  // they cannot, and it is at least 30 % higher than at either.
+  const double at_2 = walled(0.3, 2.0).relative_viscosity.mean;
+  const double at_2_5 = walled(0.3, 2.5).relative_viscosity.mean;
+  const double at_3 = walled(0.3, 3.0).relative_viscosity.mean;
+  EXPECT_GT(at_2_5, 1.3 * std::max(at_2, at_3));
+}
+
+TEST(SuspensionBoxValidation, RunnerUsesTheWalledBoxInANarrowGap) {
+  // The Stokes-regime case in a gap of 2.5 diameters: auto runs the walled box, and the torque
+  // is its η_r times the liquid's.
+  const core::Case c = core::parse_case(R"(kind: sweep
+name: walled_runner
+geometry: {type: parallel_plate, radius: 0.02, gap: 1.25e-4}
+fluid:
+  density: 1000
+  rheology: {model: newtonian, viscosity: 1.0}
+shear_rates: [1, 10]
+volume_fractions: [0, 0.3]
+particles: {diameter: 5.0e-5, density: 1050}
+)",
+                                        "walled_runner.yaml");
+  const auto& r = std::get<core::SweepCase>(c.spec).rheometer;
+  ASSERT_TRUE(rheometer::box_has_walls(r));
+  const auto runner = rheometer::make_box_suspension_runner(r);
+  const rheometer::ParallelPlate plate{0.02, 1.25e-4};
+  const auto& b = walled(0.3, 2.5);
+  for (const double rate : r.shear_rates) {
+    const auto point = runner({0, "fluid", 0.3, rate}, {});
+    ASSERT_TRUE(point.converged) << point.failure;
+    EXPECT_EQ(point.model, "walled_box");
+    EXPECT_NEAR(point.torque, b.relative_viscosity.mean * rheometer::newtonian_torque(plate, 1.0, rate),
+                1e-9 * point.torque);
+    EXPECT_NE(point.model_reason.find("plates:"), std::string::npos) << point.model_reason;
   }
 }
 

@@ -133,9 +133,10 @@ struct RheometerCase {  // kind: rheometer
   FluidSolverSettings solver;
   // model: which scene computes a suspension point: the Lees–Edwards box (bulk stress of a
   // periodic box of spheres with lubrication and frictional contacts, the local flow curve
-  // integrated over the plate), the full disk (CFD-DEM of the whole gap), the periodic shear
-  // cell (CFD-DEM of a slab of the gap), or auto (the program picks the faithful one and logs why).
-  enum class SuspensionModel { automatic, lees_edwards, full_disk, shear_cell };
+  // integrated over the plate), the walled box (the same spheres between the two plates at the
+  // case's gap), the full disk (CFD-DEM of the whole gap), the periodic shear cell (CFD-DEM of a
+  // slab of the gap), or auto (the program picks the faithful one and logs why).
+  enum class SuspensionModel { automatic, lees_edwards, walled_box, full_disk, shear_cell };
   SuspensionModel suspension_model = SuspensionModel::automatic;
 };
 

@@ -23,6 +23,16 @@
 // squeeze term nor the particle relaxation time limits the strain step; the contact springs are
 // explicit and set it. The cost of a point is therefore fixed in strain, not in time: flat in γ̇.
 // Lees–Edwards images: crossing z = L_z shifts x by the accumulated strain times L_z.
+// With wall_gap > 0 the box is walled instead: two plates at z = 0 (at rest) and z = H (moving at
+// γ̇H), periodic in x and y, sphere–plate lubrication (the λ → ∞ limit in lubrication.hpp) and
+// contacts with the plates' friction. The stress on the top plate is the same virial with the
+// plate's contact point as the partner: in the mean-field flow u∞ the liquid passes the force of
+// a sphere at height z to the top plate in the share z/H (Couette flow with a body force), so
+// σ_xz(H) = μγ̇ + (1/V)[Σ S + Σ_gaps (x_partner − x_i) F_i] (docs/suspension-box.md). With
+// mean_flow_coupling the liquid's own profile replaces u∞: μ(1 + 2.5φ(z)) u_f' = τ₀ + ℓ(z)/2 − F(z),
+// F(z) = ∫₀^z f, with f and ℓ the drag forces and couples the spheres exert on the liquid and φ(z)
+// the solid fraction, each sphere spread over its cross-sections; u_f(0) = 0, u_f(H) = γ̇H fix τ₀,
+// and the plate stress is τ₀ less the forces the plates exert through their gaps.
 //
 // Stress (Batchelor 1970), in units of μ(γ̇)γ̇:
 //   σ = 2E∞ + (1/V)[Σ S_p + Σ_pairs (x_j − x_i) ⊗ F_i (lubrication, contact, repulsion)],
@@ -66,6 +76,14 @@ struct SuspensionBoxSettings {
   double solver_tolerance = 1.0e-4;  // residual / |rhs| of the implicit solve (η_r moves by 3e-4 against 1e-6)
   int max_solver_iterations = 400;
   std::uint64_t seed = 1;
+  // H/a, plate surface to plate surface, for a walled box; 0: the triply periodic Lees–Edwards box.
+  double wall_gap = 0.0;
+  // Walled box: the liquid's mean velocity u_f(z) carries the spheres' drag and couples (two-way,
+  // solved from the plane-Couette momentum balance, so a particle-poor layer at a plate shears
+  // faster: the apparent slip of a real gap) and the stress is read on the plates; false: the
+  // liquid keeps the linear profile u∞ and the stress is the virial (one-way).
+  bool mean_flow_coupling = true;
+  double mean_flow_relaxation = 1.0;  // strain over which the drag that shapes u_f(z) is averaged
   // Called every block with the strain reached (progress); may be empty.
   std::function<void(double)> on_block;
 };
@@ -85,7 +103,8 @@ struct BoxMean {
 
 struct SuspensionBoxResult {
   int particles = 0;
-  double box_length = 0.0;       // cube side [a]
+  double box_length = 0.0;       // side in x and y [a] (the cube's side for Lees–Edwards)
+  double box_height = 0.0;       // extent in z [a]: the cube's side, or the plates' gap H
   double volume_fraction = 0.0;  // as placed
   // Stresses in units of μ(γ̇)γ̇ (η_r = σ_xz/(μγ̇)).
   BoxMean relative_viscosity;
@@ -104,6 +123,12 @@ struct SuspensionBoxResult {
   double mean_contacts_per_particle = 0.0;
   double sliding_fraction = 0.0;      // share of contacts at the Coulomb limit
   double mean_overlap = 0.0, max_overlap = 0.0;  // over contacts, in units of ā
+  // Walled box: how far the spheres whose centres lie within 2ā of a plate lag the affine flow
+  // towards that plate's velocity, mean of (u∞(z_i) − U_i,x)·(±1) [āγ̇] (0: they follow u∞).
+  double wall_slip = 0.0;
+  // Walled box with mean_flow_coupling: the liquid's mean shear rate in the middle third of the
+  // gap and next to the plates (the bins within ā of them), in units of γ̇ (1 for a linear profile).
+  double core_shear_rate = 1.0, plate_shear_rate = 1.0;
   bool converged = false;             // standard error below the tolerance within max_strain
   double wall_time = 0.0;             // [s]
   std::vector<std::string> warnings;  // every rule the run bent, for the log and summary.json
