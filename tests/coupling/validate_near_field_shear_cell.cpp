@@ -1,4 +1,4 @@
-// Relative viscosity of a sheared suspension with near-field hydrodynamics (issue 9 items 3–4):
+// Relative viscosity of a sheared suspension with near-field hydrodynamics:
 // dem::ShearCellScene (periodic in x and y between plates, top plate sliding at γ̇ H) with the
 // near-field hook in an imposed linear ambient flow u∞ = γ̇ z e_x — Fast-Lubrication-Dynamics
 // style (docs/hydrodynamics.md): Stokes drag and torque on u∞, stresslets, pair and plate
@@ -10,7 +10,8 @@
 // The test (~1 min): at φ = 0.3 the stress bookkeeping of the LIGGGHTS-hooked near field adds
 // up, drag only stays near η_r = 1 and the near field lifts η_r well above it. The predictive
 // η_r(φ) against measured suspensions is validated on the Lees–Edwards box
-// (tests/rheometer/validate_suspension_box.cpp, docs/suspension-box.md).
+// (tests/rheometer/validate_suspension_box.cpp, docs/suspension-box.md). The same cell checks
+// the coupled CFD-DEM cell (solved fluid column) like for like (~2 min).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,7 +29,11 @@
 
 #include "coupling_test_support.hpp"
 #include "rheosim/core/case.hpp"
+#include "rheosim/core/config.hpp"
+#include "rheosim/core/rheology.hpp"
 #include "rheosim/coupling/near_field.hpp"
+#include "rheosim/coupling/shear_cell_point.hpp"
+#include "rheosim/dem/contact.hpp"
 #include "rheosim/dem/engine.hpp"
 #include "rheosim/dem/shear_cell_scene.hpp"
 
@@ -224,6 +229,93 @@ TEST(ValidateNearFieldShearCell, BookkeepingAddsUpAndTheNearFieldLiftsTheStress)
   // Drag only stays near 1 (the seed's under-prediction); the near field lifts η_r above it.
   EXPECT_LT(seed_model.eta_r, 1.3);
   EXPECT_GT(full.eta_r, seed_model.eta_r + 1.0);
+}
+
+
+constexpr double mu = 1e-3;  // water [Pa·s], the seed's liquid
+
+std::shared_ptr<const core::Rheology> newtonian() {
+  const auto doc = core::Document::from_string("model: newtonian\nviscosity: 1.0e-3\n", "rheology");
+  return core::make_rheology(doc.root());
+}
+
+core::Hydrodynamics lubrication_and_stresslet() {
+  core::Hydrodynamics h;
+  h.lubrication = true;
+  h.single_particle = true;
+  return h;
+}
+
+// The seed's particles (d = 200 µm, ρ_p = 1000, E/softening) in water at γ̇ in a coupled shear cell
+// with lubrication + stresslet (+ repulsion F_R0 = repulsion_ratio × 6πμa²γ̇, Mari et al.'s stress
+// scale), run to a fixed strain: the settings of the like-for-like test below.
+struct SeedCell {
+  double gap = 5e-4, cell = 1.6e-3, phi = 0.3, rate = 100.0;  // m, m, -, 1/s
+  double softening = 1e4, friction = 0.3, axial_cell_over_d = 1.25, strain = 20.0;
+  double repulsion_ratio = 0.0, repulsion_length = core::Hydrodynamics{}.repulsion_length;
+  core::Hydrodynamics hydrodynamics = lubrication_and_stresslet();
+  core::DragLaw drag = core::DragLaw::di_felice;
+};
+
+ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
+  ShearCellPointSettings s;
+  s.gap = c.gap;
+  s.cell_length = s.cell_width = c.cell;
+  s.fluid = {.density = 1000.0, .rheology = newtonian()};
+  s.particles = {.volume_fraction = c.phi, .diameter = 2e-4, .density = 1000.0,
+                 .youngs_modulus = 3.0e9 / c.softening, .poisson_ratio = 0.33, .restitution = 0.9, .friction = c.friction};
+  s.particles.drag = c.drag;
+  const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, s.particles.youngs_modulus, 0.33});
+  s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));
+  s.shear_rate = c.rate;
+  s.axial_cells = std::max(2, static_cast<int>(std::lround(s.gap / (c.axial_cell_over_d * 2e-4))));
+  s.steady = {.strain_window = 2.0, .relative_tolerance = 1e-9, .min_strain = c.strain, .max_strain = c.strain};
+  auto hydrodynamics = c.hydrodynamics;
+  if (c.repulsion_ratio > 0.0) {
+    const double a = 0.5 * s.particles.diameter;
+    hydrodynamics.repulsion = true;
+    hydrodynamics.repulsion_force = c.repulsion_ratio * 6.0 * std::numbers::pi * mu * a * a * s.shear_rate;
+    hydrodynamics.repulsion_length = c.repulsion_length;
+  }
+  s.near_field = make_near_field_model(near_field_settings(hydrodynamics), s.fluid.rheology);
+  return s;
+}
+
+// Like for like: the coupled cell (solved fluid column) against the imposed-flow FLD cell of
+// this file (u∞ = γ̇z), the same definition of η_r (stresslet + symmetric pair virial, no
+// plates), both run here: φ = 0.3, F_R0 = 10 × 6πμa²γ̇, H = 20 d, 8 d × 8 d, the same particles
+// and particle Stokes number (ργ̇a²/μ = 1). With the drag the case files pick for lubricated
+// suspensions (particles.drag auto = the isolated sphere) the two must agree within 4 %; Di
+// Felice's hindrance on each sphere's slip counts the crowding twice (docs/hydrodynamics.md).
+TEST(NearFieldCoupledValidation, ShearCellWithTheIsolatedSphereDragMatchesTheImposedFlowCell) {
+  SeedCell c{.gap = 4e-3, .phi = 0.3, .repulsion_ratio = 10.0, .drag = core::DragLaw::schiller_naumann};
+  ShearCellPointSettings s = seed_cell_settings(c);
+  testing::RunFolder folder;
+  s.run_directory = folder.path();
+  const auto p = run_shear_cell_point(s);
+  CellSettings imposed;
+  imposed.phi = c.phi;
+  imposed.rate = c.rate;
+  imposed.viscosity = mu;
+  imposed.gap_over_d = c.gap / 2e-4;
+  imposed.cell_over_d = 8.0;
+  imposed.strain = c.strain;
+  imposed.skip_strain = 5.0;
+  imposed.friction = c.friction;
+  imposed.repulsion_ratio = c.repulsion_ratio;
+  imposed.stresslet_viscosity = c.hydrodynamics.stresslet_viscosity;
+  imposed.youngs_modulus = 3.0e9 / c.softening;
+  const CellResult reference = run_cell(imposed);
+  print("imposed-flow cell", reference);
+  const double liquid = mu * c.rate, imposed_cell = reference.eta_r;
+  const double eta_r = p.bulk_parts.imposed_cell_definition() / liquid;
+  std::printf("phi %.4f, N %lld: imposed cell's definition %.4f (imposed cell %.3f), plate %.4f +- %.4f, bulk %.4f\n",
+              p.volume_fraction, static_cast<long long>(p.particles), eta_r, imposed_cell, p.stress / liquid,
+              p.stress_error / liquid, p.bulk_stress / liquid);
+  EXPECT_NEAR(eta_r, imposed_cell, 0.04 * imposed_cell);
+  // The plate reading adds the wall layers' plate lubrication and the antisymmetric pair part.
+  EXPECT_GT(p.stress / liquid, eta_r);
+  EXPECT_LT(p.stress / liquid, 1.12 * eta_r);
 }
 
 }  // namespace
