@@ -93,6 +93,9 @@ double Coupler::time() const { return fluid_->time(); }
 void Coupler::update_void_fraction(bool reset) {
   const auto start = Clock::now();
   last_.void_fraction = void_fraction_.update(*scheme_, particles());
+  if (last_.void_fraction.capped_cells > 0) ++cost_.void_fraction_floor_steps;
+  if (last_.void_fraction.unplaced_volume > 0.0) ++cost_.void_fraction_clamped_steps;
+  cost_.min_raw_void_fraction = std::min(cost_.min_raw_void_fraction, last_.void_fraction.min_void_fraction_raw);
   if (reset)
     fluid_->reset_void_fraction(void_fraction_.void_fraction());
   else

@@ -361,10 +361,15 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
       std::fill(solid.begin(), solid.end(), 0.0);
       for (const auto& share : map.shares) solid[share.cell] += share.volume;
       auto& eps = column.void_fraction();
+      bool clamped = false;
       for (std::size_t k = 0; k < column.layers(); ++k) {
-        eps[k] = std::max(settings.void_fraction_floor, 1.0 - solid[k] / column.layer_volume());
+        const double raw = 1.0 - solid[k] / column.layer_volume();
+        out.cost.min_raw_void_fraction = std::min(out.cost.min_raw_void_fraction, raw);
+        clamped = clamped || raw < settings.void_fraction_floor;
+        eps[k] = std::max(settings.void_fraction_floor, raw);
         out.min_void_fraction = std::min(out.min_void_fraction, eps[k]);
       }
+      if (clamped) ++out.cost.void_fraction_clamped_steps;
       out.cost.void_fraction += seconds_since(t0);
 
       // Forces on the particles from the column as it is now; reaction to the column.

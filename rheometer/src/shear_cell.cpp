@@ -223,6 +223,11 @@ class ShearCellRunner {
       study.warnings.push_back(fmt::format("near field: implicit solves stopped at their iteration cap ({}) in the cell "
                                            "run {}; their forces are the last iterate's",
                                            cap, tag));
+    if (p.cost.void_fraction_clamped_steps > 0)
+      study.warnings.push_back(fmt::format(
+          "void fraction: in the cell run {} the layer ε fell below the floor {:g} on {} of {} steps (down to {:.3g}) "
+          "and was clamped there: the fluid column carries less solid than the particles",
+          tag, s.void_fraction_floor, p.cost.void_fraction_clamped_steps, p.cost.steps, p.cost.min_raw_void_fraction));
     study.wall_time += p.wall_time;
     study.cost.dem += p.cost.dem;
     study.cost.void_fraction += p.cost.void_fraction;

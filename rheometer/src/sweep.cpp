@@ -278,6 +278,17 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
             "fluid: {} of {} coupling steps broke the fluid's Courant limit and were split into up to {} substeps "
             "(fluid step {:.3g} s)",
             p.cost.fluid_split_steps, p.cost.steps, p.cost.max_fluid_substeps, p.fluid_time_step));
+      if (p.cost.void_fraction_floor_steps > 0)
+        out.warnings.push_back(fmt::format(
+            "void fraction: on {} of {} coupling steps some cells held more solid than the floor ε_min = {:g} allows "
+            "(ε down to {:.3g} before the floor); their excess was moved to neighbouring cells",
+            p.cost.void_fraction_floor_steps, p.cost.steps, s.coupling.void_fraction_floor,
+            p.cost.min_raw_void_fraction));
+      if (p.cost.void_fraction_clamped_steps > 0)
+        out.warnings.push_back(fmt::format(
+            "void fraction: on {} of {} coupling steps the excess over the floor could not all be placed; ε was "
+            "clamped there and the grid carries less solid than the particles",
+            p.cost.void_fraction_clamped_steps, p.cost.steps));
       if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
         out.warnings.push_back(fmt::format("near field: implicit solves stopped at their iteration cap ({}) on some DEM "
                                            "steps; their forces are the last iterate's",

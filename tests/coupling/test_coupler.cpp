@@ -103,11 +103,29 @@ TEST_F(CouplerTest, RunsOnARheometerSceneAndReportsTorquesAndCost) {
   EXPECT_GT(c.void_fraction, 0.0);
   EXPECT_GT(c.forces, 0.0);
   EXPECT_GT(c.fluid, 0.0);
+  EXPECT_EQ(c.void_fraction_floor_steps, 0);  // the default floor 0.3 is not reached here
+  EXPECT_EQ(c.void_fraction_clamped_steps, 0);
   EXPECT_GT(scene.total_particle_count(), 100);
   // The plate speed follows the scene.
   scene.set_shear_rate(40.0);
   coupler.step();
   EXPECT_DOUBLE_EQ(fluid.params().top_angular_velocity, scene.angular_velocity());
+}
+
+TEST_F(CouplerTest, VoidFractionFloorIsCountedWhenItActs) {
+  // A floor of ε_min = 0.99 makes every cell holding more than 1 % solid over-full: the floor
+  // moves volume on every step, and the cost split counts those steps and the raw ε reached.
+  dem::RheometerScene scene(scene_params(folder_.path()));
+  fluid::TransientSolver fluid(gap_fluid(-core::units::standard_gravity));
+  CouplerSettings settings;
+  settings.coupling_interval = 100;
+  settings.fluid_time_step = 1e-4;
+  settings.void_fraction_floor = 0.99;
+  Coupler coupler(settings, scene, fluid);
+  for (int s = 0; s < 3; ++s) coupler.step();
+  const CostSplit& c = coupler.cost();
+  EXPECT_GE(c.void_fraction_floor_steps, c.steps);  // the start-up update counts too
+  EXPECT_LT(c.min_raw_void_fraction, 0.99);
 }
 
 TEST_F(CouplerTest, AFluidStepOverItsCourantLimitIsSplitAndCounted) {

@@ -64,6 +64,12 @@ struct CostSplit {
   // substeps (the coupling forces held over them), and the most substeps one needed.
   std::int64_t fluid_split_steps = 0;
   int max_fluid_substeps = 1;
+  // Coupling steps on which some cell held more solid than the void-fraction floor allows (its
+  // excess moved to neighbours: ε changed locally), steps on which not all of it could be placed
+  // (ε clamped, solid volume not conserved), and the smallest ε before the floor.
+  std::int64_t void_fraction_floor_steps = 0;
+  std::int64_t void_fraction_clamped_steps = 0;
+  double min_raw_void_fraction = 1.0;
   [[nodiscard]] double total() const { return dem + void_fraction + forces + fluid + near_field; }
   // (void fraction + forces) / DEM: the coupling overhead issue 5 bounds by 25 %.
   [[nodiscard]] double coupling_overhead() const { return dem > 0.0 ? (void_fraction + forces) / dem : 0.0; }
