@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The Lees–Edwards box's accuracy and cost study behind docs/suspension-box.md: η_r(φ), N1, N2
 # with the defaults, and each numerical choice varied one at a time. About 10 min on one core.
-# Usage: bench/suspension_box_study.sh [BUILD_DIR] [--only default|friction|cutoff|stokes|size|stiffness|step|tolerance]
+# Usage: bench/suspension_box_study.sh [BUILD_DIR] [--only default|friction|cutoff|stokes|size|stiffness|step|tolerance|walls]
+# (walls: the walled box against the bulk from H/d = 2 to 20, about 5 min more)
 set -euo pipefail
 build=${1:-build}
 only=${3:-}
@@ -19,3 +20,5 @@ run size      --phi 0.3,0.5 --particles 1000
 run stiffness --phi 0.3,0.5 --stiffness 6000
 run step      --phi 0.3,0.5 --strain-step 0.0025
 run tolerance --phi 0.3 --solver-tolerance 1e-6
+run walls     --phi 0.1,0.3,0.4 --wall-gap 0,2,2.5,3,5,10,20
+run walls     --phi 0.3 --wall-gap 2.5,5,10,20 --linear-flow
