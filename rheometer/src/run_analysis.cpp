@@ -352,7 +352,17 @@ void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs&
     std::vector<RelativeViscosityPoint> rv;
     auto rv_json = nlohmann::ordered_json::array();
     for (const auto& [phi, fit] : by_phi) {
-      const FlowPrediction suspension = predict(fit, reference_rate);
+      FlowPrediction suspension = predict(fit, reference_rate);
+      // The fit sees only the scatter between the points; an error they share (one suspension
+      // box serving every rate of a φ, so its statistical error moves every torque together)
+      // it cannot see. The smallest relative torque error of the φ's points bounds it from below.
+      double shared = std::numeric_limits<double>::infinity();
+      for (const auto& s : series)
+        if (s.fluid == name && s.volume_fraction == phi)
+          for (const std::size_t i : s.point_indices)
+            shared = std::min(shared, number(points[i], "torque_std_error") / number(points[i], "torque"));
+      const bool floored = std::isfinite(shared) && shared * suspension.viscosity > suspension.viscosity_std_error;
+      if (floored) suspension.viscosity_std_error = shared * suspension.viscosity;
       RelativeViscosityPoint p = relative_viscosity(phi, suspension, liquid);
       if (phi == 0.0 && liquid_fit != by_phi.end()) p = {0.0, 1.0, 0.0};  // the liquid against itself
       rv.push_back(p);
@@ -361,6 +371,7 @@ void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs&
                          {"std_error", p.std_error},
                          {"viscosity", suspension.viscosity},
                          {"viscosity_std_error", finite_or_null(suspension.viscosity_std_error)},
+                         {"std_error_source", floored ? "the points' shared statistical error" : "the flow-curve fit"},
                          {"model", fit.model_name}});
     }
     rj["points"] = rv_json;

@@ -316,6 +316,15 @@ particles: {diameter: 5.0e-5, density: 1050}
     EXPECT_NEAR(p["n1_minus_n2"].get<double>(), (b.n1.mean - b.n2.mean) * rate, 1e-6 * std::abs(b.n1.mean * rate));
   }
   EXPECT_EQ(suspension_points, 3);
+  // One box serves every rate, so the flow-curve fit sees no scatter: η_r's error is the box's.
+  bool found = false;
+  for (const auto& p : summary["relative_viscosity"][0]["points"])
+    if (p["volume_fraction"].get<double>() == 0.3) {
+      found = true;
+      EXPECT_NEAR(p["std_error"].get<double>(), b.relative_viscosity.error, 0.02 * b.relative_viscosity.error);
+      EXPECT_EQ(p["std_error_source"].get<std::string>(), "the points' shared statistical error");
+    }
+  EXPECT_TRUE(found);
 }
 
 }  // namespace
