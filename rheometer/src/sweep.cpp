@@ -260,6 +260,13 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
       fs::create_directories(s.run_directory);
       if (progress) s.on_strain = [&progress](double strain, double max_strain) { progress({strain, max_strain}); };
       const coupling::SuspensionPoint p = coupling::run_point(s);
+      out.method += fmt::format("; DEM step {:.3g} s, fluid step {:.3g} s ({} DEM steps){}", p.dem_time_step,
+                                p.fluid_time_step, s.coupling.coupling_interval,
+                                p.cost.fluid_split_steps > 0
+                                    ? fmt::format(", split into up to {} substeps where it broke the fluid's Courant "
+                                                  "limit",
+                                                  p.cost.max_fluid_substeps)
+                                    : std::string());
       out.converged = p.converged;
       if (!p.converged)
         out.failure = fmt::format("torque not steady within {:g} strain units (last window {:.4g} ± {:.2g} N·m)",
