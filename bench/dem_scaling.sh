@@ -1,6 +1,6 @@
 #!/bin/sh
 # DEM throughput of the rheometer scene on 1 and 2 MPI ranks, and the strain to a steady
-# dry-shear torque (docs/performance-dem.md). Usage: bench/dem_scaling.sh [build dir] [steps]
+# dry-shear torque (docs/performance.md, DEM). Usage: bench/dem_scaling.sh [build dir] [steps]
 # Short runs (a few thousand steps per row): the machine is shared.
 set -eu
 build=${1:-build}

@@ -7,8 +7,9 @@
 #   may end in ":plain" for `solver.pressure_amg: plain` (e.g. 0.001:1e-4:plain)
 #
 # Each run goes through ldd::run_case (bench_ldd run, the same code as `rheosim run`). Costs on
-# the 2-core machine: Δ = 2 mm, δt = 1e-3 about 1 h; the δt = 1e-4 and Δ = 1 mm runs are 10× and
-# 40× that — hours to days; run them on a quiet machine. Each run writes checkpoint.h5 at every
+# the 2-core machine (docs/ldd.md, Cost): Δ = 2 mm, δt = 1e-3 about 12 min; Δ = 2 mm, δt = 1e-4
+# and Δ = 1 mm, δt = 1e-3 about 1 h each; Δ = 1 mm, δt = 1e-4 (12 000 steps of 203 210 nodes)
+# several hours — run it on a quiet machine. Each run writes checkpoint.h5 at every
 # frame and every 10 minutes: run the script again after a kill and it goes on from there.
 set -euo pipefail
 build=${1:-build-ldd}

@@ -24,7 +24,8 @@ inline std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
   return core::make_rheology(doc.root());
 }
 
-// A run folder per test, removed afterwards unless RHEOSIM_KEEP_TEST_OUTPUT is set.
+// A run folder per test, removed afterwards unless the test failed (then it is kept, with
+// LIGGGHTS' logs, for inspection).
 class RunFolder {
  public:
   RunFolder() {
@@ -34,7 +35,9 @@ class RunFolder {
     std::filesystem::remove_all(path_);
   }
   ~RunFolder() {
-    if (std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) std::filesystem::remove_all(path_.parent_path());
+    if (!::testing::Test::HasFailure()) std::filesystem::remove_all(path_);
+    std::error_code not_empty;
+    std::filesystem::remove(path_.parent_path(), not_empty);  // the process's folder, once empty
   }
   RunFolder(const RunFolder&) = delete;
   RunFolder& operator=(const RunFolder&) = delete;

@@ -251,7 +251,7 @@ int run(int argc, char** argv) {
     }
   }
   MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  if (temporary && rank == 0 && std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(o.out);
+  if (temporary && rank == 0 && failed == 0) fs::remove_all(o.out);  // a failed run keeps its folder
   if (rank == 0) fmt::print("{}\n", failed != 0 ? "FAILED" : "PASSED");
   return failed;
 }

@@ -47,9 +47,11 @@ class EngineTest : public ::testing::Test {
     dir_ = fs::temp_directory_path() / fmt::format("rheosim_test_engine_{}", ::getpid()) / info->name();
     fs::remove_all(dir_);
   }
-  // RHEOSIM_KEEP_TEST_OUTPUT=1 keeps the run folders (and LIGGGHTS' logs) for inspection.
+  // A failed test keeps its run folder (and LIGGGHTS' logs) for inspection.
   void TearDown() override {
-    if (std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(dir_.parent_path());
+    if (!HasFailure()) fs::remove_all(dir_);
+    std::error_code not_empty;
+    fs::remove(dir_.parent_path(), not_empty);
   }
 
   [[nodiscard]] Engine::Params params(const std::string& sub = "run") const { return {.run_directory = dir_ / sub}; }

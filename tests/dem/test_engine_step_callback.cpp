@@ -39,8 +39,10 @@ class EngineStepCallbackTest : public ::testing::Test {
     dir_ = fs::temp_directory_path() / fmt::format("rheosim_test_engine_step_{}", ::getpid()) / info->name();
     fs::remove_all(dir_);
   }
-  void TearDown() override {
-    if (std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(dir_.parent_path());
+  void TearDown() override {  // a failed test keeps its run folder
+    if (!HasFailure()) fs::remove_all(dir_);
+    std::error_code not_empty;
+    fs::remove(dir_.parent_path(), not_empty);
   }
 
   // A 10 mm box, seed material, no gravity, particles far from each other and the walls.

@@ -67,9 +67,11 @@ class RheometerSceneTest : public ::testing::Test {
     dir_ = fs::temp_directory_path() / fmt::format("rheosim_test_scene_{}", ::getpid()) / info->name();
     fs::remove_all(dir_);
   }
-  // RHEOSIM_KEEP_TEST_OUTPUT=1 keeps the run folders (LIGGGHTS' logs, STL, data files).
+  // A failed test keeps its run folder (LIGGGHTS' logs, STL, data files) for inspection.
   void TearDown() override {
-    if (std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(dir_.parent_path());
+    if (!HasFailure()) fs::remove_all(dir_);
+    std::error_code not_empty;
+    fs::remove(dir_.parent_path(), not_empty);
   }
 
   [[nodiscard]] RheometerScene::Params params(double volume_fraction, const std::string& sub = "run") const {

@@ -238,7 +238,7 @@ TEST(PolydisperseScene, HoldsTheDrawnSpheres) {
     EXPECT_LT(*lo, *hi);
     scene.advance(200);  // runs with mixed sizes
   }
-  if (std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(dir);
+  if (!HasFailure()) fs::remove_all(dir);
 }
 
 }  // namespace

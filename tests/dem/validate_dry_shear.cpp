@@ -91,7 +91,7 @@ TEST(DryShear, SteadyTorqueIsPositiveAndGrowsWithOmega) {
   const fs::path dir = fs::temp_directory_path() / fmt::format("rheosim_validate_dry_shear_{}", ::getpid());
   const auto slow = steady_torque(8000.0, dir / "slow");
   const auto fast = steady_torque(16000.0, dir / "fast");
-  if (std::getenv("RHEOSIM_KEEP_TEST_OUTPUT") == nullptr) fs::remove_all(dir);
+  fs::remove_all(dir);
   RecordProperty("torque_8000", fmt::format("{:.3e} +- {:.1e}", slow.mean, slow.standard_error));
   RecordProperty("torque_16000", fmt::format("{:.3e} +- {:.1e}", fast.mean, fast.standard_error));
   RecordProperty("ratio", fmt::format("{:.2f}", fast.mean / slow.mean));
