@@ -457,7 +457,14 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
                                              v.velocity_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.pressure_amg = s->choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"},
                                   v.pressure_amg, {"smoothed", "plain"});
-    if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.velocity_preconditioner == "lu")
+    const bool cavity = out.scene_type == "cavity" || out.scene_type == "skewed_cavity";
+    // Keys only the free-surface solver reads: refused for a cavity rather than ignored.
+    for (const char* key : {"pressure_amg", "pbd_sweeps", "moment_rcond", "surface_moment_rcond"})
+      if (cavity && s->has(key))
+        s->fail(key, fmt::format("a {} scene does not read it (free-surface scenes only: dam_break, slump, column)",
+                                 out.scene_type),
+                "leave it out", "docs/ldd.md, Case keys");
+    if (cavity && v.velocity_preconditioner == "lu")
       s->fail("velocity_preconditioner", "a cavity's velocity solve has no sparse-LU preconditioner",
               "auto, jacobi or amg");
   }

@@ -273,6 +273,14 @@ TEST(Case, LddCavityRefusesTheDivergingDensityReordering) {
   expect_cavity_refuses("reordering", "density", "lattice");
 }
 
+TEST(Case, LddCavityRefusesTheFreeSurfaceSolverKeys) {
+  // Keys only the free-surface solver reads are refused for a cavity, not ignored.
+  expect_cavity_refuses("pressure_amg", "plain", "leave it out");
+  expect_cavity_refuses("pbd_sweeps", "3", "leave it out");
+  expect_cavity_refuses("moment_rcond", "0.01", "leave it out");
+  expect_cavity_refuses("surface_moment_rcond", "0.01", "leave it out");
+}
+
 TEST(Case, EveryShippedCaseValidates) {
   const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
   std::set<std::string> kinds;
