@@ -44,9 +44,7 @@ namespace fs = std::filesystem;
 using rheosim::dem::RheometerScene;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 struct Row {
   std::string name;
@@ -87,7 +85,7 @@ void steady(double strain, const fs::path& dir) {
                            .seed = 3,
                            .run_directory = dir,
                            .initial_speed = 0.5 * rate * gap,
-                           .torque_sample_interval = 65,  // ~20 samples per unit strain
+                           .torque_sample_interval = 65,                                 // ~20 samples per unit strain
                            .communicator_fortran_handle = MPI_Comm_c2f(MPI_COMM_SELF)};  // rank 0 alone
   RheometerScene scene(p);
   const double steps_per_strain = 1.0 / (rate * scene.time_step());
@@ -143,11 +141,16 @@ int run(int argc, char** argv) {
   double strain = 40.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a.rfind("--steps=", 0) == 0) steps = std::stoll(a.substr(8));
-    else if (a.rfind("--warmup=", 0) == 0) warmup = std::stoll(a.substr(9));
-    else if (a.rfind("--only=", 0) == 0) only = a.substr(7);
-    else if (a == "--steady") do_steady = true;
-    else if (a.rfind("--strain=", 0) == 0) strain = std::stod(a.substr(9));
+    if (a.rfind("--steps=", 0) == 0)
+      steps = std::stoll(a.substr(8));
+    else if (a.rfind("--warmup=", 0) == 0)
+      warmup = std::stoll(a.substr(9));
+    else if (a.rfind("--only=", 0) == 0)
+      only = a.substr(7);
+    else if (a == "--steady")
+      do_steady = true;
+    else if (a.rfind("--strain=", 0) == 0)
+      strain = std::stod(a.substr(9));
     else {
       if (rank == 0) fmt::print(stderr, "bench_dem: unknown argument '{}'\n", a);
       return 2;
@@ -166,12 +169,14 @@ int run(int argc, char** argv) {
   if (!do_steady) {
     if (rank == 0) {
       fmt::print("cd: R = 15 mm, H = 0.5 mm, d = 0.2 mm (CD §4); small: R = 5 mm, same gap and particles\n");
-      fmt::print("| disk | φ | particles | ranks | build s | timed steps | wall s | particle-steps/s | δt s | "
-                 "wall s per unit strain at γ̇_R = 100 1/s |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+      fmt::print(
+          "| disk | φ | particles | ranks | build s | timed steps | wall s | particle-steps/s | δt s | "
+          "wall s per unit strain at γ̇_R = 100 1/s |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
     }
     int k = 0;
     for (const auto& row : rows)
-      if (only.empty() || only == row.name) throughput(row, warmup, steps, ranks, rank, dir / fmt::format("row{}", k++));
+      if (only.empty() || only == row.name)
+        throughput(row, warmup, steps, ranks, rank, dir / fmt::format("row{}", k++));
   } else if (rank == 0) {
     steady(strain, dir / "steady");
   }

@@ -58,9 +58,10 @@ namespace {
 using namespace rheosim;
 
 std::shared_ptr<const core::Rheology> rheology(const std::string& yaml) {
-  const std::string text = "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
-                           "fluid: {density: 1, rheology: " +
-                           yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+      "fluid: {density: 1, rheology: " +
+      yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
   return std::get<core::LddCase>(core::parse_case(text, "bench.yaml").spec).fluid.rheology;
 }
 
@@ -68,7 +69,7 @@ struct Scenario {
   const char* name;
   double skew_angle;  // 0: square
   const char* rheology;
-  double gpu_ms;      // seed's GPU ms/step
+  double gpu_ms;  // seed's GPU ms/step
 };
 
 struct Preconditioners {
@@ -86,9 +87,12 @@ double cpu_seconds() {
 
 const char* name_of(ldd::Preconditioner p) {
   switch (p) {
-    case ldd::Preconditioner::jacobi: return "jacobi";
-    case ldd::Preconditioner::sparse_lu: return "lu";
-    default: return "amg";
+    case ldd::Preconditioner::jacobi:
+      return "jacobi";
+    case ldd::Preconditioner::sparse_lu:
+      return "lu";
+    default:
+      return "amg";
   }
 }
 
@@ -112,7 +116,8 @@ void dump_state(const std::string& path, const ldd::Cavity& cavity, const ldd::S
   }
   const auto u = solver.velocity();
   const auto p = solver.pressure();
-  for (std::size_t i = 0; i < solver.node_count(); ++i) std::fprintf(f, "node %.17g %.17g %.17g\n", u[2 * i], u[2 * i + 1], p[i]);
+  for (std::size_t i = 0; i < solver.node_count(); ++i)
+    std::fprintf(f, "node %.17g %.17g %.17g\n", u[2 * i], u[2 * i + 1], p[i]);
   for (std::size_t k = 0; k < 202; ++k) std::fprintf(f, "line %.17g\n", sampled[2 * k + (k < 101 ? 0 : 1)]);
   std::fclose(f);
 }
@@ -149,12 +154,14 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
   const double cpu = cpu_seconds() - cpu_start;
   const ldd::PhaseTimes& a = solver.phase_times();
   const double per = 1e3 / steps;
-  std::printf("| %s | %d² (%zu nodes) | %s / %s | %d | %.1f | %.1f | %.0f | %.2f s | %.1f / %.1f / %.1f / %.1f | %.1f / %.1f |\n",
-              s.name, cells, solver.node_count(), name_of(preconditioners.pressure), name_of(preconditioners.velocity),
-              threads, 1e3 * seconds / steps, 1e3 * cpu / steps, s.gpu_ms, setup,
-              per * (a.rheology - before.rheology), per * (a.pressure - before.pressure),
-              per * (a.momentum - before.momentum), per * (a.advection - before.advection),
-              static_cast<double>(pressure_iterations) / steps, static_cast<double>(velocity_iterations) / steps);
+  std::printf(
+      "| %s | %d² (%zu nodes) | %s / %s | %d | %.1f | %.1f | %.0f | %.2f s | %.1f / %.1f / %.1f / %.1f | %.1f / %.1f "
+      "|\n",
+      s.name, cells, solver.node_count(), name_of(preconditioners.pressure), name_of(preconditioners.velocity), threads,
+      1e3 * seconds / steps, 1e3 * cpu / steps, s.gpu_ms, setup, per * (a.rheology - before.rheology),
+      per * (a.pressure - before.pressure), per * (a.momentum - before.momentum),
+      per * (a.advection - before.advection), static_cast<double>(pressure_iterations) / steps,
+      static_cast<double>(velocity_iterations) / steps);
   std::fflush(stdout);
   if (!dump_dir.empty())
     dump_state(dump_dir + "/" + (s.skew_angle == 0 ? "square" : "skewed") + "_" + std::to_string(cells) + "_t" +
@@ -201,21 +208,24 @@ void accuracy(const AccuracyOptions& o) {
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   const char* names[] = {"quadratic", "shepard", "gradient_corrected"};
-  std::printf("\nNewtonian cavity Re %d, interpolation %s, δt %g s, %d thread(s), steady residual 1e-4\n\n"
-              "| cells | steps | t [s] | status | wall ms/step | CPU ms/step | advection+interpolation ms/step | "
-              "u(0.5, 0.5) | v(0.5, 0.5) | max error vs Ghia | worst point |\n"
-              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
-              o.reynolds, names[static_cast<int>(o.interpolation)], o.dt, o.threads);
+  std::printf(
+      "\nNewtonian cavity Re %d, interpolation %s, δt %g s, %d thread(s), steady residual 1e-4\n\n"
+      "| cells | steps | t [s] | status | wall ms/step | CPU ms/step | advection+interpolation ms/step | "
+      "u(0.5, 0.5) | v(0.5, 0.5) | max error vs Ghia | worst point |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
+      o.reynolds, names[static_cast<int>(o.interpolation)], o.dt, o.threads);
   std::vector<std::vector<double>> profiles;
   for (int cells : o.resolutions) {
     ldd::SolverParams p;
-    p.rheology = rheology(o.reynolds == 1000 ? "{model: newtonian, viscosity: 0.001}" : "{model: newtonian, viscosity: 0.01}");
+    p.rheology =
+        rheology(o.reynolds == 1000 ? "{model: newtonian, viscosity: 0.001}" : "{model: newtonian, viscosity: 0.01}");
     p.spacing = 1.0 / cells;
     p.time_step = o.dt;
     p.interpolation = o.interpolation;
     const std::clock_t cpu0 = std::clock();
     const auto r = ldd::simulate_cavity(scene, p, o.end, 1e-4, probes);
-    const double cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC / static_cast<double>(std::max<std::size_t>(r.steps, 1));
+    const double cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC /
+                          static_cast<double>(std::max<std::size_t>(r.steps, 1));
     double worst = 0;
     std::string where;
     for (std::size_t k = 0; k < points.size(); ++k) {
@@ -230,10 +240,11 @@ void accuracy(const AccuracyOptions& o) {
         where = text;
       }
     }
-    std::printf("| %d² | %zu | %.2f | %s (residual %.1e) | %.2f | %.2f | %.2f | %.4f | %.4f | %.4f | %s |\n", cells, r.steps, r.time,
-                r.diverged ? r.message.c_str() : (r.final_residual < 1e-4 ? "steady" : "not steady"), r.final_residual, r.ms_per_step, cpu_ms,
-                1e3 * r.phases.advection / static_cast<double>(std::max<std::size_t>(r.steps, 1)), r.probe_velocity[2 * 50],
-                r.probe_velocity[2 * 151 + 1], worst, where.c_str());
+    std::printf("| %d² | %zu | %.2f | %s (residual %.1e) | %.2f | %.2f | %.2f | %.4f | %.4f | %.4f | %s |\n", cells,
+                r.steps, r.time, r.diverged ? r.message.c_str() : (r.final_residual < 1e-4 ? "steady" : "not steady"),
+                r.final_residual, r.ms_per_step, cpu_ms,
+                1e3 * r.phases.advection / static_cast<double>(std::max<std::size_t>(r.steps, 1)),
+                r.probe_velocity[2 * 50], r.probe_velocity[2 * 151 + 1], worst, where.c_str());
     std::fflush(stdout);
     profiles.push_back(r.probe_velocity);
   }
@@ -271,18 +282,21 @@ void bandwidth() {
   std::vector<double> u(nb.node_count(), 1.0), out(nb.node_count());
   // Bytes a product streams: per pair an index and a value, per node a diagonal, an offset, the
   // result and (from cache, mostly) x.
-  const double product_bytes = 16.0 * static_cast<double>(nb.pair_count()) + 32.0 * static_cast<double>(nb.node_count());
-  std::printf("memory bandwidth: triad a = b + s c over %zu doubles; StencilMatrix::multiply on %zu nodes, %zu pairs "
-              "(%.1f per node), %.1f MB per product\n",
-              n, nb.node_count(), nb.pair_count(), static_cast<double>(nb.pair_count()) / static_cast<double>(nb.node_count()),
-              product_bytes / 1e6);
+  const double product_bytes =
+      16.0 * static_cast<double>(nb.pair_count()) + 32.0 * static_cast<double>(nb.node_count());
+  std::printf(
+      "memory bandwidth: triad a = b + s c over %zu doubles; StencilMatrix::multiply on %zu nodes, %zu pairs "
+      "(%.1f per node), %.1f MB per product\n",
+      n, nb.node_count(), nb.pair_count(), static_cast<double>(nb.pair_count()) / static_cast<double>(nb.node_count()),
+      product_bytes / 1e6);
   std::printf("%8s %14s %18s %16s\n", "threads", "triad GB/s", "product ms", "product GB/s");
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
     const double triad = best_seconds(5, [&] {
       const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t i = 0; i < count; ++i) a[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] + 3.0 * c[static_cast<std::size_t>(i)];
+      for (std::ptrdiff_t i = 0; i < count; ++i)
+        a[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] + 3.0 * c[static_cast<std::size_t>(i)];
     });
     const double product = best_seconds(50, [&] { m.multiply(u, out); });
     std::printf("%8d %14.1f %18.3f %16.1f\n", threads, 24.0 * static_cast<double>(n) / triad / 1e9, 1e3 * product,
@@ -315,8 +329,9 @@ void krylov_floor() {
       {"dam break 2 mm (2D)", "cases/ldd_dam_break_bingham.yaml", 0.002, 7.50, 8.80, 108.9, 35.0, 1},
       {"slump (3D)", "cases/ldd_slump_abrams.yaml", 0.0048, 8.80, 7.05, 336.9, 55.0, 0},
       {"dam break 1 mm, dt 1e-4 (2D)", "cases/ldd_dam_break_bingham.yaml", 0.001, 16.22, 8.04, 611.2, 200.0, 1}};
-  std::printf("| scene | nodes | pairs/node | threads | product ms | PPE V-cycle ms | velocity V-cycle ms | "
-              "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
+  std::printf(
+      "| scene | nodes | pairs/node | threads | product ms | PPE V-cycle ms | velocity V-cycle ms | "
+      "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const Scene& scene : scenes) {
     const core::Case c = core::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/" + scene.case_file);
@@ -334,7 +349,7 @@ void krylov_floor() {
         weights[k] = ldd::weight(nb.distances[k], support);
         kernel_sum[i] += weights[k];
       }
-    std::vector<double> fluid_sums;  // a full support: the median fluid node's (walls packed
+    std::vector<double> fluid_sums;      // a full support: the median fluid node's (walls packed
     for (std::size_t i = 0; i < n; ++i)  // densely make some supports fuller than a full one)
       if (!cloud.is_wall[i]) fluid_sums.push_back(kernel_sum[i]);
     std::nth_element(fluid_sums.begin(), fluid_sums.begin() + static_cast<std::ptrdiff_t>(fluid_sums.size() / 2),
@@ -391,13 +406,15 @@ void krylov_floor() {
       return text;
     };
     const auto walls = static_cast<std::size_t>(std::count(cloud.is_wall.begin(), cloud.is_wall.end(), 1));
-    std::printf("(%s: %zu wall nodes; PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n",
-                scene.name, walls, sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(),
-                sizes(velocity_amg).c_str(), velocity_amg.operator_complexity(), z[7]);
+    std::printf(
+        "(%s: %zu wall nodes; PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n",
+        scene.name, walls, sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(), sizes(velocity_amg).c_str(),
+        velocity_amg.operator_complexity(), z[7]);
   }
-  std::printf("Krylov floor = PPE iterations × 2 (product + V-cycle) + velocity iterations × 2 (product + "
-              "V-cycle) + the velocity set-ups per step; iterations per step as measured (2D 7.50 / 8.80, "
-              "3D 8.80 / 7.05, 2D at 1 mm 16.22 / 8.04).\n");
+  std::printf(
+      "Krylov floor = PPE iterations × 2 (product + V-cycle) + velocity iterations × 2 (product + "
+      "V-cycle) + the velocity set-ups per step; iterations per step as measured (2D 7.50 / 8.80, "
+      "3D 8.80 / 7.05, 2D at 1 mm 16.22 / 8.04).\n");
 }
 
 }  // namespace
@@ -437,8 +454,9 @@ int main(int argc, char** argv) {
       }
     }
     if (o.resolutions.empty() || (o.reynolds != 100 && o.reynolds != 1000)) {
-      std::fprintf(stderr, "usage: bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected] "
-                           "[--dt S] [--end S] [--threads N] CELLS...\n");
+      std::fprintf(stderr,
+                   "usage: bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected] "
+                   "[--dt S] [--end S] [--threads N] CELLS...\n");
       return 2;
     }
     accuracy(o);
@@ -471,7 +489,10 @@ int main(int argc, char** argv) {
       auto& target = arg == "--pressure" ? preconditioners.pressure : preconditioners.velocity;
       target = ldd::preconditioner_named(argv[++a], target);
     } else {
-      std::fprintf(stderr, "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] [--amg-levels N] [--amg-plain] [--amg-unit-diagonal] [--steps N] [--dump DIR] | run CASE OUT\n");
+      std::fprintf(
+          stderr,
+          "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] "
+          "[--amg-levels N] [--amg-plain] [--amg-unit-diagonal] [--steps N] [--dump DIR] | run CASE OUT\n");
       return 2;
     }
   }
@@ -481,9 +502,10 @@ int main(int argc, char** argv) {
        "{model: casson, plastic_viscosity: 0.01, yield_stress: 1.0e-4, regularization: 1000}", 12},
       {"skewed 60°, power law n 1.5 Re 500", std::acos(-1.0) / 3, "{model: power_law, consistency: 0.002, index: 1.5}",
        26}};
-  std::printf("| case | nodes | PPE / velocity preconditioner | threads | ms/step | CPU ms/step | seed GPU ms/step | setup | "
-              "rheology / pressure / momentum / advection ms | PPE / velocity iterations |\n"
-              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  std::printf(
+      "| case | nodes | PPE / velocity preconditioner | threads | ms/step | CPU ms/step | seed GPU ms/step | setup | "
+      "rheology / pressure / momentum / advection ms | PPE / velocity iterations |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const auto& s : scenarios)
     for (int cells : cell_counts)
       for (int threads : thread_counts) time_steps(s, cells, threads, steps, preconditioners, dump_dir);

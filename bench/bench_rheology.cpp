@@ -73,12 +73,12 @@ int main(int argc, char** argv) {
   for (const std::string& name : rheosim::core::builtin_rheologies().names()) {
     const auto law = rheosim::core::make_rheology(document.root().section({name, "parameters of one law", "-"}));
     // The lambdas share the law and the static rates instead of copying 8 MB per benchmark.
-    benchmark::RegisterBenchmark(("viscosity/" + name).c_str(),
-                                 [law](benchmark::State& state) { viscosity(state, *law, rates); })
-        ->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("viscosity_derivative/" + name).c_str(),
-                                 [law](benchmark::State& state) { viscosity_derivative(state, *law, rates); })
-        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("viscosity/" + name).c_str(), [law](benchmark::State& state) {
+      viscosity(state, *law, rates);
+    })->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("viscosity_derivative/" + name).c_str(), [law](benchmark::State& state) {
+      viscosity_derivative(state, *law, rates);
+    })->Unit(benchmark::kMillisecond);
   }
   document.check_all_keys_known();
 

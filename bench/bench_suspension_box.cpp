@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "rheosim/coupling/suspension_box.hpp"
 #include "rheosim/rheometer/analysis.hpp"
@@ -59,32 +59,35 @@ int main(int argc, char** argv) {
     s.stresslet_viscosity_ratio = 0.3 + 0.7 / (1.0 + bingham);
   }
   std::printf("# Bingham number %g (0: Newtonian matrix)\n", bingham);
-  std::printf("# particles %d, friction %g, St %g, roughness %g, cutoff %g, repulsion %g, size ratio %g\n",
-              s.particles, s.friction, s.stokes_number, s.roughness, s.lubrication_cutoff, s.repulsion_force,
-              size_ratio);
-  std::printf("%6s %6s %8s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %6s %6s %7s %7s %8s\n", "phi", "H/d", "eta_r", "err",
-              "KD.63", "Boyer", "Zarraga", "lub", "contact", "N1/tau", "+-", "N2/tau", "+-", "Pi/tau", "z", "slide", "ovl",
-              "ovlmax", "strain", "iters", "seconds");
+  std::printf("# particles %d, friction %g, St %g, roughness %g, cutoff %g, repulsion %g, size ratio %g\n", s.particles,
+              s.friction, s.stokes_number, s.roughness, s.lubrication_cutoff, s.repulsion_force, size_ratio);
+  std::printf("%6s %6s %8s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %7s %6s %6s %7s %7s %8s\n", "phi", "H/d",
+              "eta_r", "err", "KD.63", "Boyer", "Zarraga", "lub", "contact", "N1/tau", "+-", "N2/tau", "+-", "Pi/tau",
+              "z", "slide", "ovl", "ovlmax", "strain", "iters", "seconds");
   std::printf("# H/d = 0: Lees–Edwards bulk box; otherwise walled, and slip is the near-plate lag [a gamma_dot]\n");
   for (const double gap : wall_gaps)
-  for (const double phi : phis) {
-    s.volume_fraction = phi;
-    s.wall_gap = 2.0 * gap;  // H/a
-    s.mean_flow_coupling = !linear_flow;
-    const auto r = rheosim::coupling::run_suspension_box(s);
-    const double eta = r.relative_viscosity.mean;
-    std::printf("%6.3f %6.2f %8.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %6.3f %7.3f %6.3f %7.3f %7.2f %7.3f %6.4f %6.4f %7.1f %7.1f %8.2f\n",
-                phi, gap, eta, r.relative_viscosity.error, rheosim::rheometer::krieger_dougherty_relative_viscosity(phi, 0.63),
-                rheosim::rheometer::boyer_relative_viscosity(phi), rheosim::rheometer::zarraga_relative_viscosity(phi),
-                r.part_lubrication, r.part_contact, r.n1.mean / eta, r.n1.error / eta, r.n2.mean / eta, r.n2.error / eta, r.particle_pressure.mean / eta,
-                r.mean_contacts_per_particle, r.sliding_fraction, r.mean_overlap, r.max_overlap, r.strain,
-                r.mean_solver_iterations, r.wall_time);
-    if (gap > 0.0)
-      std::printf("#   walled box %.3g x %.3g x %.3g a, %s, wall slip %.4f a gamma_dot, liquid shear rate core %.4f / "
-                  "plates %.4f gamma_dot\n",
-                  r.box_length, r.box_length, r.box_height, linear_flow ? "linear liquid profile" : "mean-flow liquid",
-                  r.wall_slip, r.core_shear_rate, r.plate_shear_rate);
-    for (const auto& w : r.warnings) std::printf("#   warning: %s\n", w.c_str());
-    std::fflush(stdout);
-  }
+    for (const double phi : phis) {
+      s.volume_fraction = phi;
+      s.wall_gap = 2.0 * gap;  // H/a
+      s.mean_flow_coupling = !linear_flow;
+      const auto r = rheosim::coupling::run_suspension_box(s);
+      const double eta = r.relative_viscosity.mean;
+      std::printf(
+          "%6.3f %6.2f %8.4f %7.4f %7.3f %7.3f %7.3f %7.3f %7.3f %7.3f %6.3f %7.3f %6.3f %7.3f %7.2f %7.3f %6.4f %6.4f "
+          "%7.1f %7.1f %8.2f\n",
+          phi, gap, eta, r.relative_viscosity.error,
+          rheosim::rheometer::krieger_dougherty_relative_viscosity(phi, 0.63),
+          rheosim::rheometer::boyer_relative_viscosity(phi), rheosim::rheometer::zarraga_relative_viscosity(phi),
+          r.part_lubrication, r.part_contact, r.n1.mean / eta, r.n1.error / eta, r.n2.mean / eta, r.n2.error / eta,
+          r.particle_pressure.mean / eta, r.mean_contacts_per_particle, r.sliding_fraction, r.mean_overlap,
+          r.max_overlap, r.strain, r.mean_solver_iterations, r.wall_time);
+      if (gap > 0.0)
+        std::printf(
+            "#   walled box %.3g x %.3g x %.3g a, %s, wall slip %.4f a gamma_dot, liquid shear rate core %.4f / "
+            "plates %.4f gamma_dot\n",
+            r.box_length, r.box_length, r.box_height, linear_flow ? "linear liquid profile" : "mean-flow liquid",
+            r.wall_slip, r.core_shear_rate, r.plate_shear_rate);
+      for (const auto& w : r.warnings) std::printf("#   warning: %s\n", w.c_str());
+      std::fflush(stdout);
+    }
 }

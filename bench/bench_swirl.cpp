@@ -34,7 +34,8 @@ fluid::SwirlParams params(double n, bool inertia, int nr, int nz, double grading
 // args: n × 10, radial cells, axial cells
 void creeping_point(benchmark::State& state) {
   const double n = static_cast<double>(state.range(0)) / 10;
-  const fluid::SwirlSolver solver(params(n, false, static_cast<int>(state.range(1)), static_cast<int>(state.range(2)), 1.0));
+  const fluid::SwirlSolver solver(
+      params(n, false, static_cast<int>(state.range(1)), static_cast<int>(state.range(2)), 1.0));
   const double omega = plate.angular_velocity(100);
   fluid::SwirlResult result;
   for (auto _ : state) {
@@ -49,7 +50,12 @@ void creeping_point(benchmark::State& state) {
   state.counters["torque"] = result.torque;
   state.counters["iterations"] = result.iterations;
 }
-BENCHMARK(creeping_point)->Args({3, 30, 8})->Args({6, 30, 8})->Args({9, 30, 8})->Args({10, 30, 8})->Unit(benchmark::kMillisecond);
+BENCHMARK(creeping_point)
+    ->Args({3, 30, 8})
+    ->Args({6, 30, 8})
+    ->Args({9, 30, 8})
+    ->Args({10, 30, 8})
+    ->Unit(benchmark::kMillisecond);
 
 // Inertial points (grading 0.1 towards the rim). The reference torques are the Richardson
 // extrapolation of 80 × 128 cells with 40 × 64 (the inertial_reference rows below, 2026-11-23);

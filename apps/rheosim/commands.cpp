@@ -11,9 +11,9 @@
 #include "rheosim/core/version.hpp"
 #include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
-#include "rheosim/rheometer/shear_cell.hpp"
 #include "rheosim/rheometer/report.hpp"
 #include "rheosim/rheometer/run.hpp"
+#include "rheosim/rheometer/shear_cell.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 #include "run_ldd.hpp"
 
@@ -117,12 +117,14 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
     // for the torque increase) and the suspension, with resume, analysis and report.
     core::Case as_sweep = c;
     const double phi = rheometer_case->particles->volume_fraction;
-    as_sweep.spec = core::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
+    as_sweep.spec =
+        core::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
     return run_sweep_case(as_sweep, case_file, out, point_budget, log);
   }
   try {
     const auto log_file = log.with_file(out / "log.txt");
-    log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, case_file, out.string());
+    log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, case_file,
+                  out.string());
     const auto outcome = rheometer::run_single_phase(c, out, log_file);
     log_file.info("{} points, {} failed; summary: {}; report: {}", outcome.points, outcome.failed_points,
                   outcome.summary.string(), (out / "report.html").string());

@@ -8,10 +8,11 @@
 
 int main(int argc, char** argv) {
   using namespace rheosim;
-  CLI::App cli{"rheosim: a virtual rheometer for particle suspensions and non-Newtonian materials.\n"
-               "Parallel-plate rheometry (fluid solver + LIGGGHTS DEM) and LDD free-surface flows,\n"
-               "driven by YAML case files in SI units.",
-               "rheosim"};
+  CLI::App cli{
+      "rheosim: a virtual rheometer for particle suspensions and non-Newtonian materials.\n"
+      "Parallel-plate rheometry (fluid solver + LIGGGHTS DEM) and LDD free-surface flows,\n"
+      "driven by YAML case files in SI units.",
+      "rheosim"};
   cli.set_version_flag("--version", fmt::format("rheosim {} (git {})", core::version, core::git_revision));
   cli.require_subcommand(1);
   cli.fallthrough();  // --verbose/--quiet also after the subcommand
@@ -75,7 +76,9 @@ int main(int argc, char** argv) {
   double export_rate = 0;
   std::string export_mesh = "M2";
   auto* foam = cli.add_subcommand("export-openfoam", "Write a rheometer case as an OpenFOAM v1912 case directory");
-  foam->add_option("case", export_case, "Case file (kind: rheometer, single phase)")->required()->check(CLI::ExistingFile);
+  foam->add_option("case", export_case, "Case file (kind: rheometer, single phase)")
+      ->required()
+      ->check(CLI::ExistingFile);
   foam->add_option("dir", export_dir, "Output case directory")->required();
   foam->add_option("--shear-rate", export_rate, "Rim shear rate [1/s] (default: the case's last)");
   foam->add_option("--mesh", export_mesh, "Mesh preset M1 | M2 | M3 (CD §2.3)");
@@ -113,7 +116,8 @@ int main(int argc, char** argv) {
     return code == 0 ? app::exit_success : app::exit_bad_input;
   }
 
-  const auto verbosity = quiet ? core::Verbosity::quiet : (verbose ? core::Verbosity::verbose : core::Verbosity::normal);
+  const auto verbosity =
+      quiet ? core::Verbosity::quiet : (verbose ? core::Verbosity::verbose : core::Verbosity::normal);
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
   if (*run) return app::run(run_case, run_out, point_budget, stop_after, log);

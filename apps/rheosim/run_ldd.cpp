@@ -12,7 +12,8 @@ namespace rheosim::app {
 int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, double stop_after, const core::Log& log) {
   try {
     const auto log_file = log.with_file(out_dir / "log.txt");
-    log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, c.file, out_dir.string());
+    log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, c.file,
+                  out_dir.string());
     ldd::RunControl control;
     control.wall_time_limit = stop_after;
     const auto outcome = ldd::run_case(c, out_dir, log_file, control);

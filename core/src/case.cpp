@@ -65,16 +65,17 @@ FluidSolverSettings read_solver(const Section& root) {
   out.axial_stretching = s->number_or({"axial_stretching", "tanh clustering of axial cells towards the plates", "-"},
                                       out.axial_stretching, Range::closed(0.0, 5.0));
   out.inertia = s->boolean_or({"inertia", "solve with fluid inertia (false: creeping limit)", "-"}, out.inertia);
-  out.extrapolate = s->boolean_or({"extrapolate", "report the Richardson torque over this grid and half its cells", "-"},
-                                  out.extrapolate);
+  out.extrapolate = s->boolean_or(
+      {"extrapolate", "report the Richardson torque over this grid and half its cells", "-"}, out.extrapolate);
   // The half grid must exist: the solver's grid sequencing needs even counts >= 8.
   if (out.extrapolate)
-    for (const auto& [key, cells] : {std::pair{"radial_cells", out.radial_cells}, std::pair{"axial_cells", out.axial_cells}})
+    for (const auto& [key, cells] :
+         {std::pair{"radial_cells", out.radial_cells}, std::pair{"axial_cells", out.axial_cells}})
       if (cells < 8 || cells % 2 != 0)
         s->fail(key, fmt::format("{} = {} cannot be halved for extrapolate: true", key, cells), "an even number >= 8",
                 "use an even cell count, or extrapolate: false");
-  out.tolerance = s->number_or({"tolerance", "relative change per iteration", "-"}, out.tolerance,
-                               Range::open(0.0, 1e-2));
+  out.tolerance =
+      s->number_or({"tolerance", "relative change per iteration", "-"}, out.tolerance, Range::open(0.0, 1e-2));
   out.max_iterations = s->integer_or({"max_iterations", "nonlinear iterations", "-"}, out.max_iterations, 1, 100000);
   return out;
 }
@@ -103,8 +104,8 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
     out.min_diameter = s.number(min_key, Range::positive());
     out.max_diameter = s.number(max_key, Range::positive());
     if (!(out.min_diameter < out.max_diameter))
-      s.fail("max_diameter", fmt::format("max_diameter {} m is not above min_diameter {} m", out.max_diameter,
-                                         out.min_diameter),
+      s.fail("max_diameter",
+             fmt::format("max_diameter {} m is not above min_diameter {} m", out.max_diameter, out.min_diameter),
              "min_diameter < max_diameter", "for equal spheres omit size_distribution");
   } else if (type == "lognormal") {
     out.type = SizeDistribution::Type::lognormal;
@@ -117,7 +118,8 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
   } else {
     out.type = SizeDistribution::Type::discrete;
     const auto max_classes = static_cast<std::size_t>(SizeDistribution::max_classes);
-    const auto diameters = s.numbers({"diameters", "diameter of each size class", "m"}, Range::positive(), 1, max_classes);
+    const auto diameters =
+        s.numbers({"diameters", "diameter of each size class", "m"}, Range::positive(), 1, max_classes);
     require_increasing(s, "diameters", diameters);
     const auto shares = s.numbers({"volume_fractions", "share of the particle volume in each class", "-"},
                                   Range::closed(0.0, 1.0), diameters.size(), diameters.size());
@@ -127,19 +129,20 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
     double sum = 0;
     for (const double w : shares) sum += w;
     if (std::abs(sum - 1.0) > 1e-6)
-      s.fail("volume_fractions", fmt::format("the shares add up to {}", sum), "shares of the solid volume adding up to 1",
-             "divide each share by their sum");
+      s.fail("volume_fractions", fmt::format("the shares add up to {}", sum),
+             "shares of the solid volume adding up to 1", "divide each share by their sum");
     out.min_diameter = diameters.front();
     out.max_diameter = diameters.back();
     bounds_key = "diameters";
   }
   if (!(out.min_diameter <= d && d <= out.max_diameter))
-    s.fail(bounds_key, fmt::format("particles.diameter {} m is outside the distribution's range [{}, {}] m", d,
-                                   out.min_diameter, out.max_diameter),
+    s.fail(bounds_key,
+           fmt::format("particles.diameter {} m is outside the distribution's range [{}, {}] m", d, out.min_diameter,
+                       out.max_diameter),
            "a range that contains particles.diameter (the representative, volume-median size)");
   if (out.max_diameter >= geometry.gap)
-    s.fail(bounds_key, fmt::format("the largest particles ({} m) do not fit in the gap of {} m", out.max_diameter,
-                                   geometry.gap),
+    s.fail(bounds_key,
+           fmt::format("the largest particles ({} m) do not fit in the gap of {} m", out.max_diameter, geometry.gap),
            "every diameter smaller than the gap");
   return out;
 }
@@ -185,8 +188,8 @@ double physical_memory_bytes() {
 Hydrodynamics read_hydrodynamics(const Section& s) {
   Hydrodynamics out;
   out.specified = true;
-  const std::vector<std::string> terms{"lubrication", "none", "repulsion", "single_particle", "stokes_drag",
-                                       "stresslet"};
+  const std::vector<std::string> terms{"lubrication",     "none",        "repulsion",
+                                       "single_particle", "stokes_drag", "stresslet"};
   const std::string model = s.text({"model", "near-field terms, e.g. lubrication+stresslet", "-"});
   std::size_t start = 0;
   while (start <= model.size()) {
@@ -219,7 +222,8 @@ Hydrodynamics read_hydrodynamics(const Section& s) {
     const std::string stresslet_viscosity =
         s.choice_or({"stresslet_viscosity", "matrix viscosity in the stresslet", "-"}, name_of(out.stresslet_viscosity),
                     {name_of(StressletViscosity::homogenized), name_of(StressletViscosity::secant)});
-    if (stresslet_viscosity == name_of(StressletViscosity::secant)) out.stresslet_viscosity = StressletViscosity::secant;
+    if (stresslet_viscosity == name_of(StressletViscosity::secant))
+      out.stresslet_viscosity = StressletViscosity::secant;
   }
   return out;
 }
@@ -230,15 +234,19 @@ ParticleProperties read_particles(const Section& p, const PlateGeometry& geometr
     out.volume_fraction = p.number({"volume_fraction", "particle volume fraction φ", "-"}, Range::closed(0.0, 0.5));
   out.diameter = p.number({"diameter", "particle diameter d", "m"}, Range::positive());
   out.density = p.number({"density", "particle density", "kg/m³"}, Range::positive());
-  out.youngs_modulus = p.number_or({"youngs_modulus", "Young's modulus E", "Pa"}, out.youngs_modulus, Range::positive());
-  out.poisson_ratio = p.number_or({"poisson_ratio", "Poisson ratio ν", "-"}, out.poisson_ratio, Range::closed_open(0.0, 0.5));
-  out.restitution = p.number_or({"restitution", "coefficient of restitution e", "-"}, out.restitution, Range::open_closed(0.0, 1.0));
+  out.youngs_modulus =
+      p.number_or({"youngs_modulus", "Young's modulus E", "Pa"}, out.youngs_modulus, Range::positive());
+  out.poisson_ratio =
+      p.number_or({"poisson_ratio", "Poisson ratio ν", "-"}, out.poisson_ratio, Range::closed_open(0.0, 0.5));
+  out.restitution =
+      p.number_or({"restitution", "coefficient of restitution e", "-"}, out.restitution, Range::open_closed(0.0, 1.0));
   out.friction = p.number_or({"friction", "Coulomb friction coefficient", "-"}, out.friction, Range::closed(0.0, 10.0));
   if (out.diameter >= geometry.gap)
     p.fail("diameter", fmt::format("particles of {} m do not fit in the gap of {} m", out.diameter, geometry.gap),
            "a particle diameter smaller than the gap (H/d >= 10 for a continuum stress)");
   const KeyInfo distribution_key{"size_distribution", "spread of particle diameters (omit for equal spheres)", "-"};
-  if (auto s = p.optional_section(distribution_key)) out.size_distribution = read_size_distribution(*s, out.diameter, geometry);
+  if (auto s = p.optional_section(distribution_key))
+    out.size_distribution = read_size_distribution(*s, out.diameter, geometry);
   const KeyInfo hydrodynamics_key{"hydrodynamics", "near-field hydrodynamics (omit for drag only)", "-"};
   if (auto s = p.optional_section(hydrodynamics_key)) out.hydrodynamics = read_hydrodynamics(*s);
   const KeyInfo drag_key{"drag", "fluid–particle drag law (omit for auto)", "-"};
@@ -282,8 +290,8 @@ SweepCase read_sweep(const Section& root) {
   out.volume_fractions =
       root.numbers({"volume_fractions", "particle volume fractions φ", "-"}, Range::closed(0.0, 0.5));
   require_increasing(root, "volume_fractions", out.volume_fractions);
-  const bool needs_particles = std::any_of(out.volume_fractions.begin(), out.volume_fractions.end(),
-                                           [](double phi) { return phi > 0; });
+  const bool needs_particles =
+      std::any_of(out.volume_fractions.begin(), out.volume_fractions.end(), [](double phi) { return phi > 0; });
   if (needs_particles && !out.rheometer.particles)
     root.fail("volume_fractions", "volume fractions above 0 need a 'particles:' section",
               "a 'particles:' section with diameter, density and contact properties",
@@ -301,7 +309,8 @@ LddWall read_wall(const Section& w, int dimension, const std::filesystem::path& 
   const auto d = static_cast<std::size_t>(dimension);
   out.type = w.choice({"type", "wall type", "-"}, {"plane", "box", "cylinder", "stl"});
   if ((out.type == "cylinder" || out.type == "stl") && dimension != 3)
-    w.fail("type", fmt::format("a {} wall is 3D, the case is {}D", out.type, dimension), "dimension: 3 or a plane/box wall");
+    w.fail("type", fmt::format("a {} wall is 3D, the case is {}D", out.type, dimension),
+           "dimension: 3 or a plane/box wall");
   if (out.type != "plane")
     out.fluid_inside = w.choice_or({"fluid", "which side of the wall the fluid is on", "-"}, "inside",
                                    {"inside", "outside"}) == "inside";
@@ -328,7 +337,8 @@ LddWall read_wall(const Section& w, int dimension, const std::filesystem::path& 
     out.height = w.number({"height", "cylinder height along the axis", "m"}, Range::positive());
   } else {
     const std::string file = w.text({"file", "STL file (ASCII or binary), relative to the case file", "-"});
-    const std::filesystem::path path = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : case_dir / file;
+    const std::filesystem::path path =
+        std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : case_dir / file;
     if (!std::filesystem::is_regular_file(path))
       w.fail("file", fmt::format("STL file '{}' does not exist", path.string()), "an existing STL file",
              "paths are relative to the case file's directory");
@@ -342,7 +352,8 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
   LddCase out;
   out.dimension = root.integer({"dimension", "spatial dimension", "-"}, 2, 3);
   const Section scene = root.section({"scene", "the LDD scene", "-"});
-  out.scene_type = scene.choice({"type", "scene type", "-"}, {"cavity", "skewed_cavity", "dam_break", "slump", "column"});
+  out.scene_type =
+      scene.choice({"type", "scene type", "-"}, {"cavity", "skewed_cavity", "dam_break", "slump", "column"});
   const auto require_dimension = [&](int wanted) {
     if (out.dimension != wanted)
       root.fail("dimension", fmt::format("a {} scene is {}D, not {}D", out.scene_type, wanted, out.dimension),
@@ -427,21 +438,26 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
                                         v.pressure_tolerance, Range::open(0.0, 0.1));
     v.velocity_tolerance = s->number_or({"velocity_tolerance", "relative residual of the velocity solve", "-"},
                                         v.velocity_tolerance, Range::open(0.0, 0.1));
-    v.max_iterations = s->integer_or({"max_iterations", "iterations per linear solve", "-"}, v.max_iterations, 1, 1000000);
-    v.reordering = s->choice_or({"reordering", "node reordering after advection", "-"}, v.reordering,
-                                {"lattice", "density"});
+    v.max_iterations =
+        s->integer_or({"max_iterations", "iterations per linear solve", "-"}, v.max_iterations, 1, 1000000);
+    v.reordering =
+        s->choice_or({"reordering", "node reordering after advection", "-"}, v.reordering, {"lattice", "density"});
     if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.reordering == "density")
       s->fail("reordering",
               "the density-constraint PBD reordering opens a void at one lid corner and piles nodes up at the "
               "other within ~0.2 L/U, and the cavity diverges (docs/ldd.md)",
-              "lattice", "free-surface scenes always use the volume-keeping PBD; a cavity returns its nodes to the lattice");
-    v.interpolation = s->choice_or({"interpolation", "lattice reordering: how the velocity returns to the lattice", "-"},
-                                   v.interpolation, {"quadratic", "shepard", "gradient_corrected"});
-    v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"},
-                                 v.max_courant, Range::open_closed(0.0, 100.0));
-    v.pbd_sweeps = s->integer_or({"pbd_sweeps", "free surface: volume-keeping PBD sweeps per step", "-"}, v.pbd_sweeps, 0, 100);
-    v.moment_rcond = s->number_or({"moment_rcond", "free surface: moment-matrix conditioning below which it is pseudo-inverted", "-"},
-                                  v.moment_rcond, Range::open(0.0, 1.0));
+              "lattice",
+              "free-surface scenes always use the volume-keeping PBD; a cavity returns its nodes to the lattice");
+    v.interpolation =
+        s->choice_or({"interpolation", "lattice reordering: how the velocity returns to the lattice", "-"},
+                     v.interpolation, {"quadratic", "shepard", "gradient_corrected"});
+    v.max_courant = s->number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"}, v.max_courant,
+                                 Range::open_closed(0.0, 100.0));
+    v.pbd_sweeps =
+        s->integer_or({"pbd_sweeps", "free surface: volume-keeping PBD sweeps per step", "-"}, v.pbd_sweeps, 0, 100);
+    v.moment_rcond = s->number_or(
+        {"moment_rcond", "free surface: moment-matrix conditioning below which it is pseudo-inverted", "-"},
+        v.moment_rcond, Range::open(0.0, 1.0));
     v.surface_moment_rcond = s->number_or(
         {"surface_moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
         v.surface_moment_rcond, Range::open(0.0, 1.0));
@@ -449,20 +465,24 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
         {"gradient", "gradient operator (centred: about the neighbours' centroid; renormalised: LDD eq. 14)", "-"},
         v.gradient, {"auto", "centred", "renormalised"});
     if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.gradient == "centred")
-      s->fail("gradient", "a cavity's wall rows impose n·∇p through the wall node's own gradient, which the centred gradient leaves out",
+      s->fail("gradient",
+              "a cavity's wall rows impose n·∇p through the wall node's own gradient, which the centred gradient "
+              "leaves out",
               "auto or renormalised");
     v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},
                                              v.velocity_preconditioner, {"auto", "jacobi", "lu", "amg"});
-    v.pressure_amg = s->choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"},
-                                  v.pressure_amg, {"smoothed", "plain"});
+    v.pressure_amg =
+        s->choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"},
+                     v.pressure_amg, {"smoothed", "plain"});
     const bool cavity = out.scene_type == "cavity" || out.scene_type == "skewed_cavity";
     // Keys only the free-surface solver reads: refused for a cavity rather than ignored.
     for (const char* key : {"pressure_amg", "pbd_sweeps", "moment_rcond", "surface_moment_rcond"})
       if (cavity && s->has(key))
-        s->fail(key, fmt::format("a {} scene does not read it (free-surface scenes only: dam_break, slump, column)",
-                                 out.scene_type),
+        s->fail(key,
+                fmt::format("a {} scene does not read it (free-surface scenes only: dam_break, slump, column)",
+                            out.scene_type),
                 "leave it out", "docs/ldd.md, Case keys");
     if (cavity && v.velocity_preconditioner == "lu")
       s->fail("velocity_preconditioner", "a cavity's velocity solve has no sparse-LU preconditioner",
@@ -481,9 +501,12 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
 
 std::string Case::kind() const {
   switch (spec.index()) {
-    case 0: return "rheometer";
-    case 1: return "sweep";
-    default: return "ldd";
+    case 0:
+      return "rheometer";
+    case 1:
+      return "sweep";
+    default:
+      return "ldd";
   }
 }
 

@@ -20,23 +20,24 @@ std::string describe_fluid(const FluidProperties& fluid) {
 }
 
 std::string describe_rheometer(const RheometerCase& r) {
-  std::string out = fmt::format("  geometry: parallel plates, radius {} m, gap {} m\n", r.geometry.radius, r.geometry.gap);
+  std::string out =
+      fmt::format("  geometry: parallel plates, radius {} m, gap {} m\n", r.geometry.radius, r.geometry.gap);
   for (const auto& f : r.fluids) {
     if (r.fluids.size() > 1) out += fmt::format("  [{}]\n", f.name);
     out += describe_fluid(f.properties);
   }
-  out += fmt::format("  solver: {} × {} cells (r × z), radial grading {}, axial stretching {}, inertia {}{}\n",
-                     r.solver.radial_cells, r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching,
-                     r.solver.inertia ? "on" : "off",
-                     r.solver.inertia && r.solver.extrapolate ? " (Richardson torque over this grid and half its cells)" : "");
+  out += fmt::format(
+      "  solver: {} × {} cells (r × z), radial grading {}, axial stretching {}, inertia {}{}\n", r.solver.radial_cells,
+      r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching, r.solver.inertia ? "on" : "off",
+      r.solver.inertia && r.solver.extrapolate ? " (Richardson torque over this grid and half its cells)" : "");
   out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
   if (r.particles) {
     using M = RheometerCase::SuspensionModel;
     out += fmt::format("  suspension model: {}\n", r.suspension_model == M::full_disk      ? "full_disk"
-                                                     : r.suspension_model == M::shear_cell   ? "shear_cell"
-                                                     : r.suspension_model == M::lees_edwards ? "lees_edwards"
-                                                     : r.suspension_model == M::walled_box   ? "walled_box"
-                                                                                             : "auto");
+                                                   : r.suspension_model == M::shear_cell   ? "shear_cell"
+                                                   : r.suspension_model == M::lees_edwards ? "lees_edwards"
+                                                   : r.suspension_model == M::walled_box   ? "walled_box"
+                                                                                           : "auto");
   }
   if (const auto& p = r.particles) {
     out += fmt::format(
@@ -56,20 +57,18 @@ std::string describe_rheometer(const RheometerCase& r) {
                            list({s->volume_fractions.begin(), s->volume_fractions.begin() + s->classes}));
     }
     if (const auto& h = p->hydrodynamics; h.any())
-      out += fmt::format("  near-field hydrodynamics:{}{}{}{}, roughness δ/ā {}, lubrication cutoff h/ā {}{}{}\n",
-                         h.lubrication ? " lubrication" : "", h.single_particle ? " stresslet" : "",
-                         h.stokes_drag ? " stokes_drag" : "", h.repulsion ? " repulsion" : "", h.roughness,
-                         h.lubrication_cutoff,
-                         h.repulsion ? fmt::format(", repulsion F_R0 {} N, λ/ā {}", h.repulsion_force,
-                                                   h.repulsion_length)
-                                     : std::string{},
-                         h.single_particle ? fmt::format(", stresslet viscosity {}", name_of(h.stresslet_viscosity))
-                                           : std::string{});
+      out += fmt::format(
+          "  near-field hydrodynamics:{}{}{}{}, roughness δ/ā {}, lubrication cutoff h/ā {}{}{}\n",
+          h.lubrication ? " lubrication" : "", h.single_particle ? " stresslet" : "",
+          h.stokes_drag ? " stokes_drag" : "", h.repulsion ? " repulsion" : "", h.roughness, h.lubrication_cutoff,
+          h.repulsion ? fmt::format(", repulsion F_R0 {} N, λ/ā {}", h.repulsion_force, h.repulsion_length)
+                      : std::string{},
+          h.single_particle ? fmt::format(", stresslet viscosity {}", name_of(h.stresslet_viscosity)) : std::string{});
     out += fmt::format("  drag: {}{}\n", name_of(p->drag),
-                       !p->drag_automatic                 ? ""
+                       !p->drag_automatic              ? ""
                        : p->drag == DragLaw::di_felice ? " (auto: no lubrication, so the seed's law)"
-                                                          : " (auto: lubrication carries the crowding, so the isolated "
-                                                            "sphere's drag)");
+                                                       : " (auto: lubrication carries the crowding, so the isolated "
+                                                         "sphere's drag)");
   } else {
     out += "  particles: none (single phase)\n";
   }
@@ -137,9 +136,11 @@ std::string describe(const Case& c) {
     if (cavity && l.solver.reordering == "lattice")
       out += fmt::format("  lattice interpolation: {}\n", l.solver.interpolation);
     if (!cavity)
-      out += fmt::format("  free surface: {} PBD sweeps per step, moment-matrix rcond {} (pseudo-inverse), {} (surface), {} gradient\n",
-                         l.solver.pbd_sweeps, l.solver.moment_rcond, l.solver.surface_moment_rcond,
-                         l.solver.gradient == "renormalised" ? "renormalised (eq. 14)" : "centred");
+      out += fmt::format(
+          "  free surface: {} PBD sweeps per step, moment-matrix rcond {} (pseudo-inverse), {} (surface), {} "
+          "gradient\n",
+          l.solver.pbd_sweeps, l.solver.moment_rcond, l.solver.surface_moment_rcond,
+          l.solver.gradient == "renormalised" ? "renormalised (eq. 14)" : "centred");
   }
   return out;
 }

@@ -261,15 +261,19 @@ bool Section::boolean_or(const KeyInfo& key, bool fallback) const {
     if (!node->IsScalar()) throw YAML::Exception(YAML::Mark::null_mark(), "not a scalar");
     return node->as<bool>();
   } catch (const YAML::Exception&) {
-    throw ConfigError({location_of(*doc_, *node), key_path(key.name),
-                       fmt::format("expected true or false, got {}", scalar_text(*node)), describe(key), {}});
+    throw ConfigError({location_of(*doc_, *node),
+                       key_path(key.name),
+                       fmt::format("expected true or false, got {}", scalar_text(*node)),
+                       describe(key),
+                       {}});
   }
 }
 
 namespace {
 std::string to_text(const KeyInfo& key, const YAML::Node& node, const FileLocation& where, const std::string& path) {
   if (!node.IsScalar())
-    throw ConfigError({where, path, fmt::format("expected a text value, got {}", scalar_text(node)), describe(key), {}});
+    throw ConfigError(
+        {where, path, fmt::format("expected a text value, got {}", scalar_text(node)), describe(key), {}});
   return node.Scalar();
 }
 }  // namespace
@@ -295,8 +299,8 @@ std::string check_choice(const KeyInfo& key, const std::string& value, const std
   for (const auto& c : choices) listed += (listed.empty() ? "" : ", ") + c;
   std::string hint;
   if (auto near = nearest(value, choices)) hint = fmt::format("did you mean '{}'?", *near);
-  throw ConfigError({where, path, fmt::format("unknown {} '{}'", key.description, value),
-                     fmt::format("one of: {}", listed), hint});
+  throw ConfigError(
+      {where, path, fmt::format("unknown {} '{}'", key.description, value), fmt::format("one of: {}", listed), hint});
 }
 }  // namespace
 
@@ -307,7 +311,8 @@ std::string Section::choice(const KeyInfo& key, const std::vector<std::string>& 
   return check_choice(key, to_text(key, node, where_node, key_path(key.name)), choices, where_node, key_path(key.name));
 }
 
-std::string Section::choice_or(const KeyInfo& key, std::string fallback, const std::vector<std::string>& choices) const {
+std::string Section::choice_or(const KeyInfo& key, std::string fallback,
+                               const std::vector<std::string>& choices) const {
   Lookup lookup{*this, node_->node, *doc_};
   auto node = lookup.optional(key);
   if (!node) return fallback;
@@ -317,18 +322,19 @@ std::string Section::choice_or(const KeyInfo& key, std::string fallback, const s
 }
 
 namespace {
-std::vector<double> to_numbers(const Section& s, const DocumentState& doc, const KeyInfo& key,
-                               const YAML::Node& node, const Range& range, std::size_t min_size,
-                               std::size_t max_size, const std::string& path) {
+std::vector<double> to_numbers(const Section& s, const DocumentState& doc, const KeyInfo& key, const YAML::Node& node,
+                               const Range& range, std::size_t min_size, std::size_t max_size,
+                               const std::string& path) {
   const FileLocation where = location_of(doc, node);
   const std::string size_text =
       max_size == std::numeric_limits<std::size_t>::max()
           ? fmt::format("at least {}", min_size)
           : (min_size == max_size ? fmt::format("exactly {}", min_size) : fmt::format("{} to {}", min_size, max_size));
-  const std::string expected = fmt::format("{}: a list of {} numbers, each {}", describe(key), size_text, range.phrase());
+  const std::string expected =
+      fmt::format("{}: a list of {} numbers, each {}", describe(key), size_text, range.phrase());
   if (!node.IsSequence())
-    throw ConfigError({where, path, fmt::format("expected a list like [1, 2, 3], got {}", scalar_text(node)),
-                       expected, {}});
+    throw ConfigError(
+        {where, path, fmt::format("expected a list like [1, 2, 3], got {}", scalar_text(node)), expected, {}});
   if (node.size() < min_size || node.size() > max_size)
     throw ConfigError({where, path, fmt::format("the list has {} entries", node.size()), expected, {}});
   std::vector<double> values;
@@ -408,8 +414,7 @@ Document Document::from_string(std::string_view text, std::string name) {
   try {
     state->root = YAML::Load(state->text);
   } catch (const YAML::ParserException& e) {
-    throw ConfigError({FileLocation{state->name, e.mark.line + 1, e.mark.column + 1},
-                       "",
+    throw ConfigError({FileLocation{state->name, e.mark.line + 1, e.mark.column + 1}, "",
                        fmt::format("malformed YAML: {}", e.msg),
                        "YAML 'key: value' lines, nested by indentation with spaces (no tabs)",
                        "check the indentation and the ':' on this line and the one before"});

@@ -21,9 +21,12 @@ constexpr const char* file_pattern = "[%Y-%m-%d %H:%M:%S.%e] [%l] %v";
 
 spdlog::level::level_enum level_of(Verbosity verbosity) {
   switch (verbosity) {
-    case Verbosity::quiet: return spdlog::level::warn;
-    case Verbosity::normal: return spdlog::level::info;
-    case Verbosity::verbose: return spdlog::level::debug;
+    case Verbosity::quiet:
+      return spdlog::level::warn;
+    case Verbosity::normal:
+      return spdlog::level::info;
+    case Verbosity::verbose:
+      return spdlog::level::debug;
   }
   return spdlog::level::info;
 }
@@ -64,8 +67,8 @@ Log Log::with_file(const std::filesystem::path& path) const {
     std::error_code ec;
     std::filesystem::create_directories(directory, ec);
     if (ec)
-      throw RunError(fmt::format("cannot create directory '{}' for the log file: {}", directory.string(),
-                                 ec.message()));
+      throw RunError(
+          fmt::format("cannot create directory '{}' for the log file: {}", directory.string(), ec.message()));
   }
   spdlog::sink_ptr file_sink;
   try {

@@ -38,8 +38,7 @@ fs::path temporary_name(const fs::path& path) {
   static std::atomic<unsigned long long> counter{0};
   const fs::path directory = path.parent_path();
   while (true) {
-    fs::path tmp = directory / fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(),
-                                           counter.fetch_add(1));
+    fs::path tmp = directory / fmt::format(".{}.tmp-{}-{}", path.filename().string(), ::getpid(), counter.fetch_add(1));
     std::error_code ec;
     if (!fs::exists(tmp, ec)) return tmp;  // a stale one from an earlier process with our pid
   }
@@ -49,13 +48,12 @@ fs::path temporary_name(const fs::path& path) {
 void sync_file(const fs::path& file, const fs::path& target) {
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0)
-    throw RunError(fmt::format("cannot write '{}': the temporary '{}' was not created ({})",
-                               target.string(), file.string(), errno_message(errno)));
+    throw RunError(fmt::format("cannot write '{}': the temporary '{}' was not created ({})", target.string(),
+                               file.string(), errno_message(errno)));
   if (::fsync(fd) != 0) {
     const int error = errno;
     ::close(fd);
-    throw RunError(fmt::format("cannot write '{}': fsync failed ({})", target.string(),
-                               errno_message(error)));
+    throw RunError(fmt::format("cannot write '{}': fsync failed ({})", target.string(), errno_message(error)));
   }
   ::close(fd);
 }
@@ -102,8 +100,7 @@ void replace_atomically(const fs::path& path, const std::function<void(const fs:
 void write_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
   replace_atomically(path, [&](const fs::path& tmp) {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw RunError(fmt::format("cannot create '{}': {}", tmp.string(), errno_message(errno)));
+    if (!out) throw RunError(fmt::format("cannot create '{}': {}", tmp.string(), errno_message(errno)));
     write(out);
     out.flush();
     if (!out) throw RunError(fmt::format("cannot write '{}': {}", path.string(), errno_message(errno)));
@@ -118,9 +115,8 @@ void write_atomically(const fs::path& path, const std::function<void(std::ostrea
 namespace {
 template <class Json>
 void write_any_json(const fs::path& path, const Json& value) {
-  write_atomically(path, [&](std::ostream& out) {
-    out << value.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
-  });
+  write_atomically(
+      path, [&](std::ostream& out) { out << value.dump(2, ' ', false, Json::error_handler_t::replace) << '\n'; });
 }
 }  // namespace
 
@@ -150,8 +146,8 @@ CsvTable::CsvTable(std::vector<Column> numeric_columns, std::optional<Column> te
 
 void CsvTable::add_row(std::span<const double> values, std::string text) {
   if (values.size() != columns_.size())
-    throw std::invalid_argument(fmt::format("CsvTable::add_row: {} values for {} columns",
-                                            values.size(), columns_.size()));
+    throw std::invalid_argument(
+        fmt::format("CsvTable::add_row: {} values for {} columns", values.size(), columns_.size()));
   if (!text_column_ && !text.empty())
     throw std::invalid_argument("CsvTable::add_row: text given but the table has no text column");
   values_.insert(values_.end(), values.begin(), values.end());
@@ -276,8 +272,7 @@ std::vector<CsvRecord> parse_records(const std::string& text, const fs::path& pa
       record_has_content = true;
     }
   }
-  if (in_quotes)
-    throw RunError(fmt::format("{}:{}: unterminated quoted CSV cell", path.string(), record.line));
+  if (in_quotes) throw RunError(fmt::format("{}:{}: unterminated quoted CSV cell", path.string(), record.line));
   end_record(line);
   return records;
 }
@@ -329,14 +324,14 @@ CsvTable read_csv(const fs::path& path, bool first_column_is_text) {
   for (std::size_t r = 1; r < records.size(); ++r) {
     const CsvRecord& record = records[r];
     if (record.cells.size() != header.size())
-      throw RunError(fmt::format("{}:{}: {} cells, the header has {}", path.string(), record.line,
-                                 record.cells.size(), header.size()));
+      throw RunError(fmt::format("{}:{}: {} cells, the header has {}", path.string(), record.line, record.cells.size(),
+                                 header.size()));
     values.clear();
     for (std::size_t j = first_numeric; j < record.cells.size(); ++j) {
       const auto x = parse_number(record.cells[j]);
       if (!x)
-        throw RunError(fmt::format("{}:{}: column '{}': '{}' is not a number", path.string(),
-                                   record.line, header[j], record.cells[j]));
+        throw RunError(fmt::format("{}:{}: column '{}': '{}' is not a number", path.string(), record.line, header[j],
+                                   record.cells[j]));
       values.push_back(*x);
     }
     table.add_row(values, first_column_is_text ? record.cells.front() : std::string());
@@ -414,8 +409,7 @@ bool group_exists(const H5::H5File& file, std::string_view group_path) {
 }
 
 void check_attribute_is_scalar(const H5::Attribute& a, const std::string& name) {
-  if (a.getSpace().getSimpleExtentNpoints() != 1)
-    throw RunError(fmt::format("attribute '{}' is not a scalar", name));
+  if (a.getSpace().getSimpleExtentNpoints() != 1) throw RunError(fmt::format("attribute '{}' is not a scalar", name));
 }
 
 void collect_name(H5::H5Object&, const H5std_string name, void* names) {
@@ -472,8 +466,7 @@ void write_hdf5(const fs::path& path, const Hdf5Content& content) {
         const std::vector<hsize_t> dims(d.shape.begin(), d.shape.end());
         const H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
         H5::DataSet dataset = file.createDataSet(d.path, H5::PredType::IEEE_F64LE, space,
-                                                 H5::DSetCreatPropList::DEFAULT,
-                                                 H5::DSetAccPropList::DEFAULT, lcpl);
+                                                 H5::DSetCreatPropList::DEFAULT, H5::DSetAccPropList::DEFAULT, lcpl);
         if (!d.data.empty()) dataset.write(d.data.data(), H5::PredType::NATIVE_DOUBLE);
         if (!d.unit.empty()) write_attribute(dataset, {"unit", d.unit});
         write_attributes(dataset, d.attributes);
@@ -552,14 +545,12 @@ void put_float(std::string& bytes, double value) {
   put_big_endian(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(value)));
 }
 
-void put_int32(std::string& bytes, std::int32_t value) {
-  put_big_endian(bytes, std::bit_cast<std::uint32_t>(value));
-}
+void put_int32(std::string& bytes, std::int32_t value) { put_big_endian(bytes, std::bit_cast<std::uint32_t>(value)); }
 
 // Writes count tuples of `components` values as 3-component tuples (padding with zeros) when
 // `as_vectors`, else as they are. Ends with a newline, as VTK's own writers do.
-void write_tuples(std::ostream& out, std::span<const double> values, std::size_t count,
-                  int components, bool as_vectors) {
+void write_tuples(std::ostream& out, std::span<const double> values, std::size_t count, int components,
+                  bool as_vectors) {
   const auto stride = static_cast<std::size_t>(components);
   const std::size_t width = as_vectors ? 3 : stride;
   std::string bytes;
@@ -580,8 +571,8 @@ void check_fields(const std::vector<VtkField>& fields, std::size_t count, const 
     if (f.name.empty() || f.name.find_first_of(" \t\r\n") != std::string::npos)
       throw std::invalid_argument(fmt::format("{}: field name '{}' must be non-empty without spaces", who, f.name));
     if (f.components < 1 || f.components > 3)
-      throw std::invalid_argument(fmt::format("{}: field '{}' has {} components (1 to 3 allowed)", who, f.name,
-                                              f.components));
+      throw std::invalid_argument(
+          fmt::format("{}: field '{}' has {} components (1 to 3 allowed)", who, f.name, f.components));
     if (f.values.size() != count * static_cast<std::size_t>(f.components))
       throw std::invalid_argument(fmt::format("{}: field '{}' has {} values, expected {} x {}", who, f.name,
                                               f.values.size(), count, f.components));
@@ -606,14 +597,14 @@ void write_vtk_header(std::ostream& out, std::string_view dataset) {
 
 }  // namespace
 
-void write_vtk_points(const fs::path& path, std::span<const double> positions,
-                      const std::vector<VtkField>& point_data, int dimension) {
+void write_vtk_points(const fs::path& path, std::span<const double> positions, const std::vector<VtkField>& point_data,
+                      int dimension) {
   constexpr const char* who = "write_vtk_points";
   check_dimension(dimension, who);
   const auto dim = static_cast<std::size_t>(dimension);
   if (positions.size() % dim != 0)
-    throw std::invalid_argument(fmt::format("{}: {} coordinates are not a multiple of {}", who,
-                                            positions.size(), dimension));
+    throw std::invalid_argument(
+        fmt::format("{}: {} coordinates are not a multiple of {}", who, positions.size(), dimension));
   const std::size_t count = positions.size() / dim;
   if (2 * count > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw std::invalid_argument(fmt::format("{}: {} points exceed the format's 32-bit indices", who, count));
@@ -645,19 +636,19 @@ void write_vtk_points(const fs::path& path, std::span<const std::array<double, 3
   write_vtk_points(path, flat, point_data, 3);
 }
 
-void write_vtk_structured_grid(const fs::path& path, std::array<std::size_t, 3> dims,
-                               std::span<const double> points, const std::vector<VtkField>& point_data,
-                               const std::vector<VtkField>& cell_data, int dimension) {
+void write_vtk_structured_grid(const fs::path& path, std::array<std::size_t, 3> dims, std::span<const double> points,
+                               const std::vector<VtkField>& point_data, const std::vector<VtkField>& cell_data,
+                               int dimension) {
   constexpr const char* who = "write_vtk_structured_grid";
   check_dimension(dimension, who);
   for (const std::size_t n : dims)
     if (n == 0) throw std::invalid_argument(fmt::format("{}: a grid dimension is 0", who));
   const std::size_t point_count = dims[0] * dims[1] * dims[2];
-  const std::size_t cell_count =
-      std::max<std::size_t>(dims[0] - 1, 1) * std::max<std::size_t>(dims[1] - 1, 1) * std::max<std::size_t>(dims[2] - 1, 1);
+  const std::size_t cell_count = std::max<std::size_t>(dims[0] - 1, 1) * std::max<std::size_t>(dims[1] - 1, 1) *
+                                 std::max<std::size_t>(dims[2] - 1, 1);
   if (points.size() != point_count * static_cast<std::size_t>(dimension))
-    throw std::invalid_argument(fmt::format("{}: {} coordinates for {} x {} x {} points in {}D", who,
-                                            points.size(), dims[0], dims[1], dims[2], dimension));
+    throw std::invalid_argument(fmt::format("{}: {} coordinates for {} x {} x {} points in {}D", who, points.size(),
+                                            dims[0], dims[1], dims[2], dimension));
   check_fields(point_data, point_count, who);
   check_fields(cell_data, cell_count, who);
 
@@ -672,7 +663,6 @@ void write_vtk_structured_grid(const fs::path& path, std::array<std::size_t, 3> 
 }
 
 namespace {
-
 
 void check_times(std::span<const TimeSeriesEntry> entries, const char* who) {
   for (const TimeSeriesEntry& e : entries)
@@ -706,11 +696,20 @@ std::string escape_markup(std::string_view s) {
   std::string out;
   for (const char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;

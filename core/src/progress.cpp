@@ -72,9 +72,7 @@ Progress::~Progress() {
 }
 
 Progress::Clock Progress::steady_seconds() {
-  return [] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  };
+  return [] { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); };
 }
 
 std::string Progress::format_duration(double seconds) {
@@ -142,11 +140,10 @@ void Progress::finish() {
 
 void Progress::draw_terminal_line(std::string_view tail) {
   const double fraction = percent() / 100.0;
-  const auto filled = std::min(options_.bar_width,
-                               static_cast<std::size_t>(fraction * static_cast<double>(options_.bar_width)));
-  std::string line = fmt::format("{}{}[{}{}] {:5.1f}%  {}", label_, label_.empty() ? "" : " ",
-                                 std::string(filled, '#'), std::string(options_.bar_width - filled, '.'),
-                                 percent(), counts());
+  const auto filled =
+      std::min(options_.bar_width, static_cast<std::size_t>(fraction * static_cast<double>(options_.bar_width)));
+  std::string line = fmt::format("{}{}[{}{}] {:5.1f}%  {}", label_, label_.empty() ? "" : " ", std::string(filled, '#'),
+                                 std::string(options_.bar_width - filled, '.'), percent(), counts());
   if (!detail_.empty()) line += "  " + detail_;
   line += "  ";
   line += tail;

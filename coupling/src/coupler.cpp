@@ -12,21 +12,19 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void check_settings(const CouplerSettings& s) {
   if (!(std::isfinite(s.pressure_gradient_filter_steps) && s.pressure_gradient_filter_steps >= 0.0))
-    throw std::invalid_argument(fmt::format(
-        "coupling: pressure_gradient_filter_steps = {} is out of range, expected a finite value >= 0",
-        s.pressure_gradient_filter_steps));
+    throw std::invalid_argument(
+        fmt::format("coupling: pressure_gradient_filter_steps = {} is out of range, expected a finite value >= 0",
+                    s.pressure_gradient_filter_steps));
   if (s.coupling_interval < 1)
     throw std::invalid_argument(
         fmt::format("coupling: coupling_interval = {} is out of range, expected an integer >= 1", s.coupling_interval));
   if (!(std::isfinite(s.fluid_time_step) && s.fluid_time_step > 0.0))
-    throw std::invalid_argument(
-        fmt::format("coupling: fluid_time_step = {} s is out of range, expected a finite value > 0", s.fluid_time_step));
+    throw std::invalid_argument(fmt::format(
+        "coupling: fluid_time_step = {} s is out of range, expected a finite value > 0", s.fluid_time_step));
   if (!(s.time_step_tolerance > 0.0 && s.time_step_tolerance < 1.0))
     throw std::invalid_argument("coupling: time_step_tolerance must be in (0, 1)");
   if (s.forces.empty()) throw std::invalid_argument("coupling: no force models given (e.g. di_felice)");

@@ -6,9 +6,9 @@
 
 #include <fmt/format.h>
 
-#include "rheosim/core/config.hpp"
 #include "drag/di_felice.hpp"
 #include "drag/schiller_naumann.hpp"
+#include "rheosim/core/config.hpp"
 
 namespace rheosim::coupling {
 namespace {

@@ -27,8 +27,9 @@ double MomentumExchange::basis_angle(std::size_t cell, const ParticleSample& par
 
 void MomentumExchange::build(const ParticleCellMap& map, std::span<const ParticleSample> samples,
                              std::span<const ParticleForce> forces, const CellVectorField* cell_velocity) {
-  if (cell_velocity && (cell_velocity->radial.size() != radial_.size() || cell_velocity->azimuthal.size() != radial_.size() ||
-                        cell_velocity->axial.size() != radial_.size()))
+  if (cell_velocity &&
+      (cell_velocity->radial.size() != radial_.size() || cell_velocity->azimuthal.size() != radial_.size() ||
+       cell_velocity->axial.size() != radial_.size()))
     throw std::invalid_argument("MomentumExchange: the cell velocity field does not match the grid");
   if (cell_velocity)
     cell_velocity_ = *cell_velocity;

@@ -10,15 +10,16 @@ namespace rheosim::coupling {
 FluidCellFields::FluidCellFields(const fluid::CylindricalGrid& grid)
     : grid_(&grid), n_r_(grid.radial_cells()), n_theta_(grid.azimuthal_cells()), n_z_(grid.axial_cells()) {
   const std::size_t n = grid.cell_count();
-  for (CellVectorField* f : {&velocity_, &pressure_gradient_, &stress_divergence_, &laplacian_, &grad_a_, &grad_b_,
-                             &grad_c_, &grad_mu_})
+  for (CellVectorField* f :
+       {&velocity_, &pressure_gradient_, &stress_divergence_, &laplacian_, &grad_a_, &grad_b_, &grad_c_, &grad_mu_})
     f->resize(n);
   viscosity_.assign(n, 0.0);
 }
 
 void FluidCellFields::set_pressure_gradient_filter(double time_constant) {
   if (!(std::isfinite(time_constant) && time_constant >= 0.0))
-    throw std::invalid_argument("FluidCellFields: the pressure-gradient filter time constant must be finite and >= 0 s");
+    throw std::invalid_argument(
+        "FluidCellFields: the pressure-gradient filter time constant must be finite and >= 0 s");
   filter_time_constant_ = time_constant;
 }
 

@@ -72,8 +72,9 @@ void add_builtin_force_models(ForceRegistry& registry) {
     registry.add(law, [](const core::Section& section) -> std::unique_ptr<ForceModel> {
       return std::make_unique<DragForce>(make_drag_model(section));
     });
-  registry.add(std::string(PressureGradientForce::model_name),
-               [](const core::Section&) -> std::unique_ptr<ForceModel> { return std::make_unique<PressureGradientForce>(); });
+  registry.add(std::string(PressureGradientForce::model_name), [](const core::Section&) -> std::unique_ptr<ForceModel> {
+    return std::make_unique<PressureGradientForce>();
+  });
   registry.add(std::string(ViscousForce::model_name),
                [](const core::Section&) -> std::unique_ptr<ForceModel> { return std::make_unique<ViscousForce>(); });
 }
@@ -96,7 +97,9 @@ std::unique_ptr<const ForceModel> make_force_model(std::string_view name) {
 
 std::vector<std::string> seed_force_models() { return force_models(core::DragLaw::di_felice); }
 
-std::vector<std::string> force_models(core::DragLaw drag) { return {core::name_of(drag), "pressure_gradient", "viscous"}; }
+std::vector<std::string> force_models(core::DragLaw drag) {
+  return {core::name_of(drag), "pressure_gradient", "viscous"};
+}
 
 FluidSampler::FluidSampler(const fluid::CylindricalGrid& grid) : fields_(grid) {}
 
@@ -121,8 +124,8 @@ void FluidSampler::sample(const fluid::TransientSolver& solver, const VoidFracti
   const std::vector<fluid::CylindricalVelocity> u = solver.sample_velocity(points_);
   const ParticleCellMap& map = void_fraction.map();
   if (map.particle_count() != n)
-    throw std::invalid_argument(fmt::format("FluidSampler: the void-fraction map has {} particles, expected {}",
-                                            map.particle_count(), n));
+    throw std::invalid_argument(
+        fmt::format("FluidSampler: the void-fraction map has {} particles, expected {}", map.particle_count(), n));
   const auto eps = void_fraction.void_fraction();
   const auto mu = fields_.viscosity();
   const CellVectorField& gp = fields_.pressure_gradient();

@@ -46,13 +46,13 @@ inline constexpr std::size_t no_partner = std::numeric_limits<std::size_t>::max(
 // linear in the velocities): particle i and either particle j or a plate (j == no_partner).
 struct Gap {
   std::size_t i = 0, j = no_partner, plate = 0;
-  Vector3 n{};            // unit normal from i towards j (or the plate)
-  Vector3 separation{};   // x_j − x_i (minimum image), or the plate point under i minus x_i
-  Vector3 plate_velocity{};  // U_w (plates only)
-  double gap_ratio = 0.0;    // h/ā before regularisation
-  double k_squeeze = 0.0;    // 6πμa_i (g1/ξ + g2 ℓ)          [N·s/m]
-  double k_shear = 0.0;      // 6πμa_i g4 ℓ                    [N·s/m]
-  double b_i = 0.0, b_j = 0.0;  // 4πμa_i² b_s ℓ, 4πμa_i² b_o ℓ [N·s]
+  Vector3 n{};                                // unit normal from i towards j (or the plate)
+  Vector3 separation{};                       // x_j − x_i (minimum image), or the plate point under i minus x_i
+  Vector3 plate_velocity{};                   // U_w (plates only)
+  double gap_ratio = 0.0;                     // h/ā before regularisation
+  double k_squeeze = 0.0;                     // 6πμa_i (g1/ξ + g2 ℓ)          [N·s/m]
+  double k_shear = 0.0;                       // 6πμa_i g4 ℓ                    [N·s/m]
+  double b_i = 0.0, b_j = 0.0;                // 4πμa_i² b_s ℓ, 4πμa_i² b_o ℓ [N·s]
   double c_ii = 0.0, c_ij = 0.0, c_jj = 0.0;  // 8πμa_i³ c_s ℓ, 8πμa_i³ c_o ℓ, 8πμa_j³ c_s(1/λ) ℓ [N·m·s]
 };
 
@@ -65,7 +65,8 @@ void set_plate_coefficients(Gap& gap, double radius, double gap_width, double vi
 // Forces and torques of one gap for generalized velocities V (6 per particle: U then Ω,
 // interleaved as [Ux Uy Uz Ωx Ωy Ωz] per particle); adds −R_gap V (and, for plates, the plate
 // velocity term) to out (same layout).
-void add_gap_forces(const Gap& gap, std::span<const double> velocities, std::span<double> out, bool include_plate_drive);
+void add_gap_forces(const Gap& gap, std::span<const double> velocities, std::span<double> out,
+                    bool include_plate_drive);
 // The force on particle i from this gap for generalized velocities V (with the plate drive).
 [[nodiscard]] Vector3 gap_force_on_i(const Gap& gap, std::span<const double> velocities);
 // The particles' own 6×6 blocks of R_gap (row-major, 36 per particle, order U then Ω) added

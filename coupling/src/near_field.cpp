@@ -108,8 +108,8 @@ class PairFinder {
       if (scene.periodic[d]) {
         length_[d] = scene.box_high[d] - scene.box_low[d];
         if (!(length_[d] > 0.0))
-          throw std::invalid_argument(fmt::format("NearFieldScene: periodic direction {} has box length {}", d,
-                                                  length_[d]));
+          throw std::invalid_argument(
+              fmt::format("NearFieldScene: periodic direction {} has box length {}", d, length_[d]));
         low_[d] = scene.box_low[d];
       } else {
         double lo = infinity, hi = -infinity;
@@ -226,12 +226,12 @@ class CombinedNearField final : public NearFieldModel {
  private:
   struct System {
     std::vector<lubrication::Gap> gaps;
-    std::vector<double> drag;      // 6πμa per particle (stokes_drag)
-    std::vector<double> rotation;  // 8πμa³ per particle (single_particle)
+    std::vector<double> drag;          // 6πμa per particle (stokes_drag)
+    std::vector<double> rotation;      // 8πμa³ per particle (single_particle)
     std::vector<double> ambient_spin;  // ω∞ = ½∇×u∞, 3 per particle (single_particle)
-    std::vector<double> drive;     // F₀, 6 per particle
-    std::vector<double> blocks;    // the particles' own 6×6 blocks of R, 36 per particle
-    std::vector<Vector3> repulsion;  // repulsive force on i of each gap (repulsion; else empty)
+    std::vector<double> drive;         // F₀, 6 per particle
+    std::vector<double> blocks;        // the particles' own 6×6 blocks of R, 36 per particle
+    std::vector<Vector3> repulsion;    // repulsive force on i of each gap (repulsion; else empty)
   };
   [[nodiscard]] System assemble(const ParticleSnapshot& p, const NearFieldScene& scene, const AmbientFlow& ambient,
                                 std::span<const double> velocities, NearFieldResult* result) const;
@@ -392,12 +392,14 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
   const std::size_t n = p.size();
   if (p.positions.size() != 3 * n || p.velocities.size() != 3 * n ||
       (!p.angular_velocities.empty() && p.angular_velocities.size() != 3 * n))
-    throw std::invalid_argument(fmt::format("NearFieldModel::evaluate: {} radii but {} positions, {} velocities, {} "
-                                            "angular velocities (expected 3 per particle)",
-                                            n, p.positions.size(), p.velocities.size(), p.angular_velocities.size()));
+    throw std::invalid_argument(
+        fmt::format("NearFieldModel::evaluate: {} radii but {} positions, {} velocities, {} "
+                    "angular velocities (expected 3 per particle)",
+                    n, p.positions.size(), p.velocities.size(), p.angular_velocities.size()));
   if (result.forces.size() != 3 * n || result.torques.size() != 3 * n ||
       result.plate_forces.size() != scene.plates.size())
-    throw std::invalid_argument("NearFieldModel::evaluate: result not sized by NearFieldResult::reset(particles, plates)");
+    throw std::invalid_argument(
+        "NearFieldModel::evaluate: result not sized by NearFieldResult::reset(particles, plates)");
   if (!terms_.lubrication && !terms_.single_particle && !terms_.stokes_drag) return;
   const bool implicit = p.time_step > 0.0;
   if (implicit && (p.masses.size() != n || p.other_forces.size() != 3 * n || p.other_torques.size() != 3 * n))
@@ -439,7 +441,8 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
       for (std::size_t k = 0; k < x.size(); ++k) out[k] += inertia[k] * x[k];
     };
     const auto precondition = [&](std::span<const double> in, std::span<double> out) {
-      for (std::size_t i = 0; i < n; ++i) cholesky_6_solve(factor.data() + 36 * i, in.data() + 6 * i, out.data() + 6 * i);
+      for (std::size_t i = 0; i < n; ++i)
+        cholesky_6_solve(factor.data() + 36 * i, in.data() + 6 * i, out.data() + 6 * i);
     };
     // Initial guess: the current velocities V (the previous step's V⁺): in a lubrication-
     // dominated flow the velocities change little per step, while V* carries the full kick of
@@ -593,10 +596,11 @@ std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSetti
   // The repulsion settings only bind when the term is on (its length is bounded by the cutoff).
   if (terms.repulsion) {
     if (!terms.lubrication)
-      throw std::invalid_argument("hydrodynamics: 'repulsion' needs 'lubrication' (it acts on the lubrication gap list)");
+      throw std::invalid_argument(
+          "hydrodynamics: 'repulsion' needs 'lubrication' (it acts on the lubrication gap list)");
     if (!(settings.repulsion_force > 0.0 && std::isfinite(settings.repulsion_force)))
-      throw std::invalid_argument(fmt::format("hydrodynamics.repulsion_force = {}, expected > 0 (F_R0 in N)",
-                                              settings.repulsion_force));
+      throw std::invalid_argument(
+          fmt::format("hydrodynamics.repulsion_force = {}, expected > 0 (F_R0 in N)", settings.repulsion_force));
     if (!(settings.repulsion_length >= 1e-3 && settings.repulsion_length <= settings.lubrication_cutoff / 5.0))
       throw std::invalid_argument(fmt::format(
           "hydrodynamics.repulsion_length = {}, expected 1e-3 <= λ/ā <= lubrication_cutoff/5 = {} (the force is "

@@ -14,10 +14,8 @@ NearFieldStepHook::NearFieldStepHook(dem::Engine& engine, std::shared_ptr<const 
   if (!model_) throw std::invalid_argument("NearFieldStepHook: no model");
   sums_.plate_forces.assign(scene_.plates.size(), Vector3{});
   sums_.plate_moments.assign(scene_.plates.size(), Vector3{});
-  engine_.set_step_force_callback(
-      [this](const dem::StepState& state, std::span<double> forces, std::span<double> torques) {
-        on_step(state, forces, torques);
-      });
+  engine_.set_step_force_callback([this](const dem::StepState& state, std::span<double> forces,
+                                         std::span<double> torques) { on_step(state, forces, torques); });
 }
 
 NearFieldStepHook::~NearFieldStepHook() {

@@ -20,9 +20,7 @@ namespace rheosim::coupling {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void check_settings(const ShearCellPointSettings& s) {
   const auto fail = [](std::string_view field, double value, std::string_view expected) {
@@ -44,10 +42,23 @@ void check_settings(const ShearCellPointSettings& s) {
 class FluidColumn {
  public:
   FluidColumn(const ShearCellPointSettings& s, double area)
-      : rho_(s.fluid.density), rheology_(s.fluid.rheology.get()), gap_(s.gap), n_(static_cast<std::size_t>(s.axial_cells)),
-        dz_(s.gap / s.axial_cells), volume_(area * dz_), plate_speed_(s.shear_rate * s.gap),
-        ux_(n_), uy_(n_, 0.0), eps_(n_, 1.0), source_x_(n_, 0.0), source_y_(n_, 0.0), implicit_(n_, 0.0),
-        face_mu_(n_ + 1), div_tau_x_(n_), div_tau_y_(n_), cell_mu_(n_) {
+      : rho_(s.fluid.density),
+        rheology_(s.fluid.rheology.get()),
+        gap_(s.gap),
+        n_(static_cast<std::size_t>(s.axial_cells)),
+        dz_(s.gap / s.axial_cells),
+        volume_(area * dz_),
+        plate_speed_(s.shear_rate * s.gap),
+        ux_(n_),
+        uy_(n_, 0.0),
+        eps_(n_, 1.0),
+        source_x_(n_, 0.0),
+        source_y_(n_, 0.0),
+        implicit_(n_, 0.0),
+        face_mu_(n_ + 1),
+        div_tau_x_(n_),
+        div_tau_y_(n_),
+        cell_mu_(n_) {
     for (std::size_t k = 0; k < n_; ++k) ux_[k] = plate_speed_ * centre(k) / gap_;  // Couette start
     update_viscosity();
   }
@@ -220,11 +231,15 @@ WindowMeans window_means(const std::vector<ShearCellStepRecord>& series, double 
       m.bulk += r.bulk;
       auto& p = m.parts;
       const auto& q = r.parts;
-      for (auto [to, from] : {std::pair{&p.fluid, q.fluid}, {&p.stresslet, q.stresslet}, {&p.couple, q.couple},
+      for (auto [to, from] : {std::pair{&p.fluid, q.fluid},
+                              {&p.stresslet, q.stresslet},
+                              {&p.couple, q.couple},
                               {&p.pair_lubrication, q.pair_lubrication},
                               {&p.pair_lubrication_antisymmetric, q.pair_lubrication_antisymmetric},
-                              {&p.plate_lubrication, q.plate_lubrication}, {&p.pair_contact, q.pair_contact},
-                              {&p.plate_contact, q.plate_contact}, {&p.drag, q.drag}})
+                              {&p.plate_lubrication, q.plate_lubrication},
+                              {&p.pair_contact, q.pair_contact},
+                              {&p.plate_contact, q.plate_contact},
+                              {&p.drag, q.drag}})
         *to += from;
       ++n;
     }
@@ -247,8 +262,9 @@ NearFieldScene make_near_field_scene(const dem::ShearCellScene& scene) {
   NearFieldScene s;
   const double u = scene.plate_velocity();
   s.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
-  s.plates.push_back({.z = scene.params().gap, .faces_up = false,
-                      .velocity_at = [u](const Vector3&) { return Vector3{u, 0.0, 0.0}; }});
+  s.plates.push_back({.z = scene.params().gap, .faces_up = false, .velocity_at = [u](const Vector3&) {
+                        return Vector3{u, 0.0, 0.0};
+                      }});
   s.periodic = {true, true, false};
   const auto low = scene.box_low();
   const auto high = scene.box_high();
@@ -277,24 +293,32 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
     const double g = core::units::standard_gravity;
     std::optional<std::array<double, 3>> gravity;
     if (settings.gravity) gravity = std::array<double, 3>{0.0, 0.0, -(1.0 - settings.fluid.density / q.density) * g};
-    scene = std::make_unique<dem::ShearCellScene>(dem::ShearCellScene::Params{
-        .gap = settings.gap, .cell_length = settings.cell_length, .cell_width = settings.cell_width,
-        .particles = q, .shear_rate = settings.shear_rate, .time_step_fraction = settings.time_step_fraction,
-        .time_step = settings.dem_time_step, .gravity = gravity, .seed = settings.seed,
-        .run_directory = settings.run_directory, .stress_sample_interval = settings.coupling_interval});
+    scene = std::make_unique<dem::ShearCellScene>(
+        dem::ShearCellScene::Params{.gap = settings.gap,
+                                    .cell_length = settings.cell_length,
+                                    .cell_width = settings.cell_width,
+                                    .particles = q,
+                                    .shear_rate = settings.shear_rate,
+                                    .time_step_fraction = settings.time_step_fraction,
+                                    .time_step = settings.dem_time_step,
+                                    .gravity = gravity,
+                                    .seed = settings.seed,
+                                    .run_directory = settings.run_directory,
+                                    .stress_sample_interval = settings.coupling_interval});
     out.dem_time_step = scene->time_step();
     out.particles = scene->total_particle_count();
     out.volume_fraction = scene->volume_fraction();
     // Pair contact virial (LIGGGHTS' pressure tensor, virial part, xz), averaged over each
     // coupling interval, for the bulk-stress cross-check.
-    scene->engine().commands(
-        {"compute rheosim_cell_temp all temp", "compute rheosim_cell_pressure all pressure rheosim_cell_temp virial",
-         fmt::format("fix rheosim_cell_virial all ave/time 1 {0} {0} c_rheosim_cell_pressure[5]",
-                     settings.coupling_interval)});
+    scene->engine().commands({"compute rheosim_cell_temp all temp",
+                              "compute rheosim_cell_pressure all pressure rheosim_cell_temp virial",
+                              fmt::format("fix rheosim_cell_virial all ave/time 1 {0} {0} c_rheosim_cell_pressure[5]",
+                                          settings.coupling_interval)});
   } else {
     // The column alone runs at the step the particles would have (as run_point does at φ = 0).
     const double rayleigh = q.diameter > 0.0 && q.density > 0.0 && q.youngs_modulus > 0.0
-                                ? dem::rayleigh_time({.radius = 0.5 * q.diameter, .density = q.density,
+                                ? dem::rayleigh_time({.radius = 0.5 * q.diameter,
+                                                      .density = q.density,
                                                       .youngs_modulus = q.youngs_modulus,
                                                       .poisson_ratio = q.poisson_ratio})
                                 : 1e-7 / 0.3;
@@ -324,7 +348,9 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   // schemes' sub-points and plate mirroring are reused as they are; only the z index matters.
   const double half_diagonal = 0.5 * std::hypot(settings.cell_length, settings.cell_width);
   const fluid::CylindricalGrid grid({.radius = half_diagonal + 2.0 * std::max(q.diameter, settings.gap),
-                                     .gap = settings.gap, .radial_cells = 1, .azimuthal_cells = 1,
+                                     .gap = settings.gap,
+                                     .radial_cells = 1,
+                                     .azimuthal_cells = 1,
                                      .axial_cells = settings.axial_cells});
   const CellLocator locator(grid);
   const auto scheme = make_void_fraction_scheme(settings.void_fraction);
@@ -388,9 +414,12 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
           div_y += w * column.div_tau_y(share.cell);
         }
         const Vector3 up = view.velocity(p);
-        const DragInput input{.fluid_velocity = column.velocity_at(shifted[3 * p + 2]), .particle_velocity = up,
-                              .void_fraction = eps_p, .diameter = 2.0 * radii[p],
-                              .fluid_density = settings.fluid.density, .fluid_viscosity = mu_p};
+        const DragInput input{.fluid_velocity = column.velocity_at(shifted[3 * p + 2]),
+                              .particle_velocity = up,
+                              .void_fraction = eps_p,
+                              .diameter = 2.0 * radii[p],
+                              .fluid_density = settings.fluid.density,
+                              .fluid_viscosity = mu_p};
         const double beta = drag->exchange_coefficient(input);
         for (int c = 0; c < 3; ++c) forces[3 * p + c] = beta * (input.fluid_velocity[c] - up[c]);
         if (settings.viscous_force) {
@@ -410,7 +439,8 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
       // below/above the centre, the fluid forces' offset, and the near-field virial below.
       const double a = 0.5 * q.diameter;
       const double pair_contact = -engine.fix_scalar("rheosim_cell_virial") * box_volume;
-      record.bulk = (pair_contact + a * area * (record.contact_top + record.contact_bottom) + drag_virial) / cell_volume;
+      record.bulk =
+          (pair_contact + a * area * (record.contact_top + record.contact_bottom) + drag_virial) / cell_volume;
       record.parts.pair_contact = pair_contact / cell_volume;
       record.parts.plate_contact = a * area * (record.contact_top + record.contact_bottom) / cell_volume;
       record.parts.drag = drag_virial / cell_volume;

@@ -21,7 +21,7 @@ namespace rheosim::coupling::single_particle {
 
 struct AmbientAtParticle {
   Vector3 velocity{};
-  Vector3 vorticity_half{};  // ω∞ = ½ ∇×u∞ [1/s]
+  Vector3 vorticity_half{};       // ω∞ = ½ ∇×u∞ [1/s]
   SymmetricTensor strain_rate{};  // E∞ [1/s], xx yy zz xy xz yz
   double shear_rate = 0.0;        // √(2E∞:E∞) [1/s]
 };

@@ -203,12 +203,8 @@ class Box {
     out.strain = strain;
     for (const auto& b : blocks) out.averaged_strain += b.strain;
     out.relative_viscosity = standard_error(block_viscosity);
-    out.n1 = standard_error([&](const Block& b) {
-      return stress_unit * (total(b, 0, 0) - total(b, 2, 2)) / b.strain;
-    });
-    out.n2 = standard_error([&](const Block& b) {
-      return stress_unit * (total(b, 2, 2) - total(b, 1, 1)) / b.strain;
-    });
+    out.n1 = standard_error([&](const Block& b) { return stress_unit * (total(b, 0, 0) - total(b, 2, 2)) / b.strain; });
+    out.n2 = standard_error([&](const Block& b) { return stress_unit * (total(b, 2, 2) - total(b, 1, 1)) / b.strain; });
     out.particle_pressure = standard_error([&](const Block& b) {
       return -stress_unit * (total(b, 0, 0) + total(b, 1, 1) + total(b, 2, 2)) / (3.0 * b.strain);
     });
@@ -235,7 +231,8 @@ class Box {
         out.part_contact *= scale;
         out.part_repulsion *= scale;
         out.core_shear_rate = flow_->mean_shear_rate(height_ / 3.0, 2.0 * height_ / 3.0);
-        out.plate_shear_rate = 0.5 * (flow_->mean_shear_rate(0.0, 1.0) + flow_->mean_shear_rate(height_ - 1.0, height_));
+        out.plate_shear_rate =
+            0.5 * (flow_->mean_shear_rate(0.0, 1.0) + flow_->mean_shear_rate(height_ - 1.0, height_));
       }
     }
     {
@@ -258,8 +255,8 @@ class Box {
       out.warnings.push_back(fmt::format(
           "suspension box: η_r standard error {:.2g} % after strain {:g} is above the {:g} % tolerance (max_strain); "
           "the mean over strain {:g} is used",
-          100.0 * out.relative_viscosity.error / out.relative_viscosity.mean, out.strain,
-          100.0 * s_.relative_tolerance, out.averaged_strain));
+          100.0 * out.relative_viscosity.error / out.relative_viscosity.mean, out.strain, 100.0 * s_.relative_tolerance,
+          out.averaged_strain));
     if (out.solves_at_iteration_cap > 0)
       out.warnings.push_back(fmt::format(
           "suspension box: {} of {} implicit solves stopped at the iteration cap {} (worst residual {:.2g} of the "
@@ -306,8 +303,9 @@ class Box {
     std::size_t assigned = 0;
     for (std::size_t c = 0; c < classes; ++c) {
       const std::size_t count =
-          c + 1 == classes ? n_total - assigned
-                           : static_cast<std::size_t>(std::lround(static_cast<double>(n_total) * per_volume[c] / norm_sum));
+          c + 1 == classes
+              ? n_total - assigned
+              : static_cast<std::size_t>(std::lround(static_cast<double>(n_total) * per_volume[c] / norm_sum));
       for (std::size_t k = 0; k < count && assigned < n_total; ++k, ++assigned) radius_.push_back(s_.radii[c]);
     }
     solid_volume_ = 0.0;
@@ -518,7 +516,7 @@ class Box {
         const std::size_t slot = 2 * i + static_cast<std::size_t>(plate);
         const Vector3 nrm = plate_normal(plate);
         const Vector3 r{0.0, 0.0, (plate == 0 ? 0.0 : height_) - z};  // the plate point under i, minus x_i
-        if (h < 2.0 * a) {  // the layer whose slip is reported
+        if (h < 2.0 * a) {                                            // the layer whose slip is reported
           const double lag = -velocity_[6 * i];
           loads.wall_slip_sum += plate == 0 ? -lag : lag;
           ++loads.wall_layer;
@@ -768,8 +766,7 @@ class Box {
     for (std::size_t i = 0; i < n; ++i) {
       const Vector3 u{velocity_[6 * i], velocity_[6 * i + 1], velocity_[6 * i + 2]};
       if (!std::isfinite(u[0] + u[1] + u[2]))
-        throw std::runtime_error(fmt::format("suspension box diverged at strain {:.4g}: non-finite velocity",
-                                             strain_));
+        throw std::runtime_error(fmt::format("suspension box diverged at strain {:.4g}: non-finite velocity", strain_));
       position_[i] = position_[i] + dt_ * u;
       position_[i][0] += dt_ * position_[i][2];
       drift_[i] = drift_[i] + dt_ * u;
@@ -867,7 +864,7 @@ class Box {
   std::vector<Vector3> position_, drift_;
   std::vector<double> velocity_;  // V' = V − V∞, 6 per sphere [aγ̇, γ̇]
   std::vector<Pair> pairs_;
-  std::optional<BoxMeanFlow> flow_;  // walled box with mean_flow_coupling
+  std::optional<BoxMeanFlow> flow_;   // walled box with mean_flow_coupling
   std::vector<Vector3> wall_spring_;  // tangential springs of the plate contacts, 2 per sphere
   std::vector<bool> wall_contact_;
   std::vector<lubrication::Gap> gaps_;

@@ -85,8 +85,11 @@ namespace {
 
 fluid::TransientParams gap_fluid(const SuspensionPointSettings& s, double angular_velocity) {
   fluid::TransientParams fp;
-  fp.grid = {.radius = s.geometry.radius, .gap = s.geometry.gap, .radial_cells = s.radial_cells,
-             .azimuthal_cells = s.azimuthal_cells, .axial_cells = s.axial_cells};
+  fp.grid = {.radius = s.geometry.radius,
+             .gap = s.geometry.gap,
+             .radial_cells = s.radial_cells,
+             .azimuthal_cells = s.azimuthal_cells,
+             .axial_cells = s.axial_cells};
   fp.density = s.fluid.density;
   fp.rheology = s.fluid.rheology;
   fp.inertia = s.inertia;
@@ -180,7 +183,8 @@ class DiskAmbientFlow {
       for (int j = 0; j < 3; ++j) qg[3 * i + j] = q[3 * i] * g[j] + q[3 * i + 1] * g[3 + j] + q[3 * i + 2] * g[6 + j];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        out.velocity_gradient[3 * i + j] = qg[3 * i] * q[3 * j] + qg[3 * i + 1] * q[3 * j + 1] + qg[3 * i + 2] * q[3 * j + 2];
+        out.velocity_gradient[3 * i + j] =
+            qg[3 * i] * q[3 * j] + qg[3 * i + 1] * q[3 * j + 1] + qg[3 * i + 2] * q[3 * j + 2];
     return out;
   }
 
@@ -204,7 +208,8 @@ std::shared_ptr<const NearFieldModel> near_field_model(const SuspensionPointSett
 
 // φ = 0: the fluid alone on the same grid and time step (the suspension's reference).
 SuspensionPoint run_fluid_only(const SuspensionPointSettings& s, std::chrono::steady_clock::time_point start) {
-  const dem::ElasticSphere sphere{.radius = 0.5 * s.particles.diameter, .density = s.particles.density,
+  const dem::ElasticSphere sphere{.radius = 0.5 * s.particles.diameter,
+                                  .density = s.particles.density,
                                   .youngs_modulus = s.particles.youngs_modulus,
                                   .poisson_ratio = s.particles.poisson_ratio};
   const double dem_step = s.dem_time_step ? *s.dem_time_step : s.time_step_fraction * dem::rayleigh_time(sphere);
@@ -220,8 +225,8 @@ SuspensionPoint run_fluid_only(const SuspensionPointSettings& s, std::chrono::st
     const fluid::StepReport r = fluid.advance(out.fluid_time_step);
     out.cost.fluid += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ++out.cost.steps;
-    out.series.push_back({.time = r.time, .fluid_torque = r.torque, .contact_torque = 0.0,
-                          .bottom_fluid_torque = r.bottom_torque});
+    out.series.push_back(
+        {.time = r.time, .fluid_torque = r.torque, .contact_torque = 0.0, .bottom_fluid_torque = r.bottom_torque});
     detector.add(r.time, r.torque);
   }
   out.shear_rate = s.rim_shear_rate;
@@ -241,9 +246,10 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
   // particles.drag names the law; a different law in the force list would silently win.
   for (const std::string& name : s.coupling.forces)
     if (builtin_drag_models().contains(name) && name != core::name_of(s.particles.drag))
-      throw std::invalid_argument(fmt::format("coupling.forces lists the drag law {} but particles.drag is {} "
-                                              "(set it with coupling::force_models(particles.drag))",
-                                              name, core::name_of(s.particles.drag)));
+      throw std::invalid_argument(
+          fmt::format("coupling.forces lists the drag law {} but particles.drag is {} "
+                      "(set it with coupling::force_models(particles.drag))",
+                      name, core::name_of(s.particles.drag)));
   const auto start = std::chrono::steady_clock::now();
   if (!(std::isfinite(s.rim_shear_rate) && s.rim_shear_rate > 0.0))
     throw std::invalid_argument(fmt::format("run_point: rim shear rate {} 1/s must be > 0", s.rim_shear_rate));
@@ -256,8 +262,8 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
   scene_params.rim_shear_rate = s.rim_shear_rate;
   scene_params.time_step_fraction = s.time_step_fraction;
   scene_params.time_step = s.dem_time_step;
-  scene_params.gravity = s.gravity ? std::optional<std::array<double, 3>>(std::array<double, 3>{0.0, 0.0, -g})
-                                   : std::nullopt;
+  scene_params.gravity =
+      s.gravity ? std::optional<std::array<double, 3>>(std::array<double, 3>{0.0, 0.0, -g}) : std::nullopt;
   scene_params.seed = s.seed;
   scene_params.run_directory = s.run_directory;
   scene_params.torque_sample_interval = s.coupling.coupling_interval;
@@ -283,9 +289,8 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
                                const double w = scene.angular_velocity();  // read at call time
                                return Vector3{-w * x[1], w * x[0], 0.0};
                              }});
-    hook = std::make_unique<NearFieldStepHook>(
-        scene.engine(), model, std::move(plates),
-        [flow = ambient.get()](const Vector3& x) { return (*flow)(x); });
+    hook = std::make_unique<NearFieldStepHook>(scene.engine(), model, std::move(plates),
+                                               [flow = ambient.get()](const Vector3& x) { return (*flow)(x); });
   }
 
   SteadyStateDetector detector(s.steady, s.rim_shear_rate);

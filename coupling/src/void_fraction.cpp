@@ -17,11 +17,11 @@ namespace rheosim::coupling {
 void check(const ParticleView& particles, bool need_velocities) {
   const std::size_t n = particles.radii.size();
   if (particles.positions.size() != 3 * n)
-    throw std::invalid_argument(fmt::format("particles: {} radii but {} position values (expected {})", n,
-                                            particles.positions.size(), 3 * n));
+    throw std::invalid_argument(
+        fmt::format("particles: {} radii but {} position values (expected {})", n, particles.positions.size(), 3 * n));
   if (need_velocities && particles.velocities.size() != 3 * n)
-    throw std::invalid_argument(fmt::format("particles: {} radii but {} velocity values (expected {})", n,
-                                            particles.velocities.size(), 3 * n));
+    throw std::invalid_argument(
+        fmt::format("particles: {} radii but {} velocity values (expected {})", n, particles.velocities.size(), 3 * n));
   for (const double x : particles.positions)
     if (!std::isfinite(x)) throw std::invalid_argument("particles: a position is not finite");
   for (const double v : particles.velocities)
@@ -36,8 +36,8 @@ CellLocator::CellLocator(const fluid::CylindricalGrid& grid)
       azimuthal_cells_(grid.azimuthal_cells()),
       axial_cells_(grid.axial_cells()),
       axial_width_(grid.params().gap / static_cast<double>(grid.axial_cells())),
-      radial_width_(grid.params().radial_grading == 1.0 ? grid.params().radius / static_cast<double>(grid.radial_cells())
-                                                        : 0.0) {
+      radial_width_(
+          grid.params().radial_grading == 1.0 ? grid.params().radius / static_cast<double>(grid.radial_cells()) : 0.0) {
   // Cells are found by z/Δz: a stretched axial grid has no single Δz.
   if (!grid.is_axially_uniform())
     throw std::invalid_argument(fmt::format("CellLocator: axial_stretching = {}, expected 0 (uniform axial cells)",
@@ -168,7 +168,8 @@ const VoidFractionReport& VoidFractionField::update(const VoidFractionScheme& sc
   for (const VolumeShare& share : map_.shares) solid_volume_[share.cell] += share.volume;
   for (const double r : particles.radii) report_.particle_volume += sphere_volume_from_radius(r);
   double raw_min = 1.0;
-  for (std::size_t c = 0; c < solid_volume_.size(); ++c) raw_min = std::min(raw_min, 1.0 - solid_volume_[c] / cell_volume_[c]);
+  for (std::size_t c = 0; c < solid_volume_.size(); ++c)
+    raw_min = std::min(raw_min, 1.0 - solid_volume_[c] / cell_volume_[c]);
   report_.min_void_fraction_raw = raw_min;
   report_.mapped_points = map_.mapped_points;
   if (!particles.radii.empty()) merge_small_rings(report_.particle_volume / static_cast<double>(particles.size()));
@@ -193,13 +194,15 @@ void VoidFractionField::merge_small_rings(double mean_particle_volume) {
   for (std::size_t i = 0; i < grid_->radial_cells(); ++i) {
     bool small = false;
     for (std::size_t k = 0; k < n_z; ++k)
-      small = small || cell_volume_[locator_.cell_index(i, 0, k)] < min_particle_volumes_per_cell_ * mean_particle_volume;
+      small =
+          small || cell_volume_[locator_.cell_index(i, 0, k)] < min_particle_volumes_per_cell_ * mean_particle_volume;
     if (!small) continue;
     ++report_.merged_rings;
     for (std::size_t k = 0; k < n_z; ++k) {
       double ring = 0.0;
       for (std::size_t j = 0; j < n_theta; ++j) ring += solid_volume_[locator_.cell_index(i, j, k)];
-      for (std::size_t j = 0; j < n_theta; ++j) solid_volume_[locator_.cell_index(i, j, k)] = ring / static_cast<double>(n_theta);
+      for (std::size_t j = 0; j < n_theta; ++j)
+        solid_volume_[locator_.cell_index(i, j, k)] = ring / static_cast<double>(n_theta);
     }
   }
 }
@@ -224,8 +227,10 @@ void VoidFractionField::apply_floor() {
           if (!(excess > tolerance * cell_volume_[c])) continue;
           neighbours.clear();
           if (i + 1 < n_r) neighbours.push_back(locator_.cell_index(i + 1, j, k));
-          if (i > 0) neighbours.push_back(locator_.cell_index(i - 1, j, k));
-          else if (n_theta % 2 == 0) neighbours.push_back(locator_.cell_index(0, (j + n_theta / 2) % n_theta, k));
+          if (i > 0)
+            neighbours.push_back(locator_.cell_index(i - 1, j, k));
+          else if (n_theta % 2 == 0)
+            neighbours.push_back(locator_.cell_index(0, (j + n_theta / 2) % n_theta, k));
           if (n_theta > 1) {
             neighbours.push_back(locator_.cell_index(i, (j + 1) % n_theta, k));
             if (n_theta > 2) neighbours.push_back(locator_.cell_index(i, (j + n_theta - 1) % n_theta, k));

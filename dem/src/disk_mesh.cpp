@@ -26,8 +26,9 @@ DiskMesh make_disk_mesh(double radius, double height, int rings) {
     return {r * std::cos(phi), r * std::sin(phi), height};
   };
   // Corners in counter-clockwise order seen from +z give a +z normal; store them clockwise.
-  const auto add = [&](const std::array<double, 3>& a, const std::array<double, 3>& b,
-                       const std::array<double, 3>& c) { mesh.triangles.push_back({a, c, b}); };
+  const auto add = [&](const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c) {
+    mesh.triangles.push_back({a, c, b});
+  };
   for (int k = 1; k <= rings; ++k) {
     const int n_out = 6 * k;
     if (k == 1) {

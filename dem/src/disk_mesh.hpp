@@ -22,7 +22,7 @@ namespace rheosim::dem::detail {
 
 struct DiskMesh {
   std::vector<std::array<std::array<double, 3>, 3>> triangles;  // corners [m], ordered so the normal is −z
-  double outer_radius = 0.0;                                     // ρ [m]
+  double outer_radius = 0.0;                                    // ρ [m]
 };
 
 // A disk of inscribed radius `radius` > 0 in the plane z = height, `rings` >= 1.

@@ -58,9 +58,9 @@ void check_params(const Engine::Params& p) {
     throw std::invalid_argument("Engine::Params::run_directory is empty, expected the folder for LIGGGHTS' output");
   const fs::path log(p.log_file_name);
   if (p.log_file_name.empty() || log.filename() != log || p.log_file_name == "." || p.log_file_name == "..")
-    throw std::invalid_argument(fmt::format(
-        "Engine::Params::log_file_name = '{}', expected a plain file name (it is placed in run_directory)",
-        p.log_file_name));
+    throw std::invalid_argument(
+        fmt::format("Engine::Params::log_file_name = '{}', expected a plain file name (it is placed in run_directory)",
+                    p.log_file_name));
 }
 
 void check_finite(std::span<const double> values, std::string_view name) {
@@ -137,8 +137,7 @@ class Engine::Impl {
   void ensure_external_fixes();
   [[nodiscard]] LAMMPS_NS::Fix* store_fix() const;
   void replace_stored(std::span<const double> load);  // store_width values per local particle
-  static void apply_external(void* self, LAMMPS_NS::bigint step, int nlocal, int* tags, double** x,
-                             double** fexternal);
+  static void apply_external(void* self, LAMMPS_NS::bigint step, int nlocal, int* tags, double** x, double** fexternal);
 
   void call_step_callback(LAMMPS_NS::bigint step, int nlocal, double** load, double** fexternal);
 
@@ -173,8 +172,9 @@ Engine::Impl::Impl(Params params) : params_(std::move(params)) {
   // The screen goes to the null device rather than `-screen none`: LIGGGHTS writes to its
   // screen without checking for "none" in places (e.g. InputMeshTri::meshtrifile, reached by
   // every fix mesh/surface with an STL file), which would dereference a null FILE*.
-  std::vector<std::string> args{"liggghts", "-screen", null_device, "-log", log_path.string(),
-                                "-echo",    params_.echo_commands ? "log" : "none", "-nocite"};
+  std::vector<std::string> args{
+      "liggghts", "-screen", null_device, "-log", log_path.string(), "-echo", params_.echo_commands ? "log" : "none",
+      "-nocite"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -189,7 +189,9 @@ Engine::Impl::Impl(Params params) : params_(std::move(params)) {
   } catch (const detail::LiggghtsFailure& e) {
     // The half-built instance is unreachable; nothing to abandon.
     throw EngineError(fmt::format("LIGGGHTS could not start ({}): {}", command, e.message()),
-                      {.command = command, .liggghts_message = e.message(), .liggghts_source = describe_source(e),
+                      {.command = command,
+                       .liggghts_message = e.message(),
+                       .liggghts_source = describe_source(e),
                        .collective = e.is_collective()});
   }
   lmp_ = static_cast<LAMMPS_NS::LAMMPS*>(handle);
@@ -211,11 +213,10 @@ Engine::Impl::~Impl() {
 void Engine::Impl::require_usable(std::string_view function, std::string_view argument) const {
   if (!failure) return;
   const auto& first = failure->details();
-  throw EngineError(
-      fmt::format("dem::Engine::{}({}): the LIGGGHTS instance failed earlier on command '{}' ({}) and is "
-                  "unusable; open a new Engine",
-                  function, argument, first.command, first.liggghts_message),
-      first);
+  throw EngineError(fmt::format("dem::Engine::{}({}): the LIGGGHTS instance failed earlier on command '{}' ({}) and is "
+                                "unusable; open a new Engine",
+                                function, argument, first.command, first.liggghts_message),
+                    first);
 }
 
 template <class F>
@@ -232,9 +233,11 @@ void Engine::Impl::guarded(std::string_view command, F&& f) {
 }
 
 void Engine::Impl::fail(std::string_view command, std::string message, std::string source, bool collective) {
-  EngineError error(fmt::format("LIGGGHTS error in command '{}': {}{}. The LIGGGHTS instance is unusable now.",
-                                command, message, source.empty() ? std::string() : " (" + source + ")"),
-                    {.command = std::string(command), .liggghts_message = message, .liggghts_source = source,
+  EngineError error(fmt::format("LIGGGHTS error in command '{}': {}{}. The LIGGGHTS instance is unusable now.", command,
+                                message, source.empty() ? std::string() : " (" + source + ")"),
+                    {.command = std::string(command),
+                     .liggghts_message = message,
+                     .liggghts_source = source,
                      .collective = collective});
   failure = error;
   abandon();
@@ -274,8 +277,8 @@ void Engine::Impl::set_equal_variable(std::string_view name, double value) {
     return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
   });
   if (!valid_name)
-    throw std::invalid_argument(fmt::format(
-        "set_equal_variable: name = '{}', expected letters, digits and underscores only", name));
+    throw std::invalid_argument(
+        fmt::format("set_equal_variable: name = '{}', expected letters, digits and underscores only", name));
   if (!std::isfinite(value))
     throw std::invalid_argument(fmt::format("set_equal_variable: {} = {} is not finite", name, value));
   const bool setup_was_needed = setup_needed_;
@@ -285,8 +288,8 @@ void Engine::Impl::set_equal_variable(std::string_view name, double value) {
 
 void Engine::Impl::run(std::int64_t steps) {
   if (steps < 0 || steps > std::numeric_limits<int>::max())
-    throw std::invalid_argument(fmt::format("run: steps = {}, expected 0 <= steps <= {}", steps,
-                                            std::numeric_limits<int>::max()));
+    throw std::invalid_argument(
+        fmt::format("run: steps = {}, expected 0 <= steps <= {}", steps, std::numeric_limits<int>::max()));
   require_usable("run", std::to_string(steps));
   const std::string text = setup_needed_ ? fmt::format("run {}", steps) : fmt::format("run {} pre no post no", steps);
   guarded(text, [&] { lammps_command(lmp_, text.c_str()); });
@@ -303,8 +306,8 @@ std::span<const double> Engine::Impl::vectors(const char* name, const char* call
   if (n == 0) return {};
   auto* array = static_cast<double**>(lammps_extract_atom(lmp_, name));
   if (array == nullptr || array[0] == nullptr)
-    throw core::RunError(fmt::format("dem::Engine::{}: LIGGGHTS has no per-particle '{}' (atom_style granular needed)",
-                                     caller, name));
+    throw core::RunError(
+        fmt::format("dem::Engine::{}: LIGGGHTS has no per-particle '{}' (atom_style granular needed)", caller, name));
   return {array[0], 3 * n};
 }
 
@@ -313,8 +316,8 @@ std::span<const double> Engine::Impl::scalars(const char* name, const char* call
   if (n == 0) return {};
   auto* array = static_cast<double*>(lammps_extract_atom(lmp_, name));
   if (array == nullptr)
-    throw core::RunError(fmt::format("dem::Engine::{}: LIGGGHTS has no per-particle '{}' (atom_style granular needed)",
-                                     caller, name));
+    throw core::RunError(
+        fmt::format("dem::Engine::{}: LIGGGHTS has no per-particle '{}' (atom_style granular needed)", caller, name));
   return {array, n};
 }
 
@@ -356,8 +359,8 @@ double Engine::Impl::fix_output(std::string_view fix_id, int index) {
   if (scalar && fix->scalar_flag == 0)
     throw std::invalid_argument(fmt::format("{}: fix '{}' ({}) has no global scalar", what, fix_id, fix->style));
   if (!scalar && (fix->vector_flag == 0 || index >= fix->size_vector))
-    throw std::invalid_argument(fmt::format("{}: fix '{}' ({}) has no global vector element {} (size {})", what,
-                                            fix_id, fix->style, index, fix->vector_flag != 0 ? fix->size_vector : 0));
+    throw std::invalid_argument(fmt::format("{}: fix '{}' ({}) has no global vector element {} (size {})", what, fix_id,
+                                            fix->style, index, fix->vector_flag != 0 ? fix->size_vector : 0));
   double value = 0.0;
   guarded(what, [&] { value = scalar ? fix->compute_scalar() : fix->compute_vector(index); });
   return value;
@@ -380,9 +383,10 @@ void Engine::Impl::ensure_external_fixes() {
   if (lmp_->modify->find_fix_id(external_fix_id) == nullptr) execute(external_fix_command);
   auto* external = lmp_->modify->find_fix_id_style(external_fix_id, "external");
   if (external == nullptr || store_fix() == nullptr)
-    throw core::RunError(fmt::format("dem::Engine: fix ids '{}' and '{}' are reserved for external forces but are "
-                                     "used by fixes of another style",
-                                     external_fix_id, store_fix_id));
+    throw core::RunError(
+        fmt::format("dem::Engine: fix ids '{}' and '{}' are reserved for external forces but are "
+                    "used by fixes of another style",
+                    external_fix_id, store_fix_id));
   static_cast<LAMMPS_NS::FixExternal*>(external)->set_callback(&Impl::apply_external, this);
 }
 
@@ -515,9 +519,9 @@ void Engine::set_external_forces(std::span<const double> forces, std::span<const
     throw std::invalid_argument(fmt::format("set_external_forces: forces.size() = {}, expected 3 · {} particles = {}",
                                             forces.size(), n, 3 * n));
   if (!torques.empty() && torques.size() != 3 * n)
-    throw std::invalid_argument(fmt::format(
-        "set_external_forces: torques.size() = {}, expected 0 (no torque) or 3 · {} particles = {}", torques.size(),
-        n, 3 * n));
+    throw std::invalid_argument(
+        fmt::format("set_external_forces: torques.size() = {}, expected 0 (no torque) or 3 · {} particles = {}",
+                    torques.size(), n, 3 * n));
   check_finite(forces, "forces");
   check_finite(torques, "torques");
   std::vector<double> load(store_width * n, 0.0);
@@ -536,9 +540,9 @@ void Engine::set_external_forces(std::span<const ParticleId> particle_ids, std::
     throw std::invalid_argument(
         fmt::format("set_external_forces: forces.size() = {}, expected 3 · {} ids = {}", forces.size(), m, 3 * m));
   if (!torques.empty() && torques.size() != 3 * m)
-    throw std::invalid_argument(fmt::format(
-        "set_external_forces: torques.size() = {}, expected 0 (no torque) or 3 · {} ids = {}", torques.size(), m,
-        3 * m));
+    throw std::invalid_argument(
+        fmt::format("set_external_forces: torques.size() = {}, expected 0 (no torque) or 3 · {} ids = {}",
+                    torques.size(), m, 3 * m));
   check_finite(forces, "forces");
   check_finite(torques, "torques");
   const auto local_ids = ids();

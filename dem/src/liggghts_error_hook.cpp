@@ -32,9 +32,9 @@ const int marker_in_this_object = 0;
 
 // Itanium-mangled names of the members defined below (the ones LIGGGHTS calls most).
 constexpr const char* hooked_symbols[] = {
-    "_ZN9LAMMPS_NS5Error3allEPKciS2_",                        // Error::all
-    "_ZN9LAMMPS_NS5Error3oneEPKciS2_",                        // Error::one
-    "_ZN9LAMMPS_NS5Error9fix_errorEPKciPNS_3FixES2_S2_",     // Error::fix_error (5 args)
+    "_ZN9LAMMPS_NS5Error3allEPKciS2_",                    // Error::all
+    "_ZN9LAMMPS_NS5Error3oneEPKciS2_",                    // Error::one
+    "_ZN9LAMMPS_NS5Error9fix_errorEPKciPNS_3FixES2_S2_",  // Error::fix_error (5 args)
 };
 
 std::string or_empty(const char* text) { return text != nullptr ? std::string(text) : std::string(); }
@@ -94,7 +94,8 @@ void Error::one(const char* file, int line, const char* str) {
 
 void Error::universe_all(const char* file, int line, const char* str) {
   const std::string message = or_empty(str);
-  if (universe != nullptr && universe->me == 0) record(universe->uscreen, universe->ulogfile, "ERROR: ", message, file, line);
+  if (universe != nullptr && universe->me == 0)
+    record(universe->uscreen, universe->ulogfile, "ERROR: ", message, file, line);
   throw LiggghtsFailure(message, or_empty(file), line, true);
 }
 
@@ -130,8 +131,6 @@ void Error::compute_error(const char* file, int line, Compute* compute, const ch
 }
 
 // `quit` (and LIGGGHTS' own -help/-restart shortcuts): shut down without an error message.
-void Error::done() {
-  throw LiggghtsFailure("LIGGGHTS was asked to shut down (quit)", std::string(), 0, true);
-}
+void Error::done() { throw LiggghtsFailure("LIGGGHTS was asked to shut down (quit)", std::string(), 0, true); }
 
 }  // namespace LAMMPS_NS

@@ -57,9 +57,7 @@ void add_gravity(Engine& engine, const std::optional<std::array<double, 3>>& acc
 
 void integrate_spheres(Engine& engine, std::string_view average_fix) {
   engine.commands({
-      "fix rheosim_integrate all nve/sphere",
-      average_fix,
-      "thermo_style custom step atoms ke",
+      "fix rheosim_integrate all nve/sphere", average_fix, "thermo_style custom step atoms ke",
       "thermo 0",  // one line at the start and end of each run
   });
 }

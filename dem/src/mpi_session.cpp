@@ -31,8 +31,7 @@ void require_running(const char* what) {
 }  // namespace
 
 MpiSession::MpiSession() {
-  if (is_finalized())
-    throw core::RunError("MPI was already finalised in this process and cannot be started again");
+  if (is_finalized()) throw core::RunError("MPI was already finalised in this process and cannot be started again");
   if (is_initialized()) return;
   int provided = 0;
   if (const int rc = MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided); rc != MPI_SUCCESS)
@@ -48,8 +47,7 @@ void MpiSession::ensure() {
   if (is_running()) return;
   // Started on first need, finalised during static destruction at process exit.
   static MpiSession process_session;
-  if (!is_running())
-    throw core::RunError("MPI was already finalised in this process and cannot be started again");
+  if (!is_running()) throw core::RunError("MPI was already finalised in this process and cannot be started again");
 }
 
 bool MpiSession::is_running() { return is_initialized() && !is_finalized(); }

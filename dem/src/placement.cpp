@@ -20,9 +20,9 @@ namespace {
 
 using core::units::pi;
 
-constexpr double clearance = 1e-9;        // relative to d, see placement.hpp
+constexpr double clearance = 1e-9;  // relative to d, see placement.hpp
 constexpr double target_acceptance = 0.4;
-constexpr double spare = 1.05;            // lattice sites per particle after stretching
+constexpr double spare = 1.05;  // lattice sites per particle after stretching
 
 void check_positive(std::string_view name, double value) {
   if (!(std::isfinite(value) && value > 0.0))
@@ -34,9 +34,9 @@ void check_geometry(double plate_radius, double gap, double diameter, double vol
   check_positive("gap", gap);
   check_positive("diameter", diameter);
   if (!(diameter < gap))
-    throw std::invalid_argument(fmt::format(
-        "diameter = {} m is out of range, expected < gap = {} m (a particle must fit between the plates)", diameter,
-        gap));
+    throw std::invalid_argument(
+        fmt::format("diameter = {} m is out of range, expected < gap = {} m (a particle must fit between the plates)",
+                    diameter, gap));
   if (!(diameter < plate_radius))
     throw std::invalid_argument(
         fmt::format("diameter = {} m is out of range, expected < plate_radius = {} m", diameter, plate_radius));
@@ -50,9 +50,9 @@ using Random = detail::PortableRandom;
 struct Lattice {
   bool hexagonal = true;
   int layers = 1;
-  double layer_spacing = 0.0;    // s
-  double spacing = 0.0;          // a
-  double sites_per_area = 0.0;   // all layers together
+  double layer_spacing = 0.0;   // s
+  double spacing = 0.0;         // a
+  double sites_per_area = 0.0;  // all layers together
 };
 
 // The densest layered lattice for a centre slab of thickness w (see placement.hpp).
@@ -188,8 +188,8 @@ double squared_distance(const std::array<double, 3>& a, const std::array<double,
 std::size_t target_particle_count(double plate_radius, double gap, double diameter, double volume_fraction) {
   check_geometry(plate_radius, gap, diameter, volume_fraction);
   const double particle_volume = core::units::sphere_volume(diameter);
-  return static_cast<std::size_t>(std::llround(volume_fraction * pi * plate_radius * plate_radius * gap /
-                                               particle_volume));
+  return static_cast<std::size_t>(
+      std::llround(volume_fraction * pi * plate_radius * plate_radius * gap / particle_volume));
 }
 
 Placement place_particles(const PlacementParams& params) {
@@ -203,15 +203,15 @@ Placement place_particles(const PlacementParams& params) {
     for (std::size_t i = 0; i < params.diameters.size(); ++i) {
       const double di = params.diameters[i];
       if (!(std::isfinite(di) && di > 0.0))
-        throw std::invalid_argument(fmt::format("diameters[{}] = {} is out of range, expected a finite value > 0", i, di));
+        throw std::invalid_argument(
+            fmt::format("diameters[{}] = {} is out of range, expected a finite value > 0", i, di));
       d = std::max(d, di);
     }
     check_geometry(R, H, d, 0.0);
   }
   const std::size_t count = sized ? params.diameters.size() : target_particle_count(R, H, d, params.volume_fraction);
   if (params.shake_sweeps < 0)
-    throw std::invalid_argument(
-        fmt::format("shake_sweeps = {} is out of range, expected >= 0", params.shake_sweeps));
+    throw std::invalid_argument(fmt::format("shake_sweeps = {} is out of range, expected >= 0", params.shake_sweeps));
   if (count > std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument(fmt::format("{} particles are too many for the placement", count));
   std::vector<double> diameters = sized ? params.diameters : std::vector<double>(count, d);
@@ -258,8 +258,10 @@ Placement place_particles(const PlacementParams& params) {
       lattice.spacing = densest * stretch;
       auto stretched = lattice_sites(lattice, site_radius, site_z, H, angle);
       if (static_cast<double>(stretched.size()) >= wanted || stretch <= 1.0) {
-        if (stretched.size() >= count) sites = std::move(stretched);
-        else lattice.spacing = densest;  // cannot happen for stretch <= 1; keep the densest
+        if (stretched.size() >= count)
+          sites = std::move(stretched);
+        else
+          lattice.spacing = densest;  // cannot happen for stretch <= 1; keep the densest
         break;
       }
       stretch = std::max(1.0, stretch * 0.99);

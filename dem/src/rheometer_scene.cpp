@@ -41,8 +41,8 @@ constexpr int torque_z_index = 5;
 
 void check_finite_positive(std::string_view name, double value) {
   if (!(std::isfinite(value) && value > 0.0))
-    throw std::invalid_argument(fmt::format(
-        "RheometerScene::Params::{} = {} is out of range, expected a finite value > 0", name, value));
+    throw std::invalid_argument(
+        fmt::format("RheometerScene::Params::{} = {} is out of range, expected a finite value > 0", name, value));
 }
 
 void check_range(std::string_view name, double value, double lower, double upper, std::string_view range) {
@@ -96,17 +96,16 @@ void check_params(const RheometerScene::Params& p) {
   if (p.gravity)
     for (const double component : *p.gravity)
       if (!std::isfinite(component))
-        throw std::invalid_argument(
-            fmt::format("RheometerScene::Params::gravity = ({}, {}, {}) is not finite", (*p.gravity)[0],
-                        (*p.gravity)[1], (*p.gravity)[2]));
+        throw std::invalid_argument(fmt::format("RheometerScene::Params::gravity = ({}, {}, {}) is not finite",
+                                                (*p.gravity)[0], (*p.gravity)[1], (*p.gravity)[2]));
   if (p.run_directory.empty())
     throw std::invalid_argument(
         "RheometerScene::Params::run_directory is empty, expected the folder for LIGGGHTS' files");
   if (p.run_directory.string().find_first_of(" \t\r\n\"'") != std::string::npos)
-    throw std::invalid_argument(fmt::format(
-        "RheometerScene::Params::run_directory = '{}' contains whitespace or quotes, which LIGGGHTS' input "
-        "cannot take in file names; choose another folder",
-        p.run_directory.string()));
+    throw std::invalid_argument(
+        fmt::format("RheometerScene::Params::run_directory = '{}' contains whitespace or quotes, which LIGGGHTS' input "
+                    "cannot take in file names; choose another folder",
+                    p.run_directory.string()));
   if (!(std::isfinite(p.initial_speed) && p.initial_speed >= 0.0))
     throw std::invalid_argument(fmt::format(
         "RheometerScene::Params::initial_speed = {} is out of range, expected a finite value >= 0", p.initial_speed));
@@ -114,28 +113,28 @@ void check_params(const RheometerScene::Params& p) {
     throw std::invalid_argument(fmt::format(
         "RheometerScene::Params::placement_sweeps = {} is out of range, expected >= 0", p.placement_sweeps));
   if (p.torque_sample_interval < 1)
-    throw std::invalid_argument(fmt::format(
-        "RheometerScene::Params::torque_sample_interval = {} is out of range, expected >= 1",
-        p.torque_sample_interval));
+    throw std::invalid_argument(
+        fmt::format("RheometerScene::Params::torque_sample_interval = {} is out of range, expected >= 1",
+                    p.torque_sample_interval));
   if (p.top_plate_rings < 0)
-    throw std::invalid_argument(fmt::format(
-        "RheometerScene::Params::top_plate_rings = {} is out of range, expected >= 0", p.top_plate_rings));
+    throw std::invalid_argument(
+        fmt::format("RheometerScene::Params::top_plate_rings = {} is out of range, expected >= 0", p.top_plate_rings));
   if (!(p.neighbor_skin_fraction > 0.0 && p.neighbor_skin_fraction <= 1.0))
-    throw std::invalid_argument(fmt::format(
-        "RheometerScene::Params::neighbor_skin_fraction = {} is out of range, expected (0, 1]",
-        p.neighbor_skin_fraction));
+    throw std::invalid_argument(
+        fmt::format("RheometerScene::Params::neighbor_skin_fraction = {} is out of range, expected (0, 1]",
+                    p.neighbor_skin_fraction));
   if (p.positions) {
     const auto& x = *p.positions;
     if (x.size() % 3 != 0)
-      throw std::invalid_argument(fmt::format(
-          "RheometerScene::Params::positions has {} values, expected 3 per particle", x.size()));
+      throw std::invalid_argument(
+          fmt::format("RheometerScene::Params::positions has {} values, expected 3 per particle", x.size()));
     const double r = 0.5 * q.diameter;
     for (std::size_t i = 0; i < x.size() / 3; ++i) {
       const double px = x[3 * i];
       const double py = x[3 * i + 1];
       const double pz = x[3 * i + 2];
-      const bool inside = std::isfinite(px) && std::isfinite(py) && std::isfinite(pz) && pz >= r &&
-                          pz <= g.gap - r && std::hypot(px, py) <= g.radius - r;
+      const bool inside = std::isfinite(px) && std::isfinite(py) && std::isfinite(pz) && pz >= r && pz <= g.gap - r &&
+                          std::hypot(px, py) <= g.radius - r;
       if (!inside)
         throw std::invalid_argument(fmt::format(
             "RheometerScene::Params::positions: particle {} at ({}, {}, {}) m is not inside the gap (centre at "
@@ -147,7 +146,9 @@ void check_params(const RheometerScene::Params& p) {
 
 // The smallest sphere: it has the shortest Rayleigh time (t_R ∝ r), which bounds the step.
 ElasticSphere sphere_of(const core::ParticleProperties& q) {
-  return {.radius = 0.5 * smallest_diameter(q), .density = q.density, .youngs_modulus = q.youngs_modulus,
+  return {.radius = 0.5 * smallest_diameter(q),
+          .density = q.density,
+          .youngs_modulus = q.youngs_modulus,
           .poisson_ratio = q.poisson_ratio};
 }
 
@@ -180,13 +181,16 @@ Placement place_once(const RheometerScene::Params& params, MPI_Comm comm) {
   std::string error;
   if (rank == 0) {
     try {
-      PlacementParams pp{.plate_radius = g.radius, .gap = g.gap, .diameter = q.diameter,
-                         .volume_fraction = q.volume_fraction, .seed = params.seed,
+      PlacementParams pp{.plate_radius = g.radius,
+                         .gap = g.gap,
+                         .diameter = q.diameter,
+                         .volume_fraction = q.volume_fraction,
+                         .seed = params.seed,
                          .shake_sweeps = params.placement_sweeps};
       if (q.size_distribution.type != core::SizeDistribution::Type::none)
-        pp.diameters = sample_diameters(q.size_distribution, q.diameter,
-                                        q.volume_fraction * pi * g.radius * g.radius * g.gap,
-                                        params.seed ^ 0x2545f4914f6cdd1dULL);  // a stream apart from the placement's
+        pp.diameters =
+            sample_diameters(q.size_distribution, q.diameter, q.volume_fraction * pi * g.radius * g.radius * g.gap,
+                             params.seed ^ 0x2545f4914f6cdd1dULL);  // a stream apart from the placement's
       placed = place_particles(pp);
     } catch (const std::exception& e) {  // every rank must learn of it, or the others would wait forever
       error = std::string(dynamic_cast<const std::invalid_argument*>(&e) != nullptr ? "I" : "L") + e.what();
@@ -201,10 +205,15 @@ Placement place_once(const RheometerScene::Params& params, MPI_Comm comm) {
   }
   broadcast(placed.centres, comm);
   broadcast(placed.diameters, comm);
-  std::vector<double> scalars{static_cast<double>(placed.count), placed.volume_fraction,
-                              static_cast<double>(placed.layers), placed.layer_spacing,
-                              placed.capacity_volume_fraction, placed.lattice_spacing,
-                              static_cast<double>(placed.lattice_sites), placed.shake_acceptance, placed.shake_step,
+  std::vector<double> scalars{static_cast<double>(placed.count),
+                              placed.volume_fraction,
+                              static_cast<double>(placed.layers),
+                              placed.layer_spacing,
+                              placed.capacity_volume_fraction,
+                              placed.lattice_spacing,
+                              static_cast<double>(placed.lattice_sites),
+                              placed.shake_acceptance,
+                              placed.shake_step,
                               placed.lattice == "hexagonal" ? 1.0 : 0.0};
   broadcast(scalars, comm);
   if (rank != 0) {
@@ -321,8 +330,8 @@ void RheometerScene::Impl::write_files(const std::vector<double>& centres, const
       if (n == 0) return;
       fmt::print(out, "\nAtoms\n\n");  // atom-ID atom-type diameter density x y z (atom_style granular)
       for (std::size_t i = 0; i < n; ++i)
-        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, diameters[i], q.density,
-                   centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
+        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, diameters[i],
+                   q.density, centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
       if (velocities.empty()) return;
       fmt::print(out, "\nVelocities\n\n");  // atom-ID vx vy vz ωx ωy ωz
       for (std::size_t i = 0; i < n; ++i)
@@ -366,9 +375,9 @@ void RheometerScene::Impl::set_up_liggghts() {
           rim_type, g.radius),
   });
   detail::add_gravity(engine, params.gravity);
-  detail::integrate_spheres(engine, fmt::format("fix {} all ave/time 1 {} {} f_{}[{}]", torque_average_id,
-                                                params.torque_sample_interval, params.torque_sample_interval,
-                                                top_mesh_id, torque_z_index + 1));
+  detail::integrate_spheres(
+      engine, fmt::format("fix {} all ave/time 1 {} {} f_{}[{}]", torque_average_id, params.torque_sample_interval,
+                          params.torque_sample_interval, top_mesh_id, torque_z_index + 1));
 }
 
 void RheometerScene::Impl::set_shear_rate(double rate) {
@@ -379,8 +388,7 @@ void RheometerScene::Impl::set_shear_rate(double rate) {
 }
 
 void RheometerScene::Impl::advance(std::int64_t steps) {
-  if (steps < 0)
-    throw std::invalid_argument(fmt::format("RheometerScene::advance: steps = {}, expected >= 0", steps));
+  if (steps < 0) throw std::invalid_argument(fmt::format("RheometerScene::advance: steps = {}, expected >= 0", steps));
   const std::int64_t block = params.torque_sample_interval;
   while (steps > 0) {
     const std::int64_t now = engine.step();

@@ -69,7 +69,8 @@ void check_params(const ShearCellScene::Params& p) {
     for (const double a : *p.gravity)
       if (!std::isfinite(a)) out_of_range("gravity", a, "finite components");
   if (p.run_directory.empty())
-    throw std::invalid_argument("ShearCellScene::Params::run_directory is empty, expected the folder for LIGGGHTS' files");
+    throw std::invalid_argument(
+        "ShearCellScene::Params::run_directory is empty, expected the folder for LIGGGHTS' files");
   if (p.run_directory.string().find_first_of(" \t\r\n\"'") != std::string::npos)
     throw std::invalid_argument(fmt::format(
         "ShearCellScene::Params::run_directory = '{}' contains whitespace or quotes, which LIGGGHTS' input cannot "
@@ -181,8 +182,7 @@ std::vector<double> place_in_cell(const ShearCellScene::Params& p) {
   const auto& q = p.particles;
   const double d = q.diameter;
   const double r = 0.5 * d;
-  const std::size_t count =
-      shear_cell_particle_count(p.gap, p.cell_length, p.cell_width, d, q.volume_fraction);
+  const std::size_t count = shear_cell_particle_count(p.gap, p.cell_length, p.cell_width, d, q.volume_fraction);
   const int layers = 1 + static_cast<int>(std::floor((p.gap - d) / d * (1.0 - 1e-12)));
   const double layer_spacing = layers > 1 ? (p.gap - d) / (layers - 1) : 0.0;
   const double z_slack = layers > 1 ? 0.5 * (layer_spacing - d) : 0.5 * (p.gap - d);
@@ -196,8 +196,8 @@ std::vector<double> place_in_cell(const ShearCellScene::Params& p) {
   // Closest lattice neighbours; each site moves by at most half the slack (|shift| <= jitter).
   const double nearest = std::min({ax, std::hypot(0.5 * ax, ay), 2.0 * ay});
   const double jitter = std::max(0.0, 0.5 * (nearest - d)) * 0.999;
-  const std::size_t capacity = static_cast<std::size_t>(layers) * static_cast<std::size_t>(nx) *
-                               static_cast<std::size_t>(ny);
+  const std::size_t capacity =
+      static_cast<std::size_t>(layers) * static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
   if (count > capacity)
     throw std::invalid_argument(fmt::format(
         "ShearCellScene::Params::particles.volume_fraction = {} needs {} particles, but the layered placement of "
@@ -295,8 +295,10 @@ ShearCellScene::Impl::Impl(Params p)
       engine(Engine::Params{.run_directory = params.run_directory,
                             .communicator_fortran_handle = params.communicator_fortran_handle}) {
   const auto& q = params.particles;
-  rayleigh_time = dem::rayleigh_time({.radius = 0.5 * q.diameter, .density = q.density,
-                                      .youngs_modulus = q.youngs_modulus, .poisson_ratio = q.poisson_ratio});
+  rayleigh_time = dem::rayleigh_time({.radius = 0.5 * q.diameter,
+                                      .density = q.density,
+                                      .youngs_modulus = q.youngs_modulus,
+                                      .poisson_ratio = q.poisson_ratio});
   time_step = params.time_step ? *params.time_step : params.time_step_fraction * rayleigh_time;
   centres = params.positions ? *params.positions : place_in_cell(params);
   write_files();
@@ -328,8 +330,7 @@ void ShearCellScene::Impl::write_files() {
                    centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
       fmt::print(out, "\nVelocities\n\n");  // atom-ID vx vy vz ωx ωy ωz
       for (std::size_t i = 0; i < n; ++i) {
-        std::array<double, 3> v{params.start_in_shear_profile ? params.shear_rate * centres[3 * i + 2] : 0.0, 0.0,
-                                0.0};
+        std::array<double, 3> v{params.start_in_shear_profile ? params.shear_rate * centres[3 * i + 2] : 0.0, 0.0, 0.0};
         if (params.initial_speed > 0.0) {
           std::array<double, 3> dir{};
           double norm = 0.0;
@@ -366,9 +367,9 @@ void ShearCellScene::Impl::set_up_liggghts() {
   });
   detail::add_gravity(engine, params.gravity);
   const auto n = params.stress_sample_interval;
-  detail::integrate_spheres(engine, fmt::format("fix {} all ave/time 1 {} {} f_{}[1] f_{}[3] f_{}[1] f_{}[3]",
-                                                stress_average_id, n, n, top_mesh_id, top_mesh_id, bottom_mesh_id,
-                                                bottom_mesh_id));
+  detail::integrate_spheres(
+      engine, fmt::format("fix {} all ave/time 1 {} {} f_{}[1] f_{}[3] f_{}[1] f_{}[3]", stress_average_id, n, n,
+                          top_mesh_id, top_mesh_id, bottom_mesh_id, bottom_mesh_id));
 }
 
 void ShearCellScene::Impl::advance(std::int64_t steps) {

@@ -16,8 +16,8 @@ using Type = core::SizeDistribution::Type;
 
 void check(const core::SizeDistribution& s, double median, double solid_volume) {
   if (!(std::isfinite(solid_volume) && solid_volume >= 0.0))
-    throw std::invalid_argument(fmt::format("sample_diameters: solid_volume = {} is out of range, expected >= 0",
-                                            solid_volume));
+    throw std::invalid_argument(
+        fmt::format("sample_diameters: solid_volume = {} is out of range, expected >= 0", solid_volume));
   if (s.type == Type::discrete) {
     if (s.classes < 1 || s.classes > core::SizeDistribution::max_classes)
       throw std::invalid_argument(fmt::format("size distribution: {} classes, expected 1 to {}", s.classes,
@@ -25,8 +25,8 @@ void check(const core::SizeDistribution& s, double median, double solid_volume) 
     double sum = 0.0;
     for (std::size_t k = 0; k < static_cast<std::size_t>(s.classes); ++k) {
       if (!(s.diameters[k] > 0.0) || !(s.volume_fractions[k] >= 0.0))
-        throw std::invalid_argument(fmt::format("size distribution: class {} has d = {} m, share {}", k,
-                                                s.diameters[k], s.volume_fractions[k]));
+        throw std::invalid_argument(fmt::format("size distribution: class {} has d = {} m, share {}", k, s.diameters[k],
+                                                s.volume_fractions[k]));
       sum += s.volume_fractions[k];
     }
     if (std::abs(sum - 1.0) > 1e-6)
@@ -34,12 +34,13 @@ void check(const core::SizeDistribution& s, double median, double solid_volume) 
     return;
   }
   if (s.type == Type::none) {
-    if (!(median > 0.0)) throw std::invalid_argument(fmt::format("sample_diameters: diameter = {} m, expected > 0", median));
+    if (!(median > 0.0))
+      throw std::invalid_argument(fmt::format("sample_diameters: diameter = {} m, expected > 0", median));
     return;
   }
   if (!(s.min_diameter > 0.0 && s.min_diameter <= s.max_diameter && std::isfinite(s.max_diameter)))
-    throw std::invalid_argument(fmt::format("size distribution: bounds [{}, {}] m, expected 0 < min <= max",
-                                            s.min_diameter, s.max_diameter));
+    throw std::invalid_argument(
+        fmt::format("size distribution: bounds [{}, {}] m, expected 0 < min <= max", s.min_diameter, s.max_diameter));
   if (s.type == Type::lognormal) {
     if (!(s.geometric_std >= 1.0 && std::isfinite(s.geometric_std)))
       throw std::invalid_argument(fmt::format("size distribution: geometric_std = {}, expected >= 1", s.geometric_std));

@@ -13,8 +13,8 @@ namespace {
 
 void check_positive(std::string_view name, double value) {
   if (!(std::isfinite(value) && value > 0.0))
-    throw std::invalid_argument(fmt::format("CylindricalGrid: {} = {} is out of range, expected a finite value > 0",
-                                            name, value));
+    throw std::invalid_argument(
+        fmt::format("CylindricalGrid: {} = {} is out of range, expected a finite value > 0", name, value));
 }
 
 void check_cell_count(std::string_view name, int value) {
@@ -74,8 +74,9 @@ CylindricalGrid::CylindricalGrid(Params params) : params_(params) {
   check_cell_count("axial_cells", params_.axial_cells);
   check_positive("radial_grading", params_.radial_grading);
   if (!(std::isfinite(params_.axial_stretching) && params_.axial_stretching >= 0.0))
-    throw std::invalid_argument(fmt::format(
-        "CylindricalGrid: axial_stretching = {} is out of range, expected a finite value >= 0", params_.axial_stretching));
+    throw std::invalid_argument(
+        fmt::format("CylindricalGrid: axial_stretching = {} is out of range, expected a finite value >= 0",
+                    params_.axial_stretching));
 
   const auto n_r = static_cast<std::size_t>(params_.radial_cells);
   const auto n_theta = static_cast<std::size_t>(params_.azimuthal_cells);
@@ -97,9 +98,7 @@ double CylindricalGrid::axial_face_area(std::size_t i) const {
   return 0.5 * dtheta_ * (r_out - r_in) * (r_out + r_in);
 }
 
-double CylindricalGrid::cell_volume(std::size_t i, std::size_t k) const {
-  return axial_face_area(i) * axial_width(k);
-}
+double CylindricalGrid::cell_volume(std::size_t i, std::size_t k) const { return axial_face_area(i) * axial_width(k); }
 
 double CylindricalGrid::radial_face_area(std::size_t i, std::size_t k) const {
   return radial_faces_[i] * dtheta_ * axial_width(k);

@@ -1,7 +1,7 @@
 #include "rheosim/fluid/swirl.hpp"
 
-#include <Eigen/Sparse>
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 #include <Eigen/SparseLU>
 
 #include <algorithm>
@@ -32,7 +32,9 @@ struct Layout {
   bool inertia;
 
   Layout(const CylindricalGrid& g, bool with_inertia)
-      : nr(g.radial_cells()), nz(g.axial_cells()), nc(nr * nz),
+      : nr(g.radial_cells()),
+        nz(g.axial_cells()),
+        nc(nr * nz),
         rf(g.radial_faces().begin(), g.radial_faces().end()),
         rc(g.radial_centres().begin(), g.radial_centres().end()),
         zf(g.axial_faces().begin(), g.axial_faces().end()),
@@ -147,9 +149,12 @@ class Discretisation {
   double corner_shear(const SwirlState& s, std::size_t i, std::size_t k) const {
     if (i == 0 || i == L.nr) return 0.0;  // u_r = 0 on axis and rim; shear-free rim
     double dur_dz = 0;
-    if (k == 0) dur_dz = s.radial_velocity[L.ur_index(i, 0)] / L.dz_centres(0);
-    else if (k == L.nz) dur_dz = -s.radial_velocity[L.ur_index(i, L.nz - 1)] / L.dz_centres(L.nz);
-    else dur_dz = (s.radial_velocity[L.ur_index(i, k)] - s.radial_velocity[L.ur_index(i, k - 1)]) / L.dz_centres(k);
+    if (k == 0)
+      dur_dz = s.radial_velocity[L.ur_index(i, 0)] / L.dz_centres(0);
+    else if (k == L.nz)
+      dur_dz = -s.radial_velocity[L.ur_index(i, L.nz - 1)] / L.dz_centres(L.nz);
+    else
+      dur_dz = (s.radial_velocity[L.ur_index(i, k)] - s.radial_velocity[L.ur_index(i, k - 1)]) / L.dz_centres(k);
     double duz_dr = 0;
     if (k != 0 && k != L.nz)
       duz_dr = (s.axial_velocity[L.uz_index(i, k)] - s.axial_velocity[L.uz_index(i - 1, k)]) / L.dr_centres(i);
@@ -169,7 +174,8 @@ class Discretisation {
         if (L.inertia) {
           const double ur_w = s.radial_velocity[L.ur_index(i, k)], ur_e = s.radial_velocity[L.ur_index(i + 1, k)];
           const double uz_b = s.axial_velocity[L.uz_index(i, k)], uz_t = s.axial_velocity[L.uz_index(i, k + 1)];
-          const double drr = (ur_e - ur_w) / L.dr(i), hoop = 0.5 * (ur_e + ur_w) / L.rc[i], dzz = (uz_t - uz_b) / L.dz(k);
+          const double drr = (ur_e - ur_w) / L.dr(i), hoop = 0.5 * (ur_e + ur_w) / L.rc[i],
+                       dzz = (uz_t - uz_b) / L.dz(k);
           double shear2 = 0;
           for (std::size_t a : {i, i + 1})
             for (std::size_t b : {k, k + 1}) {
@@ -409,8 +415,11 @@ class Discretisation {
           }
           const double coef = jacobian / L.dz_centres(f);
           diag -= coef;
-          if (f == 0) continue;                                   // ω = 0 on the bottom plate
-          if (f == nz) { rhs[static_cast<Eigen::Index>(row)] -= coef * omega_top; continue; }
+          if (f == 0) continue;  // ω = 0 on the bottom plate
+          if (f == nz) {
+            rhs[static_cast<Eigen::Index>(row)] -= coef * omega_top;
+            continue;
+          }
           t.emplace_back(row, L.omega(i, f == k ? k - 1 : k + 1), coef);
         }
         if (L.inertia) {
@@ -418,7 +427,7 @@ class Discretisation {
           const double rho = p.density;
           for (std::size_t f : {i, i + 1}) {
             if (f == 0 || f == nr) continue;
-            const double sign = f == i + 1 ? 1.0 : -1.0;  // outward
+            const double sign = f == i + 1 ? 1.0 : -1.0;                       // outward
             const double dmdot = sign * face_eps_r(f, k) * L.rf[f] * L.dz(k);  // ∂ṁ/∂u_r
             const double mdot = dmdot * ur(s, f, k);
             const double l = L.rf[f] * L.rf[f];
@@ -426,8 +435,8 @@ class Discretisation {
             const double w_other = (L.rc[i] - L.rf[f]) / (L.rc[i] - L.rc[other]);
             t.emplace_back(row, L.omega(i, k), -rho * mdot * l * (1 - w_other));
             t.emplace_back(row, L.omega(other, k), -rho * mdot * l * w_other);
-            const double omega_face = (1 - w_other) * s.angular_velocity[L.cell(i, k)] +
-                                      w_other * s.angular_velocity[L.cell(other, k)];
+            const double omega_face =
+                (1 - w_other) * s.angular_velocity[L.cell(i, k)] + w_other * s.angular_velocity[L.cell(other, k)];
             newton_flux(t, rhs, row, mdot, l * omega_face, {{L.radial(f, k), dmdot}});
           }
           for (std::size_t f : {k, k + 1}) {
@@ -440,8 +449,8 @@ class Discretisation {
             const double w_other = (L.zc[k] - L.zf[f]) / (L.zc[k] - L.zc[other]);
             t.emplace_back(row, L.omega(i, k), -rho * mdot * l * (1 - w_other));
             t.emplace_back(row, L.omega(i, other), -rho * mdot * l * w_other);
-            const double omega_face = (1 - w_other) * s.angular_velocity[L.cell(i, k)] +
-                                      w_other * s.angular_velocity[L.cell(i, other)];
+            const double omega_face =
+                (1 - w_other) * s.angular_velocity[L.cell(i, k)] + w_other * s.angular_velocity[L.cell(i, other)];
             newton_flux(t, rhs, row, mdot, l * omega_face, {{L.axial(i, f), dmdot}});
           }
         }
@@ -490,8 +499,10 @@ class Discretisation {
             const auto& plate = L.plate(f);  // u_r = 0 on the plate
             add_ur(i, plate.near_cell, coef * plate.near);
             add_ur(i, plate.far_cell, coef * plate.far);
-          } else if (f == 0) add_ur(i, 0, coef / L.dz_centres(0));
-          else if (f == nz) add_ur(i, nz - 1, -coef / L.dz_centres(nz));
+          } else if (f == 0)
+            add_ur(i, 0, coef / L.dz_centres(0));
+          else if (f == nz)
+            add_ur(i, nz - 1, -coef / L.dz_centres(nz));
           else {
             add_ur(i, f, coef / L.dz_centres(f));
             add_ur(i, f - 1, -coef / L.dz_centres(f));
@@ -504,8 +515,7 @@ class Discretisation {
         const double mu_face = 0.5 * (mu.centre[L.cell(i - 1, k)] + mu.centre[L.cell(i, k)]);
         add_ur(i, k, -e * 2.0 * mu_face / r * drc * dzk);
         // Centrifugal force ρ ε ω² r · r Δr_c Δz, Newton-linearised: ω² ≈ 2ω*ω − ω*².
-        const double w_star =
-            0.5 * (s.angular_velocity[L.cell(i - 1, k)] + s.angular_velocity[L.cell(i, k)]);
+        const double w_star = 0.5 * (s.angular_velocity[L.cell(i - 1, k)] + s.angular_velocity[L.cell(i, k)]);
         const double cf = rho * e * r * r * drc * dzk;
         t.emplace_back(row, L.omega(i - 1, k), cf * w_star);
         t.emplace_back(row, L.omega(i, k), cf * w_star);
@@ -534,7 +544,8 @@ class Discretisation {
           add_ur(i, f - 1, -rho * mdot * (1 - wz));
           add_ur(i, f, -rho * mdot * wz);
           const double ur_corner = (1 - wz) * ur(s, i, f - 1) + wz * ur(s, i, f);
-          newton_flux(t, rhs, row, mdot, ur_corner, {{L.axial(i - 1, f), dmdot * (1 - wr)}, {L.axial(i, f), dmdot * wr}});
+          newton_flux(t, rhs, row, mdot, ur_corner,
+                      {{L.axial(i - 1, f), dmdot * (1 - wr)}, {L.axial(i, f), dmdot * wr}});
         }
       }
   }
@@ -586,7 +597,8 @@ class Discretisation {
           add_uz(f - 1, k, -rho * mdot * 0.5);
           add_uz(f, k, -rho * mdot * 0.5);
           const double uz_corner = 0.5 * (uz(s, f - 1, k) + uz(s, f, k));
-          newton_flux(t, rhs, row, mdot, uz_corner, {{L.radial(f, k - 1), dmdot * (1 - wz)}, {L.radial(f, k), dmdot * wz}});
+          newton_flux(t, rhs, row, mdot, uz_corner,
+                      {{L.radial(f, k - 1), dmdot * (1 - wz)}, {L.radial(f, k), dmdot * wz}});
         }
         for (std::size_t c : {k - 1, k}) {
           const double sign = c == k ? 1.0 : -1.0;
@@ -717,12 +729,14 @@ SwirlState interpolate_state(const CylindricalGrid& from, const SwirlState& s, c
                              double top_angular_velocity) {
   const std::size_t nr = from.radial_cells(), nz = from.axial_cells();
   const auto vec = [](std::span<const double> a) { return std::vector<double>(a.begin(), a.end()); };
-  const std::vector<double> rc = vec(from.radial_centres()), rf = vec(from.radial_faces()), zf = vec(from.axial_faces());
+  const std::vector<double> rc = vec(from.radial_centres()), rf = vec(from.radial_faces()),
+                            zf = vec(from.axial_faces());
   std::vector<double> zc_walls = {zf.front()};
   for (double z : from.axial_centres()) zc_walls.push_back(z);
   zc_walls.push_back(zf.back());
   // Cell-centred fields padded with their plate values.
-  const auto pad = [&](const std::vector<double>& field, std::size_t columns, double bottom, double top, bool zero_walls) {
+  const auto pad = [&](const std::vector<double>& field, std::size_t columns, double bottom, double top,
+                       bool zero_walls) {
     std::vector<double> out(columns * (nz + 2));
     for (std::size_t i = 0; i < columns; ++i) {
       out[i * (nz + 2)] = zero_walls ? 0.0 : bottom;
@@ -756,7 +770,8 @@ SwirlState interpolate_state(const CylindricalGrid& from, const SwirlState& s, c
       out.radial_velocity[i * mz + k] = bilinear(rf, zc_walls, radial, to.radial_faces()[i], to.axial_centres()[k]);
   for (std::size_t i = 0; i < mr; ++i)
     for (std::size_t k = 1; k < mz; ++k)
-      out.axial_velocity[i * (mz + 1) + k] = bilinear(rc, zf, s.axial_velocity, to.radial_centres()[i], to.axial_faces()[k]);
+      out.axial_velocity[i * (mz + 1) + k] =
+          bilinear(rc, zf, s.axial_velocity, to.radial_centres()[i], to.axial_faces()[k]);
   return out;
 }
 
@@ -799,8 +814,7 @@ Eigen::VectorXd gmres(const Apply& apply, const Eigen::VectorXd& b, double toler
     if (std::abs(g[j + 1]) <= tolerance * beta || !(hj1 > 1e-300 * beta)) break;
     v.col(j + 1) = w / hj1;
   }
-  const Eigen::VectorXd y =
-      h.topLeftCorner(used, used).triangularView<Eigen::Upper>().solve(g.head(used));
+  const Eigen::VectorXd y = h.topLeftCorner(used, used).triangularView<Eigen::Upper>().solve(g.head(used));
   x = v.leftCols(used) * y;
   return x;
 }
@@ -844,7 +858,8 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
 
   SwirlState state = rest_state();
   if (initial) {
-    if (initial->angular_velocity.size() != L.nc) throw std::invalid_argument("SwirlSolver: initial state of another grid");
+    if (initial->angular_velocity.size() != L.nc)
+      throw std::invalid_argument("SwirlSolver: initial state of another grid");
     state = *initial;
   } else {
     for (std::size_t i = 0; i < L.nr; ++i)
@@ -883,9 +898,11 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       z[static_cast<Eigen::Index>(L.pressure(c / L.nz, c % L.nz))] = st.pressure[c] - st.pressure[0];
     }
     for (std::size_t i = 1; i < L.nr; ++i)
-      for (std::size_t k = 0; k < L.nz; ++k) z[static_cast<Eigen::Index>(L.radial(i, k))] = st.radial_velocity[L.ur_index(i, k)];
+      for (std::size_t k = 0; k < L.nz; ++k)
+        z[static_cast<Eigen::Index>(L.radial(i, k))] = st.radial_velocity[L.ur_index(i, k)];
     for (std::size_t i = 0; i < L.nr; ++i)
-      for (std::size_t k = 1; k < L.nz; ++k) z[static_cast<Eigen::Index>(L.axial(i, k))] = st.axial_velocity[L.uz_index(i, k)];
+      for (std::size_t k = 1; k < L.nz; ++k)
+        z[static_cast<Eigen::Index>(L.axial(i, k))] = st.axial_velocity[L.uz_index(i, k)];
     return z;
   };
   const auto from_system = [&](const Eigen::VectorXd& z, SwirlState& st) {
@@ -894,9 +911,11 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       st.pressure[c] = z[static_cast<Eigen::Index>(L.pressure(c / L.nz, c % L.nz))];
     }
     for (std::size_t i = 1; i < L.nr; ++i)
-      for (std::size_t k = 0; k < L.nz; ++k) st.radial_velocity[L.ur_index(i, k)] = z[static_cast<Eigen::Index>(L.radial(i, k))];
+      for (std::size_t k = 0; k < L.nz; ++k)
+        st.radial_velocity[L.ur_index(i, k)] = z[static_cast<Eigen::Index>(L.radial(i, k))];
     for (std::size_t i = 0; i < L.nr; ++i)
-      for (std::size_t k = 1; k < L.nz; ++k) st.axial_velocity[L.uz_index(i, k)] = z[static_cast<Eigen::Index>(L.axial(i, k))];
+      for (std::size_t k = 1; k < L.nz; ++k)
+        st.axial_velocity[L.uz_index(i, k)] = z[static_cast<Eigen::Index>(L.axial(i, k))];
   };
   // Steady residual A(z) z − b(z) of the discrete equations (the Newton terms of the
   // linearisation cancel at its own expansion point, so this is the nonlinear residual).
@@ -922,10 +941,12 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     const Eigen::VectorXd y0 = to_system(state);
     const Eigen::VectorXd f0 = steady_residual(y0);
     double p_scale = 0;
-    for (std::size_t c = 0; c < L.nc; ++c) p_scale = std::max(p_scale, std::abs(x_picard[static_cast<Eigen::Index>(L.nc + c)]));
+    for (std::size_t c = 0; c < L.nc; ++c)
+      p_scale = std::max(p_scale, std::abs(x_picard[static_cast<Eigen::Index>(L.nc + c)]));
     Eigen::VectorXd scale = Eigen::VectorXd::Constant(y0.size(), velocity_scale);
     scale.head(static_cast<Eigen::Index>(L.nc)).setConstant(omega_scale);
-    scale.segment(static_cast<Eigen::Index>(L.nc), static_cast<Eigen::Index>(L.nc)).setConstant(p_scale > 0 ? p_scale : 1.0);
+    scale.segment(static_cast<Eigen::Index>(L.nc), static_cast<Eigen::Index>(L.nc))
+        .setConstant(p_scale > 0 ? p_scale : 1.0);
     Eigen::VectorXd pseudo = Eigen::VectorXd::Zero(y0.size());
     if (std::isfinite(dtau)) {
       Triplets tp;
@@ -958,8 +979,9 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     return Eigen::VectorXd(y0 + lambda * step);
   };
   // Pseudo-time step: starts at a fraction of a revolution, only used with inertia.
-  const double pseudo_start = params_.pseudo_time_step > 0 ? params_.pseudo_time_step / (std::abs(angular_velocity) + 1e-300)
-                                                            : std::numeric_limits<double>::infinity();
+  const double pseudo_start = params_.pseudo_time_step > 0
+                                  ? params_.pseudo_time_step / (std::abs(angular_velocity) + 1e-300)
+                                  : std::numeric_limits<double>::infinity();
   double pseudo_dt = params_.inertia ? pseudo_start : std::numeric_limits<double>::infinity();
   double best_residual = std::numeric_limits<double>::infinity();
   double previous_residual = std::numeric_limits<double>::infinity();
@@ -1022,14 +1044,16 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
           picard.axial_velocity[L.uz_index(i, k)] = x[static_cast<Eigen::Index>(L.axial(i, k))];
     }
     const Eigen::VectorXd y = pack(state), g = pack(picard);
-    const double residual = krylov ? std::max(newton_step_size, (g - y).lpNorm<Eigen::Infinity>())
-                                   : (g - y).lpNorm<Eigen::Infinity>();
+    const double residual =
+        krylov ? std::max(newton_step_size, (g - y).lpNorm<Eigen::Infinity>()) : (g - y).lpNorm<Eigen::Infinity>();
     if (residual > 10 * best_residual) mixer.reset();  // a bad extrapolation: restart the history
     if (std::isfinite(pseudo_dt)) {
       // Switched evolution relaxation: Δτ follows the residual's fall, and is dropped (steady
       // Picard/Newton) once it exceeds 10⁴ revolutions.
-      if (residual < previous_residual) pseudo_dt *= std::min(4.0, 1.5 * previous_residual / residual);
-      else pseudo_dt *= 0.5;
+      if (residual < previous_residual)
+        pseudo_dt *= std::min(4.0, 1.5 * previous_residual / residual);
+      else
+        pseudo_dt *= 0.5;
       if (pseudo_dt * std::abs(angular_velocity) > 1e4) pseudo_dt = std::numeric_limits<double>::infinity();
     }
     previous_residual = residual;
@@ -1108,7 +1132,8 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
   return result;
 }
 
-SwirlResult SwirlSolver::solve(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling) const {
+SwirlResult SwirlSolver::solve(double angular_velocity, const SwirlState* initial,
+                               const SwirlCoupling& coupling) const {
   // Grid sequencing (inertia, single phase, no start given): solve on the grid with half the
   // cells in r and z first (recursively), start here from its interpolated solution, and
   // report the pair's Richardson extrapolation.

@@ -1,8 +1,8 @@
 #include "rheosim/fluid/transient.hpp"
 
 #include <Eigen/Dense>
-#include <Eigen/Sparse>
 #include <Eigen/IterativeLinearSolvers>
+#include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
@@ -53,7 +53,10 @@ struct Geometry {
   std::vector<double> theta_c, cos_c, sin_c;
 
   explicit Geometry(const CylindricalGrid& g)
-      : nr(g.radial_cells()), nt(g.azimuthal_cells()), nz(g.axial_cells()), nc(g.cell_count()),
+      : nr(g.radial_cells()),
+        nt(g.azimuthal_cells()),
+        nz(g.axial_cells()),
+        nc(g.cell_count()),
         dth(g.azimuthal_width()),
         rf(g.radial_faces().begin(), g.radial_faces().end()),
         rc(g.radial_centres().begin(), g.radial_centres().end()),
@@ -256,8 +259,10 @@ class PressureSolver {
       const auto jd = static_cast<double>(j);
       q_(J, 0) = 1.0 / std::sqrt(N);
       for (std::size_t m = 1; 2 * m < n; ++m) {
-        q_(J, static_cast<Eigen::Index>(2 * m - 1)) = std::sqrt(2.0 / N) * std::cos(2 * pi * static_cast<double>(m) * jd / N);
-        q_(J, static_cast<Eigen::Index>(2 * m)) = std::sqrt(2.0 / N) * std::sin(2 * pi * static_cast<double>(m) * jd / N);
+        q_(J, static_cast<Eigen::Index>(2 * m - 1)) =
+            std::sqrt(2.0 / N) * std::cos(2 * pi * static_cast<double>(m) * jd / N);
+        q_(J, static_cast<Eigen::Index>(2 * m)) =
+            std::sqrt(2.0 / N) * std::sin(2 * pi * static_cast<double>(m) * jd / N);
       }
       if (n % 2 == 0 && n > 1) q_(J, static_cast<Eigen::Index>(n - 1)) = (j % 2 == 0 ? 1.0 : -1.0) / std::sqrt(N);
     }
@@ -347,7 +352,8 @@ class PressureSolver {
       a2.setFromTriplets(t2.begin(), t2.end());
       auto factor = std::make_unique<Factor>();
       factor->compute(a2);
-      if (factor->info() != Eigen::Success) throw std::runtime_error("TransientSolver: pressure preconditioner factorisation failed");
+      if (factor->info() != Eigen::Success)
+        throw std::runtime_error("TransientSolver: pressure preconditioner factorisation failed");
       factors_.push_back(std::move(factor));
     }
     ready_ = true;
@@ -413,7 +419,8 @@ class PressureSolver {
     for (std::size_t i = 0; i < g.nr; ++i)
       for (std::size_t j = 0; j < g.nt; ++j)
         for (std::size_t k = 0; k < g.nz; ++k)
-          lines(static_cast<Eigen::Index>(i * g.nz + k), static_cast<Eigen::Index>(j)) = r[static_cast<Eigen::Index>(g.cell(i, j, k))];
+          lines(static_cast<Eigen::Index>(i * g.nz + k), static_cast<Eigen::Index>(j)) =
+              r[static_cast<Eigen::Index>(g.cell(i, j, k))];
     Eigen::MatrixXd spectral = lines * q_;
     for (Eigen::Index q = 0; q < nt; ++q) {
       const Eigen::VectorXd column = spectral.col(q);
@@ -424,7 +431,8 @@ class PressureSolver {
     for (std::size_t i = 0; i < g.nr; ++i)
       for (std::size_t j = 0; j < g.nt; ++j)
         for (std::size_t k = 0; k < g.nz; ++k)
-          z[static_cast<Eigen::Index>(g.cell(i, j, k))] = lines(static_cast<Eigen::Index>(i * g.nz + k), static_cast<Eigen::Index>(j));
+          z[static_cast<Eigen::Index>(g.cell(i, j, k))] =
+              lines(static_cast<Eigen::Index>(i * g.nz + k), static_cast<Eigen::Index>(j));
     z.array() -= z.mean();
     return z;
   }
@@ -448,20 +456,19 @@ struct TransientSolver::Impl {
   PressureSolver pressure_solver;
   PredictorSystem system_r, system_w, system_z;
 
-  Velocity u, u_old;            // u^n, u^(n−1)
-  std::vector<double> p;        // p^n
+  Velocity u, u_old;      // u^n, u^(n−1)
+  std::vector<double> p;  // p^n
   std::vector<double> eps_next, eps_now, eps_old;
   std::vector<double> source_r, source_t, source_z, drag;  // empty = none
   double time = 0, dt_old = 0;
   long steps = 0;
-  bool have_old = false;        // u^(n−1) valid: the next step is BDF2
+  bool have_old = false;  // u^(n−1) valid: the next step is BDF2
 
-  ViscosityField mu_now;        // of the current state
-  int predictor_iterations = 0; // largest CG iteration count of the last predictor (0: direct)
+  ViscosityField mu_now;         // of the current state
+  int predictor_iterations = 0;  // largest CG iteration count of the last predictor (0: direct)
   double torque_top = 0, torque_bottom = 0;
 
-  explicit Impl(TransientParams prm)
-      : params(std::move(prm)), grid(params.grid), g(grid), pressure_solver(g) {
+  explicit Impl(TransientParams prm) : params(std::move(prm)), grid(params.grid), g(grid), pressure_solver(g) {
     u.ur.assign(g.n_ur(), 0.0);
     u.ut.assign(g.nc, 0.0);
     u.uz.assign(g.n_uz(), 0.0);
@@ -752,7 +759,8 @@ struct TransientSolver::Impl {
 
   // −∇·(ρεuu) (+ ρεu_θ²/r for u_r), central and conservative; ε = ε^(n+1).
   Explicit convection(const Velocity& v, const std::vector<double>& e) const {
-    Explicit out{std::vector<double>(g.rows_r(), 0.0), std::vector<double>(g.nc, 0.0), std::vector<double>(g.rows_z(), 0.0)};
+    Explicit out{std::vector<double>(g.rows_r(), 0.0), std::vector<double>(g.nc, 0.0),
+                 std::vector<double>(g.rows_z(), 0.0)};
     if (!params.inertia) return out;
     const double rho = params.density;
     const std::size_t nr = g.nr, nt = g.nt, nz = g.nz;
@@ -866,7 +874,8 @@ struct TransientSolver::Impl {
   // −(2/3)μ∇·u and the axis value of u_r in τ_rr of the first ring (the axis is not an unknown).
   // For constant μ and ∇·u = 0 this part is μ∇(∇·u) = 0 in the continuum.
   Explicit viscous_cross(const Velocity& v, const ViscosityField& mu) const {
-    Explicit out{std::vector<double>(g.rows_r(), 0.0), std::vector<double>(g.nc, 0.0), std::vector<double>(g.rows_z(), 0.0)};
+    Explicit out{std::vector<double>(g.rows_r(), 0.0), std::vector<double>(g.nc, 0.0),
+                 std::vector<double>(g.rows_z(), 0.0)};
     const std::size_t nr = g.nr, nt = g.nt, nz = g.nz;
     const std::vector<double> div = velocity_divergence(v);
     const auto mu_c = [&](std::size_t i, std::size_t j, std::size_t k) { return mu.centre[g.cell(i, j, k)]; };
@@ -886,7 +895,8 @@ struct TransientSolver::Impl {
           if (nt > 1)
             for (std::size_t b : {j, g.jp(j)}) {  // τ_rθ ⊃ μ r ∂_rω
               const double sign = b == j ? -1.0 : 1.0;
-              const double tau = mu.rt[g.ur(i, b, k)] * g.rf[i] * (omega(v, i, b, k) - omega(v, i - 1, b, k)) / g.drc[i];
+              const double tau =
+                  mu.rt[g.ur(i, b, k)] * g.rf[i] * (omega(v, i, b, k) - omega(v, i - 1, b, k)) / g.drc[i];
               force += sign * tau * g.drc[i] * g.dz[k];
             }
           for (std::size_t f : {k, k + 1}) {  // τ_rz ⊃ μ ∂_ru_z
@@ -899,7 +909,8 @@ struct TransientSolver::Impl {
           if (nt > 1)
             for (std::size_t c : {i - 1, i}) dtheta_w += 0.5 * (omega(v, c, g.jp(j), k) - omega(v, c, j, k)) / g.dth;
           const double div_f = 0.5 * (div[g.cell(i - 1, j, k)] + div[g.cell(i, j, k)]);
-          force -= mu_f * (v.ur[g.ur(i, j, k)] / g.rf[i] + 2.0 * dtheta_w - (2.0 / 3.0) * div_f) * g.drc[i] * g.dth * g.dz[k];
+          force -= mu_f * (v.ur[g.ur(i, j, k)] / g.rf[i] + 2.0 * dtheta_w - (2.0 / 3.0) * div_f) * g.drc[i] * g.dth *
+                   g.dz[k];
           out.r[g.row_r(i, j, k)] = force;
         }
     for (std::size_t i = 0; i < nr; ++i)
@@ -910,8 +921,8 @@ struct TransientSolver::Impl {
             for (std::size_t f : {i, i + 1}) {  // r²τ_rθ ⊃ r μ ∂_θu_r
               if (f == 0 || f == nr) continue;
               const double sign = f == i + 1 ? 1.0 : -1.0;
-              torque += sign * g.rf[f] * g.dz[k] * mu.rt[g.ur(f, j, k)] *
-                        (v.ur[g.ur(f, j, k)] - v.ur[g.ur(f, g.jm(j), k)]);
+              torque +=
+                  sign * g.rf[f] * g.dz[k] * mu.rt[g.ur(f, j, k)] * (v.ur[g.ur(f, j, k)] - v.ur[g.ur(f, g.jm(j), k)]);
             }
             for (std::size_t f : {k, k + 1}) {  // r τ_θz ⊃ μ ∂_θu_z, ∫ r dr
               if (f == 0 || f == nz) continue;
@@ -973,7 +984,8 @@ struct TransientSolver::Impl {
         for (std::size_t k = 0; k < g.nz; ++k) {
           double flux = 0;
           const auto add = [&](double sign, double value) { flux += magnitude ? std::abs(value) : sign * value; };
-          if (i + 1 < g.nr) add(1, CellFields::face_r(e, g, i + 1, j, k) * g.rf[i + 1] * g.dth * g.dz[k] * v.ur[g.ur(i + 1, j, k)]);
+          if (i + 1 < g.nr)
+            add(1, CellFields::face_r(e, g, i + 1, j, k) * g.rf[i + 1] * g.dth * g.dz[k] * v.ur[g.ur(i + 1, j, k)]);
           if (i > 0) add(-1, CellFields::face_r(e, g, i, j, k) * g.rf[i] * g.dth * g.dz[k] * v.ur[g.ur(i, j, k)]);
           if (g.nt > 1) {
             add(1, CellFields::face_t(e, g, i, g.jp(j), k) * g.dr[i] * g.dz[k] * v.ut[g.cell(i, g.jp(j), k)]);
@@ -988,7 +1000,9 @@ struct TransientSolver::Impl {
 
   // v ← v − scale ∇φ with the gradients of the Poisson operator.
   void correct(Velocity& v, const Eigen::VectorXd& phi, double scale) const {
-    const auto ph = [&](std::size_t i, std::size_t j, std::size_t k) { return phi[static_cast<Eigen::Index>(g.cell(i, j, k))]; };
+    const auto ph = [&](std::size_t i, std::size_t j, std::size_t k) {
+      return phi[static_cast<Eigen::Index>(g.cell(i, j, k))];
+    };
     for (std::size_t i = 0; i < g.nr; ++i)
       for (std::size_t j = 0; j < g.nt; ++j)
         for (std::size_t k = 0; k < g.nz; ++k) {
@@ -1014,10 +1028,11 @@ struct TransientSolver::Impl {
     report.courant = before.value;
     if (!(before.value <= params.max_courant))
       fail(StepFailure::courant_exceeded,
-           fmt::format("Courant number {:.4g} at cell (i={}, j={}, k={}) exceeds max_courant = {:.4g} for dt = {:.4g} s; "
-                       "use dt <= {:.4g} s",
-                       before.value, before.i, before.j, before.k, params.max_courant, dt,
-                       dt * params.max_courant / before.value),
+           fmt::format(
+               "Courant number {:.4g} at cell (i={}, j={}, k={}) exceeds max_courant = {:.4g} for dt = {:.4g} s; "
+               "use dt <= {:.4g} s",
+               before.value, before.i, before.j, before.k, params.max_courant, dt,
+               dt * params.max_courant / before.value),
            report);
 
     // SBDF2 coefficients (variable step); BDF1 after a reset and when the step grows by more
@@ -1032,7 +1047,8 @@ struct TransientSolver::Impl {
     }
     Velocity ue = u;
     if (second_order) {
-      const auto extrapolate = [w](std::vector<double>& out, const std::vector<double>& now, const std::vector<double>& old) {
+      const auto extrapolate = [w](std::vector<double>& out, const std::vector<double>& now,
+                                   const std::vector<double>& old) {
         for (std::size_t n = 0; n < out.size(); ++n) out[n] = (1 + w) * now[n] - w * old[n];
       };
       extrapolate(ue.ur, u.ur, u_old.ur);
@@ -1043,11 +1059,12 @@ struct TransientSolver::Impl {
     const ViscosityField mu = evaluate_viscosity(ue);
     for (const std::vector<double>* field : {&mu.centre, &mu.rt, &mu.tz_moment, &mu.wall_rz})
       if (!all_finite(*field))
-        fail(StepFailure::non_finite,
-             fmt::format("the rheology law '{}' returned a non-finite viscosity (NaN or inf) at t = {:.6g} s (step {}); "
-                         "the state before the step is kept",
-                         params.rheology->name(), time, steps + 1),
-             report);
+        fail(
+            StepFailure::non_finite,
+            fmt::format("the rheology law '{}' returned a non-finite viscosity (NaN or inf) at t = {:.6g} s (step {}); "
+                        "the state before the step is kept",
+                        params.rheology->name(), time, steps + 1),
+            report);
     const Explicit conv = convection(ue, eps_next);
     const Explicit cross = viscous_cross(ue, mu);
 
@@ -1060,11 +1077,12 @@ struct TransientSolver::Impl {
     }
 
     if (!all_finite(next.u.ur) || !all_finite(next.u.ut) || !all_finite(next.u.uz))
-      fail(StepFailure::non_finite,
-           fmt::format("NaN or inf in the predicted velocity at t = {:.6g} s (step {}, dt = {:.4g} s); the state before "
-                       "the step is kept",
-                       time + dt, steps + 1, dt),
-           report);
+      fail(
+          StepFailure::non_finite,
+          fmt::format("NaN or inf in the predicted velocity at t = {:.6g} s (step {}, dt = {:.4g} s); the state before "
+                      "the step is kept",
+                      time + dt, steps + 1, dt),
+          report);
 
     // Projection.
     try {
@@ -1125,17 +1143,19 @@ struct TransientSolver::Impl {
 
     // Health of the candidate: finite, and no blow-up.
     if (!all_finite(next.u.ur) || !all_finite(next.u.ut) || !all_finite(next.u.uz) || !all_finite(next.p))
-      fail(StepFailure::non_finite, fmt::format("NaN or inf in the velocity or pressure at t = {:.6g} s (step {}, dt = {:.4g} s); "
-                                                "the state before the step is kept",
-                                                time + dt, steps + 1, dt),
+      fail(StepFailure::non_finite,
+           fmt::format("NaN or inf in the velocity or pressure at t = {:.6g} s (step {}, dt = {:.4g} s); "
+                       "the state before the step is kept",
+                       time + dt, steps + 1, dt),
            report);
     const double speed = std::max({max_abs(next.u.ur), max_abs(next.u.ut), max_abs(next.u.uz)});
     const double reference = reference_speed(dt);
     if (speed > params.blow_up_factor * reference)
       fail(StepFailure::diverged,
-           fmt::format("velocity {:.4g} m/s at t = {:.6g} s exceeds blow_up_factor × reference speed ({:.4g} × {:.4g} m/s); "
-                       "reduce dt (was {:.4g} s) — the state before the step is kept",
-                       speed, time + dt, params.blow_up_factor, reference, dt),
+           fmt::format(
+               "velocity {:.4g} m/s at t = {:.6g} s exceeds blow_up_factor × reference speed ({:.4g} × {:.4g} m/s); "
+               "reduce dt (was {:.4g} s) — the state before the step is kept",
+               speed, time + dt, params.blow_up_factor, reference, dt),
            report);
 
     // Commit.
@@ -1209,7 +1229,9 @@ struct TransientSolver::Impl {
         for (std::size_t j = 0; j < nt; ++j)
           for (std::size_t k = 0; k < nz; ++k) {
             const std::size_t row = g.row_r(i, j, k), face = g.ur(i, j, k);
-            const auto add = [&](std::size_t col, double value) { t.emplace_back(static_cast<int>(row), static_cast<int>(col), value); };
+            const auto add = [&](std::size_t col, double value) {
+              t.emplace_back(static_cast<int>(row), static_cast<int>(col), value);
+            };
             const double volume = g.rf[i] * g.drc[i] * g.dth * g.dz[k];
             const double en = CellFields::face_r(eps_next, g, i, j, k);
             const double e0 = CellFields::face_r(eps_now, g, i, j, k);
@@ -1236,7 +1258,8 @@ struct TransientSolver::Impl {
               if (f != 0 && f != nz) add(g.row_r(i, j, f == k ? k - 1 : k + 1), -k_rz);
             }
             diag += 0.5 * (mu_c(i - 1, j, k) + mu_c(i, j, k)) * g.drc[i] * g.dth * g.dz[k] / g.rf[i];  // hoop ⊃ μu_r/r²
-            const double source = 0.5 * (source_value(source_r, g.cell(i - 1, j, k)) + source_value(source_r, g.cell(i, j, k))) * volume;
+            const double source =
+                0.5 * (source_value(source_r, g.cell(i - 1, j, k)) + source_value(source_r, g.cell(i, j, k))) * volume;
             b += cross.r[row] + (conv.r[row] + source) / en;
             add(row, diag);
             rhs[static_cast<Eigen::Index>(row)] = b;
@@ -1259,17 +1282,21 @@ struct TransientSolver::Impl {
         for (std::size_t j = 0; j < nt; ++j)
           for (std::size_t k = 0; k < nz; ++k) {
             const std::size_t row = g.cell(i, j, k);
-            const auto add = [&](std::size_t col, double value) { t.emplace_back(static_cast<int>(row), static_cast<int>(col), value); };
+            const auto add = [&](std::size_t col, double value) {
+              t.emplace_back(static_cast<int>(row), static_cast<int>(col), value);
+            };
             const double inertia_moment = g.dth * g.dz[k] * g.r4[i];  // ∫ r · r dV per unit ω
             const double en = CellFields::face_t(eps_next, g, i, j, k);
             const double e0 = CellFields::face_t(eps_now, g, i, j, k);
             const double e1 = CellFields::face_t(eps_old, g, i, j, k);
             double diag = rho * a0 * inertia_moment / dt;
-            double b = -rho * inertia_moment / dt * (a1 * e0 * omega(u, i, j, k) + a2 * e1 * omega(u_old, i, j, k)) / en;
+            double b =
+                -rho * inertia_moment / dt * (a1 * e0 * omega(u, i, j, k) + a2 * e1 * omega(u_old, i, j, k)) / en;
             // Drag torque ∫ r βu_θ dV with the stored u_θ = r_c ω over the control volume, like the
             // source torque below, so that f_θ = βu_θ balances exactly.
             if (!drag.empty())
-              diag += 0.5 * (drag[g.cell(i, g.jm(j), k)] + drag[g.cell(i, j, k)]) * g.rc[i] * g.dth * g.dz[k] * g.r3[i] / en;
+              diag += 0.5 * (drag[g.cell(i, g.jm(j), k)] + drag[g.cell(i, j, k)]) * g.rc[i] * g.dth * g.dz[k] *
+                      g.r3[i] / en;
             if (nt > 1) b -= g.dz[k] * g.a1[i] * (p[g.cell(i, j, k)] - p[g.cell(i, g.jm(j), k)]);
             for (std::size_t f : {i, i + 1}) {  // r³μ∂_rω (none through axis and rim)
               if (f == 0 || f == nr) continue;
@@ -1280,18 +1307,23 @@ struct TransientSolver::Impl {
             for (std::size_t f : {k, k + 1}) {  // ∫μr³dr ∂_zω; plates give ω_bottom, ω_top
               const double k_z = g.dth * mu.tz_moment[g.uz(i, j, f)] / g.dzc[f];
               diag += k_z;
-              if (f == 0) b += k_z * omega_bottom();
-              else if (f == nz) b += k_z * omega_top();
-              else add(g.cell(i, j, f == k ? k - 1 : k + 1), -k_z);
+              if (f == 0)
+                b += k_z * omega_bottom();
+              else if (f == nz)
+                b += k_z * omega_top();
+              else
+                add(g.cell(i, j, f == k ? k - 1 : k + 1), -k_z);
             }
             if (nt > 1)
-              for (std::size_t c : {g.jm(j), j}) {  // r τ_θθ ⊃ μ r ∂_θω through the cell centres (the other half explicit)
+              for (std::size_t c :
+                   {g.jm(j), j}) {  // r τ_θθ ⊃ μ r ∂_θω through the cell centres (the other half explicit)
                 const double k_t = mu_c(i, c, k) * g.dz[k] * g.a1[i] / g.dth;
                 diag += k_t;
                 add(g.cell(i, c == j ? g.jp(j) : g.jm(j), k), -k_t);
               }
             const double source =
-                0.5 * (source_value(source_t, g.cell(i, g.jm(j), k)) + source_value(source_t, g.cell(i, j, k))) * g.dth * g.dz[k] * g.r3[i];
+                0.5 * (source_value(source_t, g.cell(i, g.jm(j), k)) + source_value(source_t, g.cell(i, j, k))) *
+                g.dth * g.dz[k] * g.r3[i];
             b += cross.w[row] + (conv.w[row] + source) / en;
             add(row, diag);
             rhs[static_cast<Eigen::Index>(row)] = b;
@@ -1313,7 +1345,9 @@ struct TransientSolver::Impl {
         for (std::size_t j = 0; j < nt; ++j)
           for (std::size_t k = 1; k < nz; ++k) {
             const std::size_t row = g.row_z(i, j, k), face = g.uz(i, j, k);
-            const auto add = [&](std::size_t col, double value) { t.emplace_back(static_cast<int>(row), static_cast<int>(col), value); };
+            const auto add = [&](std::size_t col, double value) {
+              t.emplace_back(static_cast<int>(row), static_cast<int>(col), value);
+            };
             const double volume = g.a1[i] * g.dth * g.dzc[k];
             const double en = CellFields::face_z(eps_next, g, i, j, k);
             const double e0 = CellFields::face_z(eps_now, g, i, j, k);
@@ -1340,7 +1374,8 @@ struct TransientSolver::Impl {
                 diag += k_tz;
                 add(g.row_z(i, b_edge == j ? g.jm(j) : g.jp(j), k), -k_tz);
               }
-            const double source = 0.5 * (source_value(source_z, g.cell(i, j, k - 1)) + source_value(source_z, g.cell(i, j, k))) * volume;
+            const double source =
+                0.5 * (source_value(source_z, g.cell(i, j, k - 1)) + source_value(source_z, g.cell(i, j, k))) * volume;
             b += cross.z[row] + (conv.z[row] + source) / en + rho * params.axial_gravity * volume;
             add(row, diag);
             rhs[static_cast<Eigen::Index>(row)] = b;
@@ -1444,23 +1479,29 @@ namespace {
 
 void check_params(const TransientParams& p) {
   const auto bad = [](const std::string& what) { throw std::invalid_argument("TransientSolver: " + what); };
-  if (p.grid.radial_cells < 2) bad(fmt::format("grid.radial_cells = {} is out of range, expected >= 2", p.grid.radial_cells));
-  if (p.grid.axial_cells < 2) bad(fmt::format("grid.axial_cells = {} is out of range, expected >= 2", p.grid.axial_cells));
+  if (p.grid.radial_cells < 2)
+    bad(fmt::format("grid.radial_cells = {} is out of range, expected >= 2", p.grid.radial_cells));
+  if (p.grid.axial_cells < 2)
+    bad(fmt::format("grid.axial_cells = {} is out of range, expected >= 2", p.grid.axial_cells));
   // The plate stencils here assume equal wall cells; only the steady swirl solver stretches z.
   if (p.grid.axial_stretching != 0.0)
-    bad(fmt::format("grid.axial_stretching = {} is not supported, expected 0 (uniform axial cells)", p.grid.axial_stretching));
-  if (!(p.density > 0) || !std::isfinite(p.density)) bad(fmt::format("density = {} kg/m³ is out of range, expected > 0", p.density));
+    bad(fmt::format("grid.axial_stretching = {} is not supported, expected 0 (uniform axial cells)",
+                    p.grid.axial_stretching));
+  if (!(p.density > 0) || !std::isfinite(p.density))
+    bad(fmt::format("density = {} kg/m³ is out of range, expected > 0", p.density));
   if (!p.rheology) bad("rheology must be set");
   if (!std::isfinite(p.top_angular_velocity)) bad("top_angular_velocity must be finite");
   if (!std::isfinite(p.bottom_angular_velocity)) bad("bottom_angular_velocity must be finite");
   if (!std::isfinite(p.axial_gravity)) bad("axial_gravity must be finite");
   if (!(p.max_courant > 0)) bad(fmt::format("max_courant = {} is out of range, expected > 0", p.max_courant));
-  if (!(p.pressure_tolerance > 0)) bad(fmt::format("pressure_tolerance = {} is out of range, expected > 0", p.pressure_tolerance));
+  if (!(p.pressure_tolerance > 0))
+    bad(fmt::format("pressure_tolerance = {} is out of range, expected > 0", p.pressure_tolerance));
   if (p.pressure_max_iterations < 1)
     bad(fmt::format("pressure_max_iterations = {} is out of range, expected >= 1", p.pressure_max_iterations));
   if (p.direct_solver_limit < 0)
     bad(fmt::format("direct_solver_limit = {} is out of range, expected >= 0", p.direct_solver_limit));
-  if (!(p.viscous_tolerance > 0)) bad(fmt::format("viscous_tolerance = {} is out of range, expected > 0", p.viscous_tolerance));
+  if (!(p.viscous_tolerance > 0))
+    bad(fmt::format("viscous_tolerance = {} is out of range, expected > 0", p.viscous_tolerance));
   if (p.viscous_max_iterations < 1)
     bad(fmt::format("viscous_max_iterations = {} is out of range, expected >= 1", p.viscous_max_iterations));
   if (!(p.blow_up_factor > 1)) bad(fmt::format("blow_up_factor = {} is out of range, expected > 1", p.blow_up_factor));
@@ -1490,8 +1531,8 @@ void check_void_fraction(std::span<const double> void_fraction, std::size_t cell
   check_size("void_fraction", void_fraction.size(), cells);
   for (std::size_t c = 0; c < void_fraction.size(); ++c)
     if (!(void_fraction[c] > 0 && void_fraction[c] <= 1))
-      throw std::invalid_argument(
-          fmt::format("TransientSolver: void_fraction[{}] = {} is out of range, expected 0 < ε <= 1", c, void_fraction[c]));
+      throw std::invalid_argument(fmt::format(
+          "TransientSolver: void_fraction[{}] = {} is out of range, expected 0 < ε <= 1", c, void_fraction[c]));
 }
 }  // namespace
 
@@ -1526,7 +1567,8 @@ void TransientSolver::set_momentum_source(const MomentumSource& source) {
     }
     check_size(name, in.size(), m.g.nc);
     for (double x : in)
-      if (!std::isfinite(x)) throw std::invalid_argument(fmt::format("TransientSolver: {} contains a non-finite value", name));
+      if (!std::isfinite(x))
+        throw std::invalid_argument(fmt::format("TransientSolver: {} contains a non-finite value", name));
     out.assign(in.begin(), in.end());
   };
   copy("momentum source radial", source.radial, m.source_r);
@@ -1538,7 +1580,8 @@ void TransientSolver::set_momentum_source(const MomentumSource& source) {
 }
 
 void TransientSolver::set_top_angular_velocity(double angular_velocity) {
-  if (!std::isfinite(angular_velocity)) throw std::invalid_argument("TransientSolver: top angular velocity must be finite");
+  if (!std::isfinite(angular_velocity))
+    throw std::invalid_argument("TransientSolver: top angular velocity must be finite");
   impl_->params.top_angular_velocity = angular_velocity;
 }
 
@@ -1572,10 +1615,11 @@ int TransientSolver::project_velocity() {
   const auto result = m.pressure_solver.solve(b, phi, m.params.pressure_tolerance, m.params.pressure_max_iterations,
                                               std::sqrt(reference));
   if (!result.converged)
-    throw StepError(StepFailure::linear_solver,
-                    fmt::format("TransientSolver::project_velocity: PCG did not converge ({} iterations, residual {:.3g})",
-                                result.iterations, result.residual),
-                    StepReport{});
+    throw StepError(
+        StepFailure::linear_solver,
+        fmt::format("TransientSolver::project_velocity: PCG did not converge ({} iterations, residual {:.3g})",
+                    result.iterations, result.residual),
+        StepReport{});
   m.correct(m.u, phi, 1.0);
   m.u_old = m.u;
   m.have_old = false;

@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include <fmt/format.h>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
-#include <fmt/format.h>
 
 #include "blocks.hpp"
 #include "sparse_product.hpp"
@@ -233,7 +233,8 @@ std::vector<std::ptrdiff_t> aggregate(const Strength& strength, std::size_t& cou
   std::ptrdiff_t next = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (of[i] != unassigned || strength.of(i).empty()) continue;
-    if (std::any_of(strength.of(i).begin(), strength.of(i).end(), [&](std::size_t j) { return of[j] != unassigned; })) continue;
+    if (std::any_of(strength.of(i).begin(), strength.of(i).end(), [&](std::size_t j) { return of[j] != unassigned; }))
+      continue;
     of[i] = next;
     for (std::size_t j : strength.of(i)) of[j] = next;
     ++next;
@@ -367,9 +368,10 @@ Rows galerkin_product(const Rows& a, const detail::CompressedRows& p_rows, const
     if (!diagonal_done) emit(a.diagonal[i], i);
   });
   const detail::CompressedRows r_rows = compressed_of(r);
-  const detail::CompressedRows coarse =
-      detail::combine_rows(r_rows.rows(), a_p, r_rows.rows() >= parallel_rows ? blocks : 1, [&](std::size_t c, auto&& emit) {
-        for (std::size_t k = r_rows.offsets[c]; k < r_rows.offsets[c + 1]; ++k) emit(r_rows.values[k], r_rows.columns[k]);
+  const detail::CompressedRows coarse = detail::combine_rows(
+      r_rows.rows(), a_p, r_rows.rows() >= parallel_rows ? blocks : 1, [&](std::size_t c, auto&& emit) {
+        for (std::size_t k = r_rows.offsets[c]; k < r_rows.offsets[c + 1]; ++k)
+          emit(r_rows.values[k], r_rows.columns[k]);
       });
   // The diagonal apart, exact zeros off it dropped (a Rows never stores them).
   const std::size_t m = coarse.rows();
@@ -580,7 +582,8 @@ std::size_t AmgPreconditioner::levels() const { return hierarchy_ ? hierarchy_->
 std::size_t AmgPreconditioner::rows(std::size_t level) const { return hierarchy_->levels.at(level).a.size(); }
 double AmgPreconditioner::operator_complexity() const {
   if (!hierarchy_) return 0;
-  return 1.0 + static_cast<double>(hierarchy_->coarse_nonzeros) / static_cast<double>(hierarchy_->fine_nonzeros_at_setup);
+  return 1.0 +
+         static_cast<double>(hierarchy_->coarse_nonzeros) / static_cast<double>(hierarchy_->fine_nonzeros_at_setup);
 }
 
 }  // namespace rheosim::ldd

@@ -34,7 +34,8 @@ void for_blocks(std::size_t n, Body&& body) {
 // entries), balanced by each row's work, 1 + its off-diagonal entries: a cloud's short wall rows
 // (a base plate's ~8 neighbours against the fluid's ~26) would otherwise leave one thread idle.
 // Depends only on the pattern and the block count.
-inline std::pair<std::size_t, std::size_t> balanced_block_range(std::span<const std::size_t> offsets, int t, int blocks) {
+inline std::pair<std::size_t, std::size_t> balanced_block_range(std::span<const std::size_t> offsets, int t,
+                                                                int blocks) {
   const std::size_t n = offsets.size() - 1;
   const auto work = [&](std::size_t i) { return i + offsets[i] - offsets[0]; };  // before row i
   const std::size_t total = work(n);

@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include <Eigen/SparseLU>
 #include <fmt/format.h>
+#include <Eigen/SparseLU>
 
 namespace rheosim::ldd {
 namespace {
@@ -22,7 +22,8 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 
 void require(bool ok, const char* field, double value, const char* range) {
   if (!ok)
-    throw std::invalid_argument(fmt::format("LDD free-surface solver: {} = {} is out of range, expected {}", field, value, range));
+    throw std::invalid_argument(
+        fmt::format("LDD free-surface solver: {} = {} is out of range, expected {}", field, value, range));
 }
 
 double squared_distance(const double* a, const double* b, std::size_t dim) {
@@ -33,12 +34,18 @@ double squared_distance(const double* a, const double* b, std::size_t dim) {
 
 const char* kind_name(FreeNode k) {
   switch (k) {
-    case FreeNode::interior: return "interior";
-    case FreeNode::surface: return "free-surface";
-    case FreeNode::splash: return "splash";
-    case FreeNode::wall: return "wall";
-    case FreeNode::corner: return "corner";
-    default: return "idle wall";
+    case FreeNode::interior:
+      return "interior";
+    case FreeNode::surface:
+      return "free-surface";
+    case FreeNode::splash:
+      return "splash";
+    case FreeNode::wall:
+      return "wall";
+    case FreeNode::corner:
+      return "corner";
+    default:
+      return "idle wall";
   }
 }
 
@@ -55,7 +62,8 @@ class LuPreconditioner {
     for (std::size_t i = 0; i < n; ++i) {
       entries_.emplace_back(static_cast<int>(i), static_cast<int>(i), a.diagonal[i]);
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
-        if (a.off_diagonal[k] != 0.0) entries_.emplace_back(static_cast<int>(i), static_cast<int>(nb.indices[k]), a.off_diagonal[k]);
+        if (a.off_diagonal[k] != 0.0)
+          entries_.emplace_back(static_cast<int>(i), static_cast<int>(nb.indices[k]), a.off_diagonal[k]);
     }
     matrix_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
     matrix_.setFromTriplets(entries_.begin(), entries_.end());
@@ -90,7 +98,8 @@ PlaneBoundary::PlaneBoundary(std::vector<double> point, std::vector<double> inwa
   for (double& v : normal_) v /= length;
 }
 
-bool PlaneBoundary::distance(std::span<const double> x, double /*t*/, double& distance, std::span<double> normal) const {
+bool PlaneBoundary::distance(std::span<const double> x, double /*t*/, double& distance,
+                             std::span<double> normal) const {
   distance = 0;
   for (std::size_t d = 0; d < point_.size(); ++d) {
     distance += normal_[d] * (x[d] - point_[d]);
@@ -110,12 +119,14 @@ ConeMouldBoundary::ConeMouldBoundary(double bottom_radius, double top_radius, do
       lift_velocity_(lift_velocity),
       lift_height_(lift_height) {
   if (!(top_radius > 0 && bottom_radius > top_radius && height > 0 && lift_velocity >= 0))
-    throw std::invalid_argument("ConeMouldBoundary: needs 0 < top radius < bottom radius, height > 0, lift velocity >= 0");
+    throw std::invalid_argument(
+        "ConeMouldBoundary: needs 0 < top radius < bottom radius, height > 0, lift velocity >= 0");
 }
 
 double ConeMouldBoundary::bottom(double t) const { return z0_ + std::min(lift_velocity_ * t, lift_height_); }
 
-bool ConeMouldBoundary::distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const {
+bool ConeMouldBoundary::distance(std::span<const double> x, double t, double& distance,
+                                 std::span<double> normal) const {
   const double zb = bottom(t);
   if (x[2] < zb || x[2] > zb + height_) return false;
   const double slope = (bottom_radius_ - top_radius_) / height_;  // dr/dz, radius shrinks upwards
@@ -163,10 +174,13 @@ void FreeSurfaceParams::check() const {
   require(surface_count > 0 && surface_count < 1, "surface_count", surface_count, "(0, 1)");
   require(min_moment_rcond > 0 && min_moment_rcond < 1, "min_moment_rcond", min_moment_rcond, "(0, 1)");
   require(surface_moment_rcond > 0 && surface_moment_rcond < 1, "surface_moment_rcond", surface_moment_rcond, "(0, 1)");
-  require(surface_fluid_weight >= 0 && surface_fluid_weight < 1, "surface_fluid_weight", surface_fluid_weight, "[0, 1)");
-  require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle, "(0, 90) degrees");
+  require(surface_fluid_weight >= 0 && surface_fluid_weight < 1, "surface_fluid_weight", surface_fluid_weight,
+          "[0, 1)");
+  require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle,
+          "(0, 90) degrees");
   require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
-  require(neighbour_reuse_skin >= 0 && neighbour_reuse_skin <= 2, "neighbour_reuse_skin", neighbour_reuse_skin, "[0, 2]");
+  require(neighbour_reuse_skin >= 0 && neighbour_reuse_skin <= 2, "neighbour_reuse_skin", neighbour_reuse_skin,
+          "[0, 2]");
   require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
   require(pbd_stiffness > 0 && pbd_stiffness <= 1, "pbd_stiffness", pbd_stiffness, "(0, 1]");
   require(pbd_max_shift > 0 && pbd_max_shift <= 0.5, "pbd_max_shift", pbd_max_shift, "(0, 0.5]");
@@ -236,7 +250,8 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
         if (visited[static_cast<std::size_t>(q)]) continue;
         double dot = 0;
         for (std::size_t d = 0; d < 3; ++d)
-          dot += probe_directions_[3 * static_cast<std::size_t>(q) + d] * probe_directions_[3 * static_cast<std::size_t>(current) + d];
+          dot += probe_directions_[3 * static_cast<std::size_t>(q) + d] *
+                 probe_directions_[3 * static_cast<std::size_t>(current) + d];
         if (dot > best) {
           best = dot;
           next = q;
@@ -270,7 +285,8 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
 
   if (params_.hydrostatic_start) {
     // p = ρ|g| × depth below the highest fluid node along −g (a flat-topped initial column).
-    const double g = std::sqrt(std::inner_product(params_.gravity.begin(), params_.gravity.end(), params_.gravity.begin(), 0.0));
+    const double g =
+        std::sqrt(std::inner_product(params_.gravity.begin(), params_.gravity.end(), params_.gravity.begin(), 0.0));
     if (g > 0) {
       double top = -std::numeric_limits<double>::infinity();
       const auto height = [&](std::size_t i) {
@@ -294,9 +310,9 @@ std::size_t FreeSurfaceSolver::fluid_node_count() const {
 }
 
 FreeSurfaceState FreeSurfaceSolver::state() const {
-  return FreeSurfaceState{time_,      steps_,      first_step_, positions_,  velocity_,
-                          previous_velocity_, pressure_, shear_rate_, viscosity_, kinds_,
-                          neighbours_, times_,    pressure_amg_.state(), velocity_amg_.state()};
+  return FreeSurfaceState{
+      time_,       steps_,     first_step_, positions_,  velocity_, previous_velocity_,    pressure_,
+      shear_rate_, viscosity_, kinds_,      neighbours_, times_,    pressure_amg_.state(), velocity_amg_.state()};
 }
 
 void FreeSurfaceSolver::restore(FreeSurfaceState state) {
@@ -305,12 +321,12 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
   if (state.kinds.size() != n || !fits(state.positions, nd) || !fits(state.velocity, nd) ||
       !fits(state.previous_velocity, nd) || !fits(state.pressure, n) || !fits(state.shear_rate, n) ||
       !fits(state.viscosity, n))
-    throw std::invalid_argument(fmt::format("LDD free-surface state: its arrays do not fit this cloud of {} nodes in {}D",
-                                            n, dim_));
+    throw std::invalid_argument(
+        fmt::format("LDD free-surface state: its arrays do not fit this cloud of {} nodes in {}D", n, dim_));
   for (std::size_t i = 0; i < n; ++i)
     if ((state.kinds[i] <= FreeNode::splash) != is_fluid(i) || state.kinds[i] > FreeNode::idle_wall)
-      throw std::invalid_argument(fmt::format("LDD free-surface state: node {} is a {} node in the state but {} here", i,
-                                              kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
+      throw std::invalid_argument(fmt::format("LDD free-surface state: node {} is a {} node in the state but {} here",
+                                              i, kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
   const NeighbourList& nb = state.neighbours;
   bool list_fits = nb.offsets.size() == n + 1 && nb.offsets.front() == 0 && nb.offsets.back() == nb.indices.size() &&
                    nb.distances.size() == nb.indices.size();
@@ -507,8 +523,8 @@ void FreeSurfaceSolver::classify() {
     const bool degenerate =
         operators_.conditioning.size() == kinds_.size() && operators_.conditioning[i] < params_.surface_moment_rcond;
     const bool thin_support = fluid_weight < weight_limit || degenerate;
-    const bool surface = empty_cone || thin_support || offset > offset_limit ||
-                         static_cast<double>(within_search) < count_limit;
+    const bool surface =
+        empty_cone || thin_support || offset > offset_limit || static_cast<double>(within_search) < count_limit;
     kinds_[i] = surface ? FreeNode::surface : FreeNode::interior;
   }
   // Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
@@ -519,8 +535,7 @@ void FreeSurfaceSolver::classify() {
     bool active = false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !active; ++k) {
       const std::size_t j = nb.indices[k];
-      active = kinds_[j] <= FreeNode::splash &&
-               squared_distance(&positions_[dim * i], &positions_[dim * j], dim) < h2;
+      active = kinds_[j] <= FreeNode::splash && squared_distance(&positions_[dim * i], &positions_[dim * j], dim) < h2;
     }
     kinds_[i] = !active ? FreeNode::idle_wall : (corner_[i] ? FreeNode::corner : FreeNode::wall);
   }
@@ -547,7 +562,6 @@ double FreeSurfaceSolver::kinetic_energy() const {
   return 0.5 * params_.density * sum * std::pow(params_.spacing, dim_);
 }
 
-
 // Positivity guard: on one-sided neighbourhoods (free surface, a flow's toe) the offset factor
 // 1 − x_ij·B_i o_i of eq. 15 turns some coefficients negative, the PPE and momentum rows lose
 // diagonal dominance and a lone node's pressure runs away (seen at the dam-break toe). Such nodes
@@ -567,7 +581,8 @@ void FreeSurfaceSolver::keep_laplacian_positive() {
     ++guarded;
     double denominator = 0;
     for (std::size_t k = begin; k < end; ++k)
-      denominator += operators_.weights[k] * squared_distance(&positions_[dim * i], &positions_[dim * nb.indices[k]], dim);
+      denominator +=
+          operators_.weights[k] * squared_distance(&positions_[dim * i], &positions_[dim * nb.indices[k]], dim);
     const double scale = denominator > 0 ? 2.0 * static_cast<double>(dim) / denominator : 0.0;
     for (std::size_t k = begin; k < end; ++k) operators_.laplacian[k] = scale * operators_.weights[k];
   }
@@ -613,7 +628,8 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
       if (!use(j)) continue;
       any_interior = any_interior || (kinds_[j] == FreeNode::interior && ops.weights[k] > 0);
       double hydrostatic = 0;
-      for (std::size_t d = 0; d < dim; ++d) hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
+      for (std::size_t d = 0; d < dim; ++d)
+        hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
       wsum += ops.weights[k];
       source += ops.weights[k] * (p[j] + hydrostatic);
     }
@@ -635,15 +651,16 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
   }
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (newly_interior(i)) p[i] = estimate[i];
-  // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 when the wall node
-  // sees no interior node (it stands above the fluid).
+      // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 when the wall node
+      // sees no interior node (it stands above the fluid).
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
     bool below_surface = false;
     const double value = extrapolate(
-        i, [&](std::size_t j) { return kinds_[j] == FreeNode::interior || kinds_[j] == FreeNode::surface; }, below_surface);
+        i, [&](std::size_t j) { return kinds_[j] == FreeNode::interior || kinds_[j] == FreeNode::surface; },
+        below_surface);
     p[i] = below_surface ? value : 0.0;
   }
 }
@@ -682,7 +699,8 @@ void FreeSurfaceSolver::probe_step_map(const KrylovSettings& velocity_settings, 
   const double dt = params_.time_step, rho = params_.density;
   const double pressure_scale = dt / (rho * params_.spacing);
   const auto moving = [&](std::size_t i) { return kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface; };
-  std::vector<double> u(dim * n, 0.0), p(n, 0.0), predicted(dim * n), rhs(n), component(n), phi(n), grad(dim * n), div(n);
+  std::vector<double> u(dim * n, 0.0), p(n, 0.0), predicted(dim * n), rhs(n), component(n), phi(n), grad(dim * n),
+      div(n);
   std::uint64_t state = 0x9E3779B97F4A7C15ULL;
   const auto random = [&] {
     state = state * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -725,7 +743,8 @@ void FreeSurfaceSolver::probe_step_map(const KrylovSettings& velocity_settings, 
         rhs[i] = rho / dt * div[i];
       } else if (kinds_[i] == FreeNode::wall || kinds_[i] == FreeNode::corner) {
         double source = 0;  // Σ w_j p_j of the wall row (its off-diagonal is −w_j)
-        for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) source -= pressure_matrix_.off_diagonal[k] * p[nb.indices[k]];
+        for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
+          source -= pressure_matrix_.off_diagonal[k] * p[nb.indices[k]];
         rhs[i] = source - p[i];
       } else {
         rhs[i] = -p[i];
@@ -769,8 +788,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
 
   // 1. Operators (eqs. 13–16) and the free-surface classification.
   auto t0 = Clock::now();
-  build_operators(positions_, dim_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient},
-                  operators_);
+  build_operators(positions_, dim_, nb,
+                  OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient}, operators_);
   keep_laplacian_positive();
   const Operators& ops = operators_;
   last_kinds_ = kinds_;
@@ -823,7 +842,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   if (params_.transpose_stress) {
     for (std::size_t b = 0; b < dim; ++b)
       for (std::size_t a = 0; a < dim; ++a) {
-        for (std::size_t i = 0; i < n; ++i) stress_component_[i] = viscosity_[i] * velocity_gradient_[dd * i + b * dim + a];
+        for (std::size_t i = 0; i < n; ++i)
+          stress_component_[i] = viscosity_[i] * velocity_gradient_[dd * i + b * dim + a];
         gradient(nb, ops, stress_component_, stress_gradient_);
         for (std::size_t i = 0; i < n; ++i)
           if (kinds_[i] == FreeNode::interior) transpose_stress_[dim * i + a] += stress_gradient_[dim * i + b];
@@ -866,7 +886,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
     } else {  // wall: no slip at the wall's velocity (Dirichlet)
       momentum_matrix_.diagonal[i] = 1.0;
       double v[3] = {0, 0, 0};
-      const Boundary* boundary = boundary_of_[i] >= 0 ? boundaries_[static_cast<std::size_t>(boundary_of_[i])].get() : nullptr;
+      const Boundary* boundary =
+          boundary_of_[i] >= 0 ? boundaries_[static_cast<std::size_t>(boundary_of_[i])].get() : nullptr;
       if (boundary) boundary->velocity(next_time, std::span<double>(v, dim));
       if (boundary && boundary->slip()) {
         // Free slip: the wall's normal velocity plus the tangential part of the fluid's (Shepard
@@ -904,9 +925,11 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   const double sqrt_n = std::sqrt(static_cast<double>(n));
   KrylovSettings velocity_settings{params_.velocity_tolerance,
                                    params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
-                                   params_.max_iterations, {}};
+                                   params_.max_iterations,
+                                   {}};
   LuPreconditioner momentum_lu;
-  if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 && momentum_lu.factorise(momentum_matrix_))
+  if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
+      momentum_lu.factorise(momentum_matrix_))
     velocity_settings.preconditioner = momentum_lu.apply();
   const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
   bool velocity_hierarchy_fresh = false;
@@ -918,8 +941,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   int most_velocity_iterations = 0;
   for (std::size_t d = 0; d < dim; ++d) {
     for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
-    auto result = bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
-                           velocity_settings, krylov_);
+    auto result =
+        bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_, velocity_settings, krylov_);
     if (!result.converged && velocity_amg && !velocity_hierarchy_fresh) {
       // A hierarchy kept from earlier steps no longer fits the matrix: rebuild it, solve again.
       velocity_amg_.setup(momentum_matrix_);
@@ -927,8 +950,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
       ++stats.repeated_solves;
       for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
       stats.velocity_iterations += result.iterations;
-      result = bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_, velocity_settings,
-                        krylov_);
+      result =
+          bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_, velocity_settings, krylov_);
     }
     most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
@@ -982,11 +1005,13 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
           const FreeNode kj = kinds_[j];
-          const double w = (wsum > 0 && (kj == FreeNode::interior || kj == FreeNode::surface)) ? ops.weights[k] / wsum : 0.0;
+          const double w =
+              (wsum > 0 && (kj == FreeNode::interior || kj == FreeNode::surface)) ? ops.weights[k] / wsum : 0.0;
           pressure_matrix_.off_diagonal[k] = -w;
           if (w == 0) continue;
           double hydrostatic = 0;
-          for (std::size_t d = 0; d < dim; ++d) hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
+          for (std::size_t d = 0; d < dim; ++d)
+            hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
           source += w * (previous_pressure_[j] + hydrostatic);
         }
         pressure_matrix_.diagonal[i] = 1.0;
@@ -1000,11 +1025,14 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
     }
   }
   increment_.assign(n, 0.0);
-  KrylovSettings pressure_settings{params_.pressure_tolerance,
-                                   params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
-                                   params_.max_iterations, {}};
+  KrylovSettings pressure_settings{
+      params_.pressure_tolerance,
+      params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
+      params_.max_iterations,
+      {}};
   LuPreconditioner pressure_lu;
-  if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 && pressure_lu.factorise(pressure_matrix_))
+  if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
+      pressure_lu.factorise(pressure_matrix_))
     pressure_settings.preconditioner = pressure_lu.apply();
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
   bool pressure_hierarchy_fresh = false;
@@ -1027,7 +1055,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   }
   LuPreconditioner pressure_direct;  // outlives pressure_settings' use in the stability probe
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance) &&
-      dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu && pressure_direct.factorise(pressure_matrix_)) {
+      dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu &&
+      pressure_direct.factorise(pressure_matrix_)) {
     // Last resort in 2D: the exact factors as the preconditioner (seconds at 200 000 nodes).
     pressure_settings.preconditioner = pressure_direct.apply();
     ++stats.repeated_with_lu;
@@ -1071,14 +1100,16 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   stats.max_speed = std::sqrt(max_speed_squared);
   stats.courant = stats.max_speed * dt / params_.spacing;
   if (!finite)
-    throw DivergenceError(fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
+    throw DivergenceError(
+        fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
   if (stats.courant > params_.max_courant)
-    throw DivergenceError(fmt::format("Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = "
-                                      "{:.4g} m/s at a {} node at ({:.4g}, {:.4g}{}){}): reduce time.step",
-                                      stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed,
-                                      kind_name(kinds_[fastest]), positions_[dim * fastest], positions_[dim * fastest + 1],
-                                      dim == 3 ? fmt::format(", {:.4g}", positions_[dim * fastest + 2]) : std::string(),
-                                      fmt::format(", {} neighbours", nb.offsets[fastest + 1] - nb.offsets[fastest])));
+    throw DivergenceError(
+        fmt::format("Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = "
+                    "{:.4g} m/s at a {} node at ({:.4g}, {:.4g}{}){}): reduce time.step",
+                    stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed,
+                    kind_name(kinds_[fastest]), positions_[dim * fastest], positions_[dim * fastest + 1],
+                    dim == 3 ? fmt::format(", {:.4g}", positions_[dim * fastest + 2]) : std::string(),
+                    fmt::format(", {} neighbours", nb.offsets[fastest + 1] - nb.offsets[fastest])));
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance)) {
     const FloatingGroups floating = floating_groups(pressure_matrix_);
     const std::size_t at = floating.largest_member;
@@ -1090,12 +1121,13 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
             ? std::string("every node reaches a free-surface node through the pressure matrix")
             : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
                           "largest, {} nodes, includes a {} node at ({:.4g}, {:.4g}{})",
-                          floating.groups, floating.nodes, floating.largest, kind_name(kinds_[at]), positions_[dim * at],
-                          positions_[dim * at + 1], dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string())));
+                          floating.groups, floating.nodes, floating.largest, kind_name(kinds_[at]),
+                          positions_[dim * at], positions_[dim * at + 1],
+                          dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string())));
   }
   if (!velocity_converged && !(stats.velocity_residual < 1e3 * params_.velocity_tolerance))
-    throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}", next_time,
-                                      steps_ + 1, stats.velocity_residual));
+    throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
+                                      next_time, steps_ + 1, stats.velocity_residual));
   stats.pressure_accepted_unconverged = !pressure_result.converged;
   stats.velocity_accepted_unconverged = !velocity_converged;
 

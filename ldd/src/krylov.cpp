@@ -53,7 +53,8 @@ std::array<double, K> block_sums(std::size_t n, Body&& body) {
 // Σ over blocks of partial(begin, end), added in block order.
 template <class Partial>
 double block_sum(std::size_t n, Partial&& partial) {
-  return block_sums<1>(n, [&](std::size_t begin, std::size_t end) { return std::array<double, 1>{partial(begin, end)}; })[0];
+  return block_sums<1>(
+      n, [&](std::size_t begin, std::size_t end) { return std::array<double, 1>{partial(begin, end)}; })[0];
 }
 
 }  // namespace
@@ -239,7 +240,8 @@ std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::sp
     result[c].converged = final_residual <= target[c];
     active[c] = false;
   };
-  for (std::size_t c = 0; c < 2; ++c) target[c] = std::max(settings.relative_tolerance * b_norm[c], settings.absolute_tolerance);
+  for (std::size_t c = 0; c < 2; ++c)
+    target[c] = std::max(settings.relative_tolerance * b_norm[c], settings.absolute_tolerance);
 
   // r = b − A x, r̂ = r.
   residual_squared = block_sums<2>(n, [&](std::size_t begin, std::size_t end) {
@@ -434,6 +436,5 @@ FloatingGroups floating_groups(const StencilMatrix& a) {
   }
   return out;
 }
-
 
 }  // namespace rheosim::ldd

@@ -25,7 +25,8 @@ bool fit_node(std::span<const double> positions, const NeighbourList& nb, std::s
   using Mat = Eigen::Matrix<double, Size, Size>;
   using Vec = Eigen::Matrix<double, Size, 1>;
   const auto scaled_basis = [&](std::size_t j) {
-    const auto b = taylor_basis((positions[2 * j] - positions[2 * i]) / h, (positions[2 * j + 1] - positions[2 * i + 1]) / h);
+    const auto b =
+        taylor_basis((positions[2 * j] - positions[2 * i]) / h, (positions[2 * j + 1] - positions[2 * i + 1]) / h);
     Vec v;
     for (int t = 0; t < Size; ++t) v[t] = b[static_cast<std::size_t>(t)];
     return v;
@@ -33,7 +34,8 @@ bool fit_node(std::span<const double> positions, const NeighbourList& nb, std::s
   Mat normal = Mat::Zero();
   for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
     const std::size_t j = nb.indices[k];
-    const double w = weight(std::hypot(positions[2 * j] - positions[2 * i], positions[2 * j + 1] - positions[2 * i + 1]), h);
+    const double w =
+        weight(std::hypot(positions[2 * j] - positions[2 * i], positions[2 * j + 1] - positions[2 * i + 1]), h);
     if (w <= 0) continue;
     const Vec b = scaled_basis(j);
     normal += w * b * b.transpose();
@@ -44,7 +46,8 @@ bool fit_node(std::span<const double> positions, const NeighbourList& nb, std::s
   const Mat inverse = eigen.eigenvectors() * lambda.cwiseInverse().asDiagonal() * eigen.eigenvectors().transpose();
   for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
     const std::size_t j = nb.indices[k];
-    const double w = weight(std::hypot(positions[2 * j] - positions[2 * i], positions[2 * j + 1] - positions[2 * i + 1]), h);
+    const double w =
+        weight(std::hypot(positions[2 * j] - positions[2 * i], positions[2 * j + 1] - positions[2 * i + 1]), h);
     if (w <= 0) continue;
     const Vec c = inverse * (w * scaled_basis(j));
     for (int t = 0; t < Size; ++t) {
@@ -122,7 +125,8 @@ void return_to_lattice(std::span<const double> positions, std::span<const NodeKi
         double low = velocity[2 * i + c], high = low;
         for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
           const std::size_t j = nb.indices[k];
-          const double upwind = (positions[2 * j] - positions[2 * i]) * rx + (positions[2 * j + 1] - positions[2 * i + 1]) * ry;
+          const double upwind =
+              (positions[2 * j] - positions[2 * i]) * rx + (positions[2 * j + 1] - positions[2 * i + 1]) * ry;
           if (!(upwind < 0) || !(nb.distances[k] < fit.support_radius())) continue;
           low = std::min(low, velocity[2 * j + c]);
           high = std::max(high, velocity[2 * j + c]);

@@ -47,7 +47,8 @@ std::size_t table_size_for(std::size_t node_count) {
 
 void validate(std::span<const double> positions, int dimension, double support_radius) {
   if (dimension != 2 && dimension != 3)
-    throw std::invalid_argument(fmt::format("find_neighbours: dimension = {} is out of range, expected 2 or 3", dimension));
+    throw std::invalid_argument(
+        fmt::format("find_neighbours: dimension = {} is out of range, expected 2 or 3", dimension));
   if (!(std::isfinite(support_radius) && support_radius > 0.0))
     throw std::invalid_argument(fmt::format(
         "find_neighbours: support_radius = {} is out of range, expected a finite value > 0", support_radius));
@@ -87,9 +88,9 @@ class CellTable {
         upper[d] = std::max(upper[d], positions[i * dimension + d]);
       }
       if (upper[d] - lower_[d] > max_extent_over_h * support_radius)
-        throw std::invalid_argument(fmt::format(
-            "find_neighbours: the cloud spans {} m in direction {}, more than {:g} × support_radius = {} m",
-            upper[d] - lower_[d], d, max_extent_over_h, support_radius));
+        throw std::invalid_argument(
+            fmt::format("find_neighbours: the cloud spans {} m in direction {}, more than {:g} × support_radius = {} m",
+                        upper[d] - lower_[d], d, max_extent_over_h, support_radius));
     }
 
     // Coordinates padded to 3 (z = 0 in 2D: adding 0² leaves every squared distance unchanged).
@@ -146,7 +147,8 @@ class CellTable {
  private:
   [[nodiscard]] CellIndex cell_of(const double* x) const {
     CellIndex cell{0, 0, 0};
-    for (std::size_t d = 0; d < 3; ++d) cell[d] = static_cast<std::int64_t>(std::floor((x[d] - lower_[d]) / cell_size_));
+    for (std::size_t d = 0; d < 3; ++d)
+      cell[d] = static_cast<std::int64_t>(std::floor((x[d] - lower_[d]) / cell_size_));
     return cell;
   }
 
@@ -288,8 +290,8 @@ void neighbours_within(const NeighbourList& candidates, std::span<const double> 
   const auto dim = static_cast<std::size_t>(dimension);
   const std::size_t n = candidates.node_count();
   if (positions.size() != n * dim)
-    throw std::invalid_argument(fmt::format("neighbours_within: {} coordinates for {} candidate nodes in {}D",
-                                            positions.size(), n, dimension));
+    throw std::invalid_argument(
+        fmt::format("neighbours_within: {} coordinates for {} candidate nodes in {}D", positions.size(), n, dimension));
   const double radius_squared = radius * radius;
   // As find_neighbours: Σ (x_j − x_i)² over three components (z = 0 in 2D adds nothing).
   const auto squared = [&](std::size_t i, std::size_t j) {

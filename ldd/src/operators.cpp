@@ -1,7 +1,7 @@
 #include "rheosim/ldd/operators.hpp"
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -44,7 +44,8 @@ GuardedInverse<D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, dou
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> eigen(moment);
   Vec inverse_eigenvalues = Vec::Zero();
   for (int d = 0; d < D; ++d)
-    if (lambda_max > 0 && eigen.eigenvalues()[d] >= rcond * lambda_max) inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
+    if (lambda_max > 0 && eigen.eigenvalues()[d] >= rcond * lambda_max)
+      inverse_eigenvalues[d] = 1.0 / eigen.eigenvalues()[d];
   r.inverse = eigen.eigenvectors() * inverse_eigenvalues.asDiagonal() * eigen.eigenvectors().transpose();
   return r;
 }

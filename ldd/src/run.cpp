@@ -16,9 +16,9 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
-#include "run_summary.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "run_summary.hpp"
 
 namespace rheosim::ldd {
 
@@ -27,8 +27,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
 
 namespace {
 
-constexpr int probe_count = 101;      // points per centre line
-constexpr int field_grid_points = 101; // structured output grid per direction
+constexpr int probe_count = 101;        // points per centre line
+constexpr int field_grid_points = 101;  // structured output grid per direction
 constexpr double blow_up_residual = 1e3;
 
 struct Centerlines {
@@ -170,7 +170,8 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
   for (const char* script : {"centerlines.gp", "streamlines.gp"}) {
     const std::string command = fmt::format("cd '{}' && gnuplot {} > gnuplot.log 2>&1", dir.string(), script);
     if (std::system(command.c_str()) != 0)
-      log.warn("gnuplot failed or is missing (see {}); {} is kept to plot by hand", (dir / "gnuplot.log").string(), script);
+      log.warn("gnuplot failed or is missing (see {}); {} is kept to plot by hand", (dir / "gnuplot.log").string(),
+               script);
   }
 }
 
@@ -201,14 +202,16 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   params.max_courant = l.solver.max_courant;
   params.reordering = l.solver.reordering == "density" ? Reordering::density : Reordering::lattice;
   params.interpolation = lattice_interpolation_named(l.solver.interpolation);
-  params.pressure_preconditioner = preconditioner_named(l.solver.pressure_preconditioner, params.pressure_preconditioner);
-  params.velocity_preconditioner = preconditioner_named(l.solver.velocity_preconditioner, params.velocity_preconditioner);
+  params.pressure_preconditioner =
+      preconditioner_named(l.solver.pressure_preconditioner, params.pressure_preconditioner);
+  params.velocity_preconditioner =
+      preconditioner_named(l.solver.velocity_preconditioner, params.velocity_preconditioner);
   params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;
   params.length_scale = cavity.width();
   Solver solver(params, cavity.walls(), cavity.initial_cloud());
 
-  const double reynolds = l.fluid.density * params.velocity_scale * cavity.width() / l.fluid.rheology->viscosity(
-                                                                                           params.velocity_scale / cavity.width());
+  const double reynolds = l.fluid.density * params.velocity_scale * cavity.width() /
+                          l.fluid.rheology->viscosity(params.velocity_scale / cavity.width());
   log.info("LDD {}: {} nodes ({} fluid), Δ = {} m, δt = {} s, {} threads, Re(U/L) ≈ {:.4g}", l.scene_type,
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads, reynolds);
 
@@ -287,7 +290,8 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
 
   const Centerlines final_lines = sample_centerlines(solver, cavity);
   core::CsvTable vertical({{"y", ""}, {"u", ""}}), horizontal({{"x", ""}, {"v", ""}});
-  nlohmann::ordered_json vertical_json = nlohmann::ordered_json::array(), horizontal_json = nlohmann::ordered_json::array();
+  nlohmann::ordered_json vertical_json = nlohmann::ordered_json::array(),
+                         horizontal_json = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < final_lines.y.size(); ++k) {
     vertical.add_row({final_lines.y[k], final_lines.u[k]});
     horizontal.add_row({final_lines.x[k], final_lines.v[k]});
@@ -309,13 +313,15 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   {  // every rule the run bent
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
     if (pressure_unconverged + velocity_unconverged > 0)
-      warnings.push_back(fmt::format(
-          "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most {:.3g}× "
-          "the tolerance (a step stops as diverged beyond 1000×)",
-          pressure_unconverged, velocity_unconverged, solver.steps(), worst_ratio));
+      warnings.push_back(
+          fmt::format("linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, "
+                      "at most {:.3g}× "
+                      "the tolerance (a step stops as diverged beyond 1000×)",
+                      pressure_unconverged, velocity_unconverged, solver.steps(), worst_ratio));
     if (solver.params().pressure_preconditioner != requested_preconditioner)
       warnings.push_back(
-          "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi preconditioning");
+          "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi "
+          "preconditioning");
     for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
     summary["warnings"] = warnings;
   }
@@ -357,7 +363,8 @@ CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams&
     last_time = solver.time();
     if (!(result.final_residual < blow_up_residual)) {
       result.diverged = true;
-      result.message = fmt::format("steady-state residual {:.3g} at t = {:.6g} s", result.final_residual, solver.time());
+      result.message =
+          fmt::format("steady-state residual {:.3g} at t = {:.6g} s", result.final_residual, solver.time());
       break;
     }
     quiet = (steady_tolerance > 0 && result.final_residual < steady_tolerance) ? quiet + 1 : 0;

@@ -15,9 +15,9 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
-#include "run_summary.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
+#include "run_summary.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -102,9 +102,9 @@ FreeSurfaceScene build_scene(const core::LddCase& l) {
 struct RunRecord {
   std::vector<double> front_time, front;  // dam break: after every step
   std::vector<double> frame_times;
-  std::vector<double> resumed_at_steps;   // steps at which this run was continued from a checkpoint
+  std::vector<double> resumed_at_steps;  // steps at which this run was continued from a checkpoint
   double volume0 = 0, max_drift = 0, peak_energy = 0;
-  double step_seconds = 0, wall_seconds = 0;           // over all processes that ran the case
+  double step_seconds = 0, wall_seconds = 0;                // over all processes that ran the case
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
   // Steps whose pressure or velocity solve did not converge and was accepted (up to 1000× its
@@ -173,19 +173,23 @@ void write_checkpoint(const std::filesystem::path& path, const core::Case& c, co
   add("state/neighbours/offsets", as_doubles(s.neighbours.offsets), 1, "");
   add("state/neighbours/indices", as_doubles(s.neighbours.indices), 1, "");
   add("state/neighbours/distances", std::move(s.neighbours.distances), 1, "m");
-  for (auto [name, amg] : {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
+  for (auto [name, amg] :
+       {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
     const std::string group = std::string("state/amg/") + name;
     add(group + "/diagonal", std::move(amg->diagonal), 1, "");
     add(group + "/off_diagonal", std::move(amg->off_diagonal), 1, "");
     add(group + "/offsets", as_doubles(amg->offsets), 1, "");
     add(group + "/columns", as_doubles(amg->columns), 1, "");
-    add(group + "/counters", {static_cast<double>(amg->calls_since_setup), static_cast<double>(amg->reference_iterations),
-                              amg->setup_due ? 1.0 : 0.0}, 1, "");
+    add(group + "/counters",
+        {static_cast<double>(amg->calls_since_setup), static_cast<double>(amg->reference_iterations),
+         amg->setup_due ? 1.0 : 0.0},
+        1, "");
   }
   const std::size_t columns = history.numeric_columns().size();
   std::vector<double> rows;
   rows.reserve(history.row_count() * columns);
-  for (std::size_t i = 0; i < history.row_count(); ++i) rows.insert(rows.end(), history.row(i).begin(), history.row(i).end());
+  for (std::size_t i = 0; i < history.row_count(); ++i)
+    rows.insert(rows.end(), history.row(i).begin(), history.row(i).end());
   add("run/history", std::move(rows), columns, "");
   add("run/front_time", r.front_time, 1, "s");
   add("run/front", r.front, 1, "m");
@@ -196,20 +200,21 @@ void write_checkpoint(const std::filesystem::path& path, const core::Case& c, co
 
 // Restores solver, record and history from `path` and returns the git revision that wrote it.
 // Refuses (ConfigError) a checkpoint of another input deck: the same folder must not mix two runs.
-std::string read_checkpoint(const std::filesystem::path& path, const core::Case& c, FreeSurfaceSolver& solver, RunRecord& r,
-                     core::CsvTable& history) {
+std::string read_checkpoint(const std::filesystem::path& path, const core::Case& c, FreeSurfaceSolver& solver,
+                            RunRecord& r, core::CsvTable& history) {
   std::map<std::string, core::Hdf5Attribute> a;
   for (auto& attribute : core::read_hdf5_attributes(path)) a.emplace(attribute.name, std::move(attribute));
   const auto text = [&](const char* name) {
     const auto it = a.find(name);
-    return it != a.end() && std::holds_alternative<std::string>(it->second.value) ? std::get<std::string>(it->second.value)
-                                                                                   : std::string();
+    return it != a.end() && std::holds_alternative<std::string>(it->second.value)
+               ? std::get<std::string>(it->second.value)
+               : std::string();
   };
   const auto number = [&](const char* name) {
     const auto it = a.find(name);
     if (it == a.end() || !std::holds_alternative<double>(it->second.value))
-      throw core::RunError(fmt::format("checkpoint '{}' has no number '{}': not a checkpoint of this rheosim",
-                                       path.string(), name));
+      throw core::RunError(
+          fmt::format("checkpoint '{}' has no number '{}': not a checkpoint of this rheosim", path.string(), name));
     return std::get<double>(it->second.value);
   };
   const std::string stored_sha = text("input_sha256");
@@ -238,14 +243,16 @@ std::string read_checkpoint(const std::filesystem::path& path, const core::Case&
   s.neighbours.offsets = from_doubles<std::size_t>(data("state/neighbours/offsets"));
   s.neighbours.indices = from_doubles<std::size_t>(data("state/neighbours/indices"));
   s.neighbours.distances = data("state/neighbours/distances");
-  for (auto [name, amg] : {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
+  for (auto [name, amg] :
+       {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
     const std::string group = std::string("state/amg/") + name;
     amg->diagonal = data(group + "/diagonal");
     amg->off_diagonal = data(group + "/off_diagonal");
     amg->offsets = from_doubles<std::size_t>(data(group + "/offsets"));
     amg->columns = from_doubles<std::size_t>(data(group + "/columns"));
     const std::vector<double> counters = data(group + "/counters");
-    if (counters.size() != 3) throw core::RunError(fmt::format("checkpoint '{}': {}/counters is not 3 numbers", path.string(), group));
+    if (counters.size() != 3)
+      throw core::RunError(fmt::format("checkpoint '{}': {}/counters is not 3 numbers", path.string(), group));
     amg->calls_since_setup = static_cast<int>(counters[0]);
     amg->reference_iterations = static_cast<int>(counters[1]);
     amg->setup_due = counters[2] != 0;
@@ -279,8 +286,8 @@ std::string read_checkpoint(const std::filesystem::path& path, const core::Case&
   const std::vector<double> rows = data("run/history");
   const std::size_t columns = history.numeric_columns().size();
   if (columns == 0 || rows.size() % columns != 0)
-    throw core::RunError(fmt::format("checkpoint '{}': its probe history does not have this case's {} columns",
-                                     path.string(), columns));
+    throw core::RunError(
+        fmt::format("checkpoint '{}': its probe history does not have this case's {} columns", path.string(), columns));
   for (std::size_t i = 0; i < rows.size(); i += columns)
     history.add_row(std::span<const double>(rows).subspan(i, columns));
   return text("git_revision");
@@ -362,14 +369,15 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     columns.push_back({"diameter", "m"});
     columns.push_back({"height", "m"});
   }
-  for (core::CsvTable::Column col : std::vector<core::CsvTable::Column>{{"kinetic_energy", l.dimension == 2 ? "J/m" : "J"},
-                                                                        {"volume_drift", ""},
-                                                                        {"surface_nodes", ""},
-                                                                        {"splash_nodes", ""},
-                                                                        {"pressure_iterations", ""},
-                                                                        {"velocity_iterations", ""},
-                                                                        {"courant", ""},
-                                                                        {"max_pbd_shift", ""}})
+  for (core::CsvTable::Column col :
+       std::vector<core::CsvTable::Column>{{"kinetic_energy", l.dimension == 2 ? "J/m" : "J"},
+                                           {"volume_drift", ""},
+                                           {"surface_nodes", ""},
+                                           {"splash_nodes", ""},
+                                           {"pressure_iterations", ""},
+                                           {"velocity_iterations", ""},
+                                           {"courant", ""},
+                                           {"max_pbd_shift", ""}})
     columns.push_back(col);
   core::CsvTable history(columns);
   const std::string probe_file = dam_break ? "front.csv" : slump ? "spread.csv" : "column.csv";
@@ -387,8 +395,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
       row.push_back(height);
     }
     for (double v : {energy, drift, static_cast<double>(st.surface_nodes), static_cast<double>(st.splash_nodes),
-                     static_cast<double>(st.pressure_iterations), static_cast<double>(st.velocity_iterations), st.courant,
-                     st.max_pbd_shift})
+                     static_cast<double>(st.pressure_iterations), static_cast<double>(st.velocity_iterations),
+                     st.courant, st.max_pbd_shift})
       row.push_back(v);
     history.add_row(row);
     return energy;
@@ -459,10 +467,10 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     if (stats.repeated_solves > 0) {
       run.repeated_solves += stats.repeated_solves;
       run.repeated_with_lu += stats.repeated_with_lu;
-      log.warn("t = {:.6g} s: {} linear solve(s) failed and were repeated ({} with a fresh AMG hierarchy, {} with "
-               "the pressure matrix's sparse LU)",
-               solver.time(), stats.repeated_solves, stats.repeated_solves - stats.repeated_with_lu,
-               stats.repeated_with_lu);
+      log.warn(
+          "t = {:.6g} s: {} linear solve(s) failed and were repeated ({} with a fresh AMG hierarchy, {} with "
+          "the pressure matrix's sparse LU)",
+          solver.time(), stats.repeated_solves, stats.repeated_solves - stats.repeated_with_lu, stats.repeated_with_lu);
     }
     if (dam_break) {
       run.front_time.push_back(solver.time());
@@ -498,9 +506,10 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   core::write_csv(out_dir / probe_file, history);
   checkpoint();
   if (outcome.status == "interrupted")
-    log.info("interrupted at t = {:.6g} s (step {} of {}): the state is in {}; run the same case into the same folder "
-             "to go on",
-             solver.time(), solver.steps(), total_steps, checkpoint_path.string());
+    log.info(
+        "interrupted at t = {:.6g} s (step {} of {}): the state is in {}; run the same case into the same folder "
+        "to go on",
+        solver.time(), solver.steps(), total_steps, checkpoint_path.string());
 
   outcome.steps = solver.steps();
   outcome.ms_per_step = solver.steps() > 0 ? 1e3 * run.step_seconds / static_cast<double>(solver.steps()) : 0.0;
@@ -512,7 +521,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
     if (run.pressure_above_tolerance + run.velocity_above_tolerance > 0)
       warnings.push_back(fmt::format(
-          "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most {:.3g}× "
+          "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most "
+          "{:.3g}× "
           "the tolerance (a step stops as diverged beyond 1000×)",
           run.pressure_above_tolerance, run.velocity_above_tolerance, solver.steps(), run.worst_tolerance_ratio));
     if (run.repeated_solves > 0)
@@ -521,7 +531,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
     summary["warnings"] = warnings;
   }
-  summary["repeated_with_lu"] = static_cast<int>(run.repeated_with_lu);  // of which; the rest with a fresh AMG hierarchy
+  summary["repeated_with_lu"] =
+      static_cast<int>(run.repeated_with_lu);  // of which; the rest with a fresh AMG hierarchy
   // Krylov iterations per step (velocity: all components), to compare preconditioners.
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
   summary["iterations_per_step"] = {{"pressure", run.pressure_iterations / steps_done},
@@ -553,7 +564,11 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
       const double x = interpolate(run.front_time, run.front, time);
       const double seed = paper ? paper[q] : std::numeric_limits<double>::quiet_NaN();
       table.add_row({time, exp, x, x - exp, seed});
-      rows.push_back({{"t", time}, {"experiment", exp}, {"front", x}, {"error", x - exp}, {"ldd_seed", paper ? nlohmann::ordered_json(seed) : nlohmann::ordered_json()}});
+      rows.push_back({{"t", time},
+                      {"experiment", exp},
+                      {"front", x},
+                      {"error", x - exp},
+                      {"ldd_seed", paper ? nlohmann::ordered_json(seed) : nlohmann::ordered_json()}});
       text += fmt::format("{:>8.2f} {:>10.3f} {:>12.3f} {:>+10.3f} {:>10}\n", time, exp, x, x - exp,
                           paper ? fmt::format("{:.3f}", seed) : std::string("-"));
       if (std::isfinite(x)) {
@@ -563,7 +578,8 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
       }
     }
     const double rms = counted > 0 ? std::sqrt(sum2 / counted) : std::numeric_limits<double>::quiet_NaN();
-    text += fmt::format("RMS error vs experiment {:.4f} m, max {:.4f} m ({} of 6 times reached)\n", rms, worst, counted);
+    text +=
+        fmt::format("RMS error vs experiment {:.4f} m, max {:.4f} m ({} of 6 times reached)\n", rms, worst, counted);
     core::write_csv(out_dir / "table1.csv", table);
     core::write_atomically(out_dir / "table1.txt", [&](std::ostream& os) { os << text; });
     summary["table1"] = {{"rows", rows}, {"rms_error", rms}, {"max_error", worst}};

@@ -16,14 +16,15 @@ namespace {
 int cells_along(double length, double spacing, const char* what) {
   const auto cells = static_cast<int>(std::lround(length / spacing));
   if (cells < 4)
-    throw std::invalid_argument(
-        fmt::format("LDD scene: spacing {} m leaves {} cells along the {} ({} m); need at least 4", spacing, cells, what, length));
+    throw std::invalid_argument(fmt::format(
+        "LDD scene: spacing {} m leaves {} cells along the {} ({} m); need at least 4", spacing, cells, what, length));
   return cells;
 }
 
 // An open-top 2D box: floor over cells [0, cells_x) (x from x0), side walls `wall_rows` high.
 // Fluid fills columns [fluid_begin, fluid_end) up to fluid_rows rows.
-FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, int fluid_end, int fluid_rows, double dx) {
+FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, int fluid_end, int fluid_rows,
+                        double dx) {
   FreeSurfaceScene s;
   s.cloud.dimension = 2;
   const double xl = x0 - 0.5 * dx, xr = x0 + (cells_x + 0.5) * dx, yb = -0.5 * dx;
@@ -72,10 +73,10 @@ FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing, std:
   // physical cone, so that the fluid nodes (kept Δ/2 inside it) fill the cone's own volume.
   const double slope = (rb - rt) / height;
   const double offset = 0.5 * dx * std::sqrt(1.0 + slope * slope);  // radial offset for a Δ/2 normal offset
-  s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{0.0, 0.0, -0.5 * dx},
-                                                         std::vector<double>{0.0, 0.0, 1.0}));
-  s.boundaries.push_back(std::make_shared<ConeMouldBoundary>(rb + offset, rt + offset, height, 0.0, scene.lift_velocity,
-                                                             1.5 * height));
+  s.boundaries.push_back(
+      std::make_shared<PlaneBoundary>(std::vector<double>{0.0, 0.0, -0.5 * dx}, std::vector<double>{0.0, 0.0, 1.0}));
+  s.boundaries.push_back(
+      std::make_shared<ConeMouldBoundary>(rb + offset, rt + offset, height, 0.0, scene.lift_velocity, 1.5 * height));
   const double floor_radius = rb + 1.2 * height;
   const int m = static_cast<int>(std::ceil(floor_radius / dx));
   for (int i = -m; i < m; ++i)
@@ -112,8 +113,9 @@ FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing, std:
   return s;
 }
 
-void add_walls(FreeSurfaceScene& s, std::span<const core::LddWall> walls, double spacing, std::vector<std::size_t> fixed,
-               std::span<const double> region_lower, std::span<const double> region_upper) {
+void add_walls(FreeSurfaceScene& s, std::span<const core::LddWall> walls, double spacing,
+               std::vector<std::size_t> fixed, std::span<const double> region_lower,
+               std::span<const double> region_upper) {
   const int dimension = s.cloud.dimension;
   const auto dim = static_cast<std::size_t>(dimension);
   const auto distance_to = [&](const Boundary& b, std::span<const double> x) {
@@ -128,15 +130,16 @@ void add_walls(FreeSurfaceScene& s, std::span<const core::LddWall> walls, double
     for (std::size_t i = 0; i < s.cloud.size(); ++i) {
       const std::span<const double> x(&s.cloud.positions[dim * i], dim);
       if (!s.cloud.is_wall[i] && distance_to(boundary, x) < 0)
-        throw std::invalid_argument(fmt::format(
-            "LDD scene: fluid node at ({:.4g}, {:.4g}{}) lies behind wall {} ({}); the fluid must start on the walls' fluid side",
-            x[0], x[1], dim == 3 ? fmt::format(", {:.4g}", x[2]) : std::string(), w + 1, walls[w].type));
+        throw std::invalid_argument(
+            fmt::format("LDD scene: fluid node at ({:.4g}, {:.4g}{}) lies behind wall {} ({}); the fluid must start on "
+                        "the walls' fluid side",
+                        x[0], x[1], dim == 3 ? fmt::format(", {:.4g}", x[2]) : std::string(), w + 1, walls[w].type));
       const int owner = s.cloud.boundary[i];
       const bool fixed_wall = s.cloud.is_wall[i] && owner >= 0 &&
                               std::find(fixed.begin(), fixed.end(), static_cast<std::size_t>(owner)) != fixed.end();
       if (fixed_wall && distance_to(boundary, x) < -0.5 * spacing) continue;  // behind the new wall
-      kept.add(x, s.cloud.is_wall[i] != 0, s.cloud.is_corner[i] != 0, std::span<const double>(&s.cloud.normals[dim * i], dim),
-               owner);
+      kept.add(x, s.cloud.is_wall[i] != 0, s.cloud.is_corner[i] != 0,
+               std::span<const double>(&s.cloud.normals[dim * i], dim), owner);
     }
     s.cloud = std::move(kept);
     const int index = static_cast<int>(s.boundaries.size());
@@ -153,7 +156,8 @@ void add_walls(FreeSurfaceScene& s, std::span<const core::LddWall> walls, double
       for (std::size_t f : fixed) behind = behind || distance_to(*s.boundaries[f], x) < -0.5 * spacing;
       if (behind) continue;
       bool near = false;
-      const auto first = std::lower_bound(by_x.begin(), by_x.end(), std::make_pair(x[0] - min_distance, std::size_t{0}));
+      const auto first =
+          std::lower_bound(by_x.begin(), by_x.end(), std::make_pair(x[0] - min_distance, std::size_t{0}));
       for (auto it = first; it != by_x.end() && it->first <= x[0] + min_distance && !near; ++it) {
         double r2 = 0;
         for (std::size_t d = 0; d < dim; ++d) {

@@ -10,8 +10,8 @@
 #include <type_traits>
 #include <utility>
 
-#include <Eigen/SparseLU>
 #include <fmt/format.h>
+#include <Eigen/SparseLU>
 
 namespace rheosim::ldd {
 
@@ -66,12 +66,11 @@ struct SparseFactorisation {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 void require(bool ok, const char* field, double value, const char* range) {
-  if (!ok) throw std::invalid_argument(fmt::format("LDD solver: {} = {} is out of range, expected {}", field, value, range));
+  if (!ok)
+    throw std::invalid_argument(fmt::format("LDD solver: {} = {} is out of range, expected {}", field, value, range));
 }
 
 bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
@@ -119,7 +118,8 @@ class NestedDissection {
     for (std::size_t k = 0; k < half; ++k) {
       const std::uint32_t v = nodes[k];
       const auto neighbours = nb_.neighbours_of(v);
-      const bool touches = std::any_of(neighbours.begin(), neighbours.end(), [&](std::size_t j) { return side_[j] == stamp_; });
+      const bool touches =
+          std::any_of(neighbours.begin(), neighbours.end(), [&](std::size_t j) { return side_[j] == stamp_; });
       (touches ? separator : lower).push_back(v);
     }
     std::vector<std::uint32_t> upper(nodes.begin() + static_cast<std::ptrdiff_t>(half), nodes.end());
@@ -197,7 +197,8 @@ double test_residual(const SparseFactorisation& f, const SparseMatrix& a) {
   const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(n, 1.0, static_cast<double>(n));
   const Eigen::VectorXd b = a * expected;
   Eigen::VectorXd x(n);
-  f.solve(std::span<const double>(b.data(), static_cast<std::size_t>(n)), std::span<double>(x.data(), static_cast<std::size_t>(n)));
+  f.solve(std::span<const double>(b.data(), static_cast<std::size_t>(n)),
+          std::span<double>(x.data(), static_cast<std::size_t>(n)));
   const double residual = (a * x - b).norm() / b.norm();
   return std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity();
 }
@@ -253,9 +254,9 @@ std::function<void(std::span<const double>, std::span<double>)> lu_preconditione
 
 // x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
 // iteration; `scratch` holds A x.
-KrylovResult direct_solve(const SparseFactorisation& lu, const StencilMatrix& a, std::span<const double> b, std::span<double> x,
-                          const KrylovSettings& settings, std::vector<double>& scratch) {
-  lu_preconditioner(&lu)(b, x);
+KrylovResult direct_solve(const SparseFactorisation& lu, const StencilMatrix& a, std::span<const double> b,
+                          std::span<double> x, const KrylovSettings& settings, std::vector<double>& scratch) {
+  lu_preconditioner (&lu)(b, x);
   scratch.resize(b.size());
   a.multiply(x, scratch);
   for (std::size_t i = 0; i < b.size(); ++i) scratch[i] = b[i] - scratch[i];
@@ -338,7 +339,8 @@ Solver::Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud)
     densities.push_back(rho);
   }
   if (densities.empty()) throw std::invalid_argument("LDD solver: the cloud has no fluid nodes");
-  std::nth_element(densities.begin(), densities.begin() + static_cast<std::ptrdiff_t>(densities.size() / 2), densities.end());
+  std::nth_element(densities.begin(), densities.begin() + static_cast<std::ptrdiff_t>(densities.size() / 2),
+                   densities.end());
   rest_density_ = densities[densities.size() / 2];
 }
 
@@ -555,7 +557,8 @@ StepStats Solver::step() {
     } else {  // corner: Shepard average of the neighbours (eq. 12)
       double wsum = 0;
       for (std::size_t k = begin; k < end; ++k) wsum += ops.weights[k];
-      for (std::size_t k = begin; k < end; ++k) pressure_matrix_.off_diagonal[k] = wsum > 0 ? -ops.weights[k] / wsum : 0.0;
+      for (std::size_t k = begin; k < end; ++k)
+        pressure_matrix_.off_diagonal[k] = wsum > 0 ? -ops.weights[k] / wsum : 0.0;
       pressure_matrix_.diagonal[i] = 1.0;
     }
     // The closed domain's Neumann problem is singular (constants). A relative diagonal shift
@@ -569,9 +572,11 @@ StepStats Solver::step() {
   // Converged when the residual is small relative to the source, or when the divergence it
   // leaves is below pressure_tolerance · U/L in the RMS sense (near steady state ‖b‖ → 0).
   const double divergence_scale = rho / dt * params_.velocity_scale / params_.length_scale;
-  const KrylovSettings pressure_settings{params_.pressure_tolerance,
-                                         params_.pressure_tolerance * divergence_scale * std::sqrt(static_cast<double>(n)),
-                                         params_.max_iterations, {}};
+  const KrylovSettings pressure_settings{
+      params_.pressure_tolerance,
+      params_.pressure_tolerance * divergence_scale * std::sqrt(static_cast<double>(n)),
+      params_.max_iterations,
+      {}};
   KrylovSettings settings_with_preconditioner = pressure_settings;
   if (params_.reordering == Reordering::lattice && params_.pressure_preconditioner == Preconditioner::sparse_lu) {
     if (!pressure_lu_) {
@@ -633,16 +638,19 @@ StepStats Solver::step() {
   stats.courant = stats.max_speed * dt / params_.spacing;
   const double next_time = time_ + dt;
   if (!finite)
-    throw DivergenceError(fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
+    throw DivergenceError(
+        fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
   if (stats.courant > params_.max_courant)
     throw DivergenceError(fmt::format(
         "Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = {:.4g} m/s): reduce "
         "time.step",
         stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed));
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance))
-    throw DivergenceError(fmt::format(
-        "pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations (tolerance {:.3g})",
-        next_time, steps_ + 1, pressure_result.relative_residual, pressure_result.iterations, params_.pressure_tolerance));
+    throw DivergenceError(
+        fmt::format("pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations "
+                    "(tolerance {:.3g})",
+                    next_time, steps_ + 1, pressure_result.relative_residual, pressure_result.iterations,
+                    params_.pressure_tolerance));
   if (!velocity_converged && !(velocity_residual < 1e3 * params_.velocity_tolerance))
     throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
                                       next_time, steps_ + 1, velocity_residual));
@@ -666,7 +674,8 @@ StepStats Solver::step() {
     double g[4] = {0, 0, 0, 0};
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
-      const double du = new_velocity_[2 * j] - new_velocity_[2 * i], dv = new_velocity_[2 * j + 1] - new_velocity_[2 * i + 1];
+      const double du = new_velocity_[2 * j] - new_velocity_[2 * i],
+                   dv = new_velocity_[2 * j + 1] - new_velocity_[2 * i + 1];
       g[0] += ops.gradient[2 * k] * du;
       g[1] += ops.gradient[2 * k + 1] * du;
       g[2] += ops.gradient[2 * k] * dv;
@@ -773,14 +782,16 @@ void Solver::keep_inside(std::size_t i, std::span<double> velocity) {
   const double clearance = params_.wall_clearance * params_.spacing;
   for (const Wall& w : walls_) {
     const Vec2 normal = w.inward_normal();
-    const double distance = normal[0] * (positions_[2 * i] - w.start[0]) + normal[1] * (positions_[2 * i + 1] - w.start[1]);
+    const double distance =
+        normal[0] * (positions_[2 * i] - w.start[0]) + normal[1] * (positions_[2 * i + 1] - w.start[1]);
     if (distance >= clearance) continue;
     positions_[2 * i] += (clearance - distance) * normal[0];
     positions_[2 * i + 1] += (clearance - distance) * normal[1];
     if (velocity.empty()) continue;
     // A node held off the wall must not keep running into it: drop the velocity component
     // towards the wall (relative to the wall's own velocity, which is tangential).
-    const double approach = normal[0] * (velocity[2 * i] - w.velocity[0]) + normal[1] * (velocity[2 * i + 1] - w.velocity[1]);
+    const double approach =
+        normal[0] * (velocity[2 * i] - w.velocity[0]) + normal[1] * (velocity[2 * i + 1] - w.velocity[1]);
     if (approach < 0) {
       velocity[2 * i] -= approach * normal[0];
       velocity[2 * i + 1] -= approach * normal[1];
@@ -915,18 +926,23 @@ std::vector<double> Solver::sample_velocity(std::span<const double> points) cons
   };
   std::vector<std::size_t> start(cx * cy + 1, 0), order(n);
   for (std::size_t i = 0; i < n; ++i)
-    ++start[static_cast<std::size_t>(cell_of(positions_[2 * i], 0, cx) + cell_of(positions_[2 * i + 1], 1, cy) * static_cast<std::ptrdiff_t>(cx)) + 1];
+    ++start[static_cast<std::size_t>(cell_of(positions_[2 * i], 0, cx) +
+                                     cell_of(positions_[2 * i + 1], 1, cy) * static_cast<std::ptrdiff_t>(cx)) +
+            1];
   for (std::size_t c = 0; c < cx * cy; ++c) start[c + 1] += start[c];
   std::vector<std::size_t> fill(start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < n; ++i)
-    order[fill[static_cast<std::size_t>(cell_of(positions_[2 * i], 0, cx) + cell_of(positions_[2 * i + 1], 1, cy) * static_cast<std::ptrdiff_t>(cx))]++] = i;
+    order[fill[static_cast<std::size_t>(cell_of(positions_[2 * i], 0, cx) +
+                                        cell_of(positions_[2 * i + 1], 1, cy) * static_cast<std::ptrdiff_t>(cx))]++] =
+        i;
   for (std::size_t p = 0; p < count; ++p) {
     const double px = points[2 * p], py = points[2 * p + 1];
     const std::ptrdiff_t ix = cell_of(px, 0, cx), iy = cell_of(py, 1, cy);
     double wsum = 0, su = 0, sv = 0;
     for (std::ptrdiff_t jy = iy - 1; jy <= iy + 1; ++jy)
       for (std::ptrdiff_t jx = ix - 1; jx <= ix + 1; ++jx) {
-        if (jx < 0 || jy < 0 || jx >= static_cast<std::ptrdiff_t>(cx) || jy >= static_cast<std::ptrdiff_t>(cy)) continue;
+        if (jx < 0 || jy < 0 || jx >= static_cast<std::ptrdiff_t>(cx) || jy >= static_cast<std::ptrdiff_t>(cy))
+          continue;
         const auto c = static_cast<std::size_t>(jx + jy * static_cast<std::ptrdiff_t>(cx));
         for (std::size_t m = start[c]; m < start[c + 1]; ++m) {
           const std::size_t j = order[m];

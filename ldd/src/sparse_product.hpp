@@ -80,8 +80,10 @@ CompressedRows combine_rows(std::size_t rows, const CompressedRows& b, int block
 #pragma omp parallel for schedule(static) if (blocks > 1)
   for (int t = 0; t < blocks; ++t) {
     const Block& part = parts[static_cast<std::size_t>(t)];
-    std::copy(part.columns.begin(), part.columns.end(), out.columns.begin() + static_cast<std::ptrdiff_t>(first_entry[static_cast<std::size_t>(t)]));
-    std::copy(part.values.begin(), part.values.end(), out.values.begin() + static_cast<std::ptrdiff_t>(first_entry[static_cast<std::size_t>(t)]));
+    std::copy(part.columns.begin(), part.columns.end(),
+              out.columns.begin() + static_cast<std::ptrdiff_t>(first_entry[static_cast<std::size_t>(t)]));
+    std::copy(part.values.begin(), part.values.end(),
+              out.values.begin() + static_cast<std::ptrdiff_t>(first_entry[static_cast<std::size_t>(t)]));
   }
   return out;
 }

@@ -164,7 +164,8 @@ TriangleMesh read_binary_stl(const std::filesystem::path& file, const std::strin
       for (std::size_t d = 0; d < 3; ++d) {
         const float value = from_little_endian<float>(record + 12 + 12 * k + 4 * d);  // after the 12-byte normal
         if (!std::isfinite(value))
-          throw std::invalid_argument(fmt::format("STL file '{}': triangle {} has a non-finite coordinate", file.string(), t));
+          throw std::invalid_argument(
+              fmt::format("STL file '{}': triangle {} has a non-finite coordinate", file.string(), t));
         corners[k][d] = factor * static_cast<double>(value);
       }
     builder.add(corners);
@@ -180,12 +181,14 @@ void require_closed(const TriangleMesh& mesh, const std::filesystem::path& file)
   for (const auto& [edge, uses] : edges) {
     const auto reverse = edges.find({edge.second, edge.first});
     if (uses != 1 || reverse == edges.end() || reverse->second != 1)
-      throw std::invalid_argument(fmt::format(
-          "STL file '{}': the surface is not closed and consistently oriented (edge between vertices {} and {} is used {} "
-          "time(s) in one direction and {} in the other); inside and outside are undefined",
-          file.string(), edge.first, edge.second, uses, reverse == edges.end() ? 0 : reverse->second));
+      throw std::invalid_argument(
+          fmt::format("STL file '{}': the surface is not closed and consistently oriented (edge between vertices {} "
+                      "and {} is used {} "
+                      "time(s) in one direction and {} in the other); inside and outside are undefined",
+                      file.string(), edge.first, edge.second, uses, reverse == edges.end() ? 0 : reverse->second));
   }
-  if (mesh.triangles.size() < 4) throw std::invalid_argument(fmt::format("STL file '{}': fewer than 4 triangles", file.string()));
+  if (mesh.triangles.size() < 4)
+    throw std::invalid_argument(fmt::format("STL file '{}': fewer than 4 triangles", file.string()));
 }
 
 // Keeps points at least min_distance apart (first come, first kept), via a hash grid.
@@ -208,7 +211,8 @@ class Thinning {
 
  private:
   std::array<long, 3> cell_of(const Vec3& x) const {
-    return {std::lround(std::floor(x[0] / min_)), std::lround(std::floor(x[1] / min_)), std::lround(std::floor(x[2] / min_))};
+    return {std::lround(std::floor(x[0] / min_)), std::lround(std::floor(x[1] / min_)),
+            std::lround(std::floor(x[2] / min_))};
   }
   double min_;
   std::map<std::array<long, 3>, std::vector<Vec3>> cells_;
@@ -224,7 +228,8 @@ SolidBoundary::SolidBoundary(int dimension, bool fluid_inside, double layer_offs
   if (!(layer_offset >= 0)) throw std::invalid_argument("SolidBoundary: layer offset must be >= 0");
 }
 
-bool SolidBoundary::distance(std::span<const double> x, double /*t*/, double& distance, std::span<double> normal) const {
+bool SolidBoundary::distance(std::span<const double> x, double /*t*/, double& distance,
+                             std::span<double> normal) const {
   double outward[3] = {0, 0, 0};
   const double s = signed_distance(x, std::span<double>(outward, static_cast<std::size_t>(dimension_)));
   const double sign = fluid_inside_ ? -1.0 : 1.0;
@@ -243,7 +248,8 @@ BoxBoundary::BoxBoundary(std::vector<double> lower, std::vector<double> upper, b
       upper_(std::move(upper)) {
   if (upper_.size() != lower_.size()) throw std::invalid_argument("BoxBoundary: lower and upper differ in size");
   for (std::size_t d = 0; d < lower_.size(); ++d)
-    if (!(upper_[d] > lower_[d])) throw std::invalid_argument("BoxBoundary: upper must exceed lower in every coordinate");
+    if (!(upper_[d] > lower_[d]))
+      throw std::invalid_argument("BoxBoundary: upper must exceed lower in every coordinate");
   if (!fluid_inside)
     for (std::size_t d = 0; d < lower_.size(); ++d)
       if (!(upper_[d] - lower_[d] > 2 * layer_offset))
@@ -348,9 +354,9 @@ double CylinderBoundary::signed_distance(std::span<const double> x, std::span<do
   const Vec3 radial = sub(p, scale(axis_, z));
   const double rho = norm(radial);
   const Vec3 r_hat = rho > 0 ? scale(radial, 1.0 / rho) : e1_;  // on the axis any radial direction
-  const double dr = rho - radius_;                               // beyond the mantle
+  const double dr = rho - radius_;                              // beyond the mantle
   const bool upper = z > 0.5 * height_;
-  const double dz = upper ? z - height_ : -z;                    // beyond the nearer cap
+  const double dz = upper ? z - height_ : -z;  // beyond the nearer cap
   const Vec3 z_hat = upper ? axis_ : scale(axis_, -1.0);
   Vec3 n{};
   double s = 0;
@@ -422,8 +428,9 @@ TriangleMesh read_stl(const std::filesystem::path& file, double factor) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // Binary when the size matches its triangle count exactly (binary headers may begin with
   // "solid" too); otherwise ASCII.
-  const bool binary = bytes.size() >= 84 &&
-                      bytes.size() == 84 + 50 * static_cast<std::size_t>(from_little_endian<std::uint32_t>(bytes.data() + 80));
+  const bool binary =
+      bytes.size() >= 84 &&
+      bytes.size() == 84 + 50 * static_cast<std::size_t>(from_little_endian<std::uint32_t>(bytes.data() + 80));
   TriangleMesh mesh;
   if (binary) {
     mesh = read_binary_stl(file, bytes, factor);
@@ -445,7 +452,8 @@ void write_stl_ascii(const std::filesystem::path& file, const TriangleMesh& mesh
   std::ofstream out(file);
   out << "solid rheosim\n";
   for (const auto& t : mesh.triangles) {
-    const Vec3 n = unit(cross(sub(mesh.vertices[t[1]], mesh.vertices[t[0]]), sub(mesh.vertices[t[2]], mesh.vertices[t[0]])));
+    const Vec3 n =
+        unit(cross(sub(mesh.vertices[t[1]], mesh.vertices[t[0]]), sub(mesh.vertices[t[2]], mesh.vertices[t[0]])));
     out << fmt::format("  facet normal {:.9g} {:.9g} {:.9g}\n    outer loop\n", n[0], n[1], n[2]);
     for (std::size_t k : t) {
       const Vec3& v = mesh.vertices[k];
@@ -465,7 +473,8 @@ void write_stl_binary(const std::filesystem::path& file, const TriangleMesh& mes
   out.write(header.data(), header.size());
   put_little_endian<std::uint32_t>(out, static_cast<std::uint32_t>(mesh.triangles.size()));
   for (const auto& t : mesh.triangles) {
-    const Vec3 n = unit(cross(sub(mesh.vertices[t[1]], mesh.vertices[t[0]]), sub(mesh.vertices[t[2]], mesh.vertices[t[0]])));
+    const Vec3 n =
+        unit(cross(sub(mesh.vertices[t[1]], mesh.vertices[t[0]]), sub(mesh.vertices[t[2]], mesh.vertices[t[0]])));
     for (double c : n) put_little_endian<float>(out, static_cast<float>(c));
     for (std::size_t k : t)
       for (double c : mesh.vertices[k]) put_little_endian<float>(out, static_cast<float>(c));
@@ -476,7 +485,8 @@ void write_stl_binary(const std::filesystem::path& file, const TriangleMesh& mes
 
 TriangleMesh box_mesh(std::array<double, 3> lo, std::array<double, 3> hi) {
   TriangleMesh m;
-  for (int k = 0; k < 8; ++k) m.vertices.push_back({(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]});
+  for (int k = 0; k < 8; ++k)
+    m.vertices.push_back({(k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]});
   // Quads with outward counter-clockwise corners, two triangles each.
   const std::size_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
@@ -496,8 +506,8 @@ TriangleMesh cylinder_mesh(std::array<double, 3> base, double radius, double hei
       m.vertices.push_back({base[0] + radius * std::cos(angle), base[1] + radius * std::sin(angle),
                             base[2] + (level == 0 ? 0.0 : height)});
     }
-  m.vertices.push_back(base);                                         // 2s: bottom centre
-  m.vertices.push_back({base[0], base[1], base[2] + height});         // 2s + 1: top centre
+  m.vertices.push_back(base);                                  // 2s: bottom centre
+  m.vertices.push_back({base[0], base[1], base[2] + height});  // 2s + 1: top centre
   for (std::size_t q = 0; q < s; ++q) {
     const std::size_t a = q, b = (q + 1) % s;
     m.triangles.push_back({a, b, s + b});
@@ -520,11 +530,13 @@ StlBoundary::StlBoundary(TriangleMesh mesh, bool fluid_inside, double layer_offs
   std::map<std::pair<std::size_t, std::size_t>, Vec3> edge_sum;
   for (std::size_t t = 0; t < nt; ++t) {
     const auto& tri = mesh_.triangles[t];
-    const Vec3 n = unit(cross(sub(mesh_.vertices[tri[1]], mesh_.vertices[tri[0]]), sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]])));
+    const Vec3 n = unit(cross(sub(mesh_.vertices[tri[1]], mesh_.vertices[tri[0]]),
+                              sub(mesh_.vertices[tri[2]], mesh_.vertices[tri[0]])));
     face_normals_[t] = n;
     for (std::size_t k = 0; k < 3; ++k) {
       const Vec3& v = mesh_.vertices[tri[k]];
-      const Vec3 e1 = unit(sub(mesh_.vertices[tri[(k + 1) % 3]], v)), e2 = unit(sub(mesh_.vertices[tri[(k + 2) % 3]], v));
+      const Vec3 e1 = unit(sub(mesh_.vertices[tri[(k + 1) % 3]], v)),
+                 e2 = unit(sub(mesh_.vertices[tri[(k + 2) % 3]], v));
       const double angle = std::acos(std::clamp(dot(e1, e2), -1.0, 1.0));
       vertex_normals_[tri[k]] = add(vertex_normals_[tri[k]], scale(n, angle));
       const auto key = std::minmax(tri[k], tri[(k + 1) % 3]);
@@ -605,8 +617,9 @@ BuiltWall make_plane(const core::LddWall& spec, int dimension, double spacing, s
   const Vec3 n = unit(to_vec3(spec.normal));
   Vec3 layer_point = sub(to_vec3(spec.point), scale(n, 0.5 * spacing));
   BuiltWall built;
-  built.boundary = std::make_shared<PlaneBoundary>(std::vector<double>(layer_point.begin(), layer_point.begin() + static_cast<std::ptrdiff_t>(dim)),
-                                                   std::vector<double>(n.begin(), n.begin() + static_cast<std::ptrdiff_t>(dim)));
+  built.boundary = std::make_shared<PlaneBoundary>(
+      std::vector<double>(layer_point.begin(), layer_point.begin() + static_cast<std::ptrdiff_t>(dim)),
+      std::vector<double>(n.begin(), n.begin() + static_cast<std::ptrdiff_t>(dim)));
   Vec3 e1{}, e2{};
   if (dim == 2)
     e1 = {-n[1], n[0], 0};
@@ -614,7 +627,8 @@ BuiltWall make_plane(const core::LddWall& spec, int dimension, double spacing, s
     std::tie(e1, e2) = across(n);
   // Project the region's corners onto the plane's axes to bound the lattice.
   double extent = 0;
-  for (std::size_t d = 0; d < dim; ++d) extent = std::max({extent, std::abs(lower[d] - layer_point[d]), std::abs(upper[d] - layer_point[d])});
+  for (std::size_t d = 0; d < dim; ++d)
+    extent = std::max({extent, std::abs(lower[d] - layer_point[d]), std::abs(upper[d] - layer_point[d])});
   const int m = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(dim)) * extent / spacing));
   for (int i = -m; i <= m; ++i)
     for (int j = (dim == 3 ? -m : 0); j <= (dim == 3 ? m : 0); ++j) {
@@ -651,7 +665,8 @@ constexpr RegistryEntry registry[] = {
      }},
     {"cylinder",
      [](const core::LddWall& w, int, double dx, std::span<const double>, std::span<const double>) {
-       return make_solid<CylinderBoundary>(dx, to_vec3(w.base), to_vec3(w.axis), w.radius, w.height, w.fluid_inside, 0.5 * dx);
+       return make_solid<CylinderBoundary>(dx, to_vec3(w.base), to_vec3(w.axis), w.radius, w.height, w.fluid_inside,
+                                           0.5 * dx);
      }},
     {"stl",
      [](const core::LddWall& w, int, double dx, std::span<const double>, std::span<const double>) {
@@ -669,7 +684,8 @@ BuiltWall make_wall(const core::LddWall& spec, int dimension, double spacing, st
     throw std::invalid_argument("make_wall: the region needs one bound per dimension");
   for (const RegistryEntry& entry : registry)
     if (spec.type == entry.name) return entry.make(spec, dimension, spacing, region_lower, region_upper);
-  throw std::invalid_argument(fmt::format("unknown LDD wall type '{}', expected one of: {}", spec.type, fmt::join(wall_types(), ", ")));
+  throw std::invalid_argument(
+      fmt::format("unknown LDD wall type '{}', expected one of: {}", spec.type, fmt::join(wall_types(), ", ")));
 }
 
 std::vector<std::string> wall_types() {

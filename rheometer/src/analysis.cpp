@@ -35,7 +35,8 @@ double corrected_rim_stress(const ParallelPlate& plate, double torque, double lo
 LocalSlopes local_log_slopes(std::span<const double> x, std::span<const double> y,
                              std::span<const double> relative_errors, const LocalSlopeOptions& options) {
   const std::size_t n = x.size();
-  if (y.size() != n) throw std::invalid_argument(fmt::format("local_log_slopes: {} x values but {} y values", n, y.size()));
+  if (y.size() != n)
+    throw std::invalid_argument(fmt::format("local_log_slopes: {} x values but {} y values", n, y.size()));
   if (!relative_errors.empty() && relative_errors.size() != n)
     throw std::invalid_argument(
         fmt::format("local_log_slopes: {} relative errors for {} points", relative_errors.size(), n));
@@ -52,7 +53,8 @@ LocalSlopes local_log_slopes(std::span<const double> x, std::span<const double> 
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return x[a] < x[b]; });
   for (std::size_t k = 1; k < n; ++k)
     if (!(x[order[k]] > x[order[k - 1]]))
-      throw std::invalid_argument(fmt::format("local_log_slopes: x = {} appears twice; rates must be distinct", x[order[k]]));
+      throw std::invalid_argument(
+          fmt::format("local_log_slopes: x = {} appears twice; rates must be distinct", x[order[k]]));
 
   const auto h = static_cast<std::size_t>(options.half_window);
   const std::size_t m = std::min(2 * h + 1, n);
@@ -121,17 +123,17 @@ PointValidity check_validity(const ParallelPlate& plate, const PointConditions& 
   if (!(p.rim_shear_rate >= 0)) throw std::invalid_argument("check_validity: rim_shear_rate must be >= 0");
   if (!(p.density >= 0)) throw std::invalid_argument("check_validity: density must be >= 0");
   if (!(p.viscosity > 0)) throw std::invalid_argument("check_validity: viscosity must be > 0");
-  if (!(p.particle_diameter >= 0) || !(p.particle_density >= 0) || !(p.fluid_density >= 0) ||
-      !(p.fluid_viscosity >= 0))
+  if (!(p.particle_diameter >= 0) || !(p.particle_density >= 0) || !(p.fluid_density >= 0) || !(p.fluid_viscosity >= 0))
     throw std::invalid_argument("check_validity: particle and fluid properties must be >= 0");
 
   PointValidity v;
   v.gap_reynolds = plate.gap_reynolds_number(p.density, p.rim_shear_rate, p.viscosity);
   v.gap_reynolds_ok = v.gap_reynolds <= limits.max_gap_reynolds;
   if (!v.gap_reynolds_ok)
-    v.messages.push_back(fmt::format("gap Reynolds number ρΩH²/η = {:.3g} > {:.3g} at γ̇_R = {:.4g} 1/s: secondary "
-                                     "flow raises the torque above the creeping-flow value",
-                                     v.gap_reynolds, limits.max_gap_reynolds, p.rim_shear_rate));
+    v.messages.push_back(
+        fmt::format("gap Reynolds number ρΩH²/η = {:.3g} > {:.3g} at γ̇_R = {:.4g} 1/s: secondary "
+                    "flow raises the torque above the creeping-flow value",
+                    v.gap_reynolds, limits.max_gap_reynolds, p.rim_shear_rate));
   if (p.particle_diameter > 0) {
     const double d2 = p.particle_diameter * p.particle_diameter;
     const double rho_f = p.fluid_density > 0 ? p.fluid_density : p.density;
@@ -143,15 +145,17 @@ PointValidity check_validity(const ParallelPlate& plate, const PointConditions& 
     v.stokes_ok = v.stokes <= limits.max_stokes;
     v.gap_to_diameter_ok = v.gap_to_diameter >= limits.min_gap_to_diameter;
     if (!v.particle_reynolds_ok)
-      v.messages.push_back(fmt::format("particle Reynolds number ρ_f γ̇ d²/η_f = {:.3g} > {:.3g}: particle-scale "
-                                       "inertia is not negligible",
-                                       v.particle_reynolds, limits.max_particle_reynolds));
+      v.messages.push_back(
+          fmt::format("particle Reynolds number ρ_f γ̇ d²/η_f = {:.3g} > {:.3g}: particle-scale "
+                      "inertia is not negligible",
+                      v.particle_reynolds, limits.max_particle_reynolds));
     if (!v.stokes_ok)
       v.messages.push_back(fmt::format("Stokes number ρ_p γ̇ d²/η_f = {:.3g} > {:.3g}: particles do not follow the flow",
                                        v.stokes, limits.max_stokes));
     if (!v.gap_to_diameter_ok)
-      v.messages.push_back(fmt::format("gap/diameter H/d = {:.3g} < {:.3g}: the sample is not a continuum across the gap",
-                                       v.gap_to_diameter, limits.min_gap_to_diameter));
+      v.messages.push_back(
+          fmt::format("gap/diameter H/d = {:.3g} < {:.3g}: the sample is not a continuum across the gap",
+                      v.gap_to_diameter, limits.min_gap_to_diameter));
   }
   return v;
 }

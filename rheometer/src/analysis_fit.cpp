@@ -50,13 +50,20 @@ void warn(FitResult& fit, FitWarningKind kind, std::string parameter, std::strin
 
 std::string_view to_string(FitWarningKind kind) {
   switch (kind) {
-    case FitWarningKind::not_converged: return "not_converged";
-    case FitWarningKind::no_degrees_of_freedom: return "no_degrees_of_freedom";
-    case FitWarningKind::singular_jacobian: return "singular_jacobian";
-    case FitWarningKind::high_correlation: return "high_correlation";
-    case FitWarningKind::large_relative_error: return "large_relative_error";
-    case FitWarningKind::at_bound: return "at_bound";
-    case FitWarningKind::yield_stress_not_significant: return "yield_stress_not_significant";
+    case FitWarningKind::not_converged:
+      return "not_converged";
+    case FitWarningKind::no_degrees_of_freedom:
+      return "no_degrees_of_freedom";
+    case FitWarningKind::singular_jacobian:
+      return "singular_jacobian";
+    case FitWarningKind::high_correlation:
+      return "high_correlation";
+    case FitWarningKind::large_relative_error:
+      return "large_relative_error";
+    case FitWarningKind::at_bound:
+      return "at_bound";
+    case FitWarningKind::yield_stress_not_significant:
+      return "yield_stress_not_significant";
   }
   return "unknown";
 }
@@ -103,7 +110,8 @@ FitResult fit_flow_curve(std::shared_ptr<const FlowModel> model, std::span<const
   best.sum_of_squares = inf;
   bool have = false;
   for (const auto& guess : law.initial_guesses(x, y)) {
-    if (guess.size() != p) throw std::logic_error(fmt::format("flow model '{}': initial guess of wrong size", law.name()));
+    if (guess.size() != p)
+      throw std::logic_error(fmt::format("flow model '{}': initial guess of wrong size", law.name()));
     std::vector<double> start(p);
     for (std::size_t j = 0; j < p; ++j) start[j] = info[j].scale.coordinate(guess[j]);
     auto sol = solve_least_squares(residuals, n, start, lower, options.solver);
@@ -212,8 +220,8 @@ FitResult fit_flow_curve(std::shared_ptr<const FlowModel> model, std::span<const
     const Interval ci = fit.ci95[*iy];
     if (!(ci.lower > 0))
       warn(fit, FitWarningKind::yield_stress_not_significant, fit.parameter_names[*iy],
-           fmt::format("{}: the yield stress interval [{:.4g}, {:.4g}] Pa includes 0: no yield stress is resolved", name,
-                       ci.lower, ci.upper));
+           fmt::format("{}: the yield stress interval [{:.4g}, {:.4g}] Pa includes 0: no yield stress is resolved",
+                       name, ci.lower, ci.upper));
   }
   return fit;
 }
@@ -237,7 +245,8 @@ std::vector<ModelRanking> rank_by_aic(std::span<const FitResult> fits) {
   // be judged from so few points and ranks last with weight 0 — plain AIC would reward it for
   // interpolating the data. With fewer, AICc would crown the one model it can judge, however
   // badly it fits; then plain AIC decides among the models with a residual degree of freedom.
-  const auto with_aicc = std::count_if(fits.begin(), fits.end(), [](const FitResult& f) { return std::isfinite(f.aicc); });
+  const auto with_aicc =
+      std::count_if(fits.begin(), fits.end(), [](const FitResult& f) { return std::isfinite(f.aicc); });
   const bool use_aicc = with_aicc >= 2;
   std::vector<ModelRanking> out;
   double best = inf;
@@ -260,7 +269,8 @@ std::vector<ModelRanking> rank_by_aic(std::span<const FitResult> fits) {
     total += r.weight;
   }
   for (auto& r : out) r.weight = total > 0 ? r.weight / total : 0.0;
-  std::stable_sort(out.begin(), out.end(), [](const ModelRanking& a, const ModelRanking& b) { return a.delta < b.delta; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const ModelRanking& a, const ModelRanking& b) { return a.delta < b.delta; });
   return out;
 }
 
@@ -286,9 +296,10 @@ FlowPrediction predict(const FitResult& fit, double shear_rate) {
   constexpr double slack = 1e-12;
   if (shear_rate < fit.min_shear_rate * (1 - slack) || shear_rate > fit.max_shear_rate * (1 + slack)) {
     out.is_extrapolated = true;
-    out.warning = fmt::format("{} fit evaluated at γ̇ = {:.4g} 1/s, outside the fitted range [{:.4g}, {:.4g}] 1/s: "
-                              "extrapolation",
-                              fit.model_name, shear_rate, fit.min_shear_rate, fit.max_shear_rate);
+    out.warning = fmt::format(
+        "{} fit evaluated at γ̇ = {:.4g} 1/s, outside the fitted range [{:.4g}, {:.4g}] 1/s: "
+        "extrapolation",
+        fit.model_name, shear_rate, fit.min_shear_rate, fit.max_shear_rate);
   }
   return out;
 }
@@ -299,7 +310,8 @@ FlowPrediction predict(const FitResult& fit, double shear_rate) {
 YieldStressEstimate yield_stress_from_fit(const FitResult& fit, std::string method) {
   if (!fit.model) throw std::invalid_argument("yield_stress_from_fit: the fit has no model");
   const auto index = fit.model->yield_stress_index();
-  if (!index) throw std::invalid_argument(fmt::format("yield_stress_from_fit: model '{}' has no yield stress", fit.model_name));
+  if (!index)
+    throw std::invalid_argument(fmt::format("yield_stress_from_fit: model '{}' has no yield stress", fit.model_name));
   YieldStressEstimate e;
   e.method = std::move(method);
   e.value = fit.params[*index];
@@ -342,8 +354,8 @@ TorqueLineFit fit_torque_line(const ParallelPlate& plate, std::span<const double
     ssr += f.residuals.back() * f.residuals.back();
   }
   const double r3 = std::pow(plate.radius, 3);
-  const double to_yield = 3.0 / (2.0 * pi * r3);   // τ_y = 3T₀/(2πR³)
-  const double to_plastic = 2.0 / (pi * r3);       // η_p = 2b/(πR³)
+  const double to_yield = 3.0 / (2.0 * pi * r3);  // τ_y = 3T₀/(2πR³)
+  const double to_plastic = 2.0 / (pi * r3);      // η_p = 2b/(πR³)
   f.plastic_viscosity = to_plastic * f.slope;
   auto& e = f.yield_stress;
   e.method = "torque_intercept";

@@ -237,7 +237,8 @@ std::vector<std::vector<double>> BinghamModel::initial_guesses(std::span<const d
                                                                std::span<const double> y) const {
   const std::vector<double> ones(x.size(), 1.0);
   std::vector<std::vector<double>> out;
-  if (const auto fit = fit_two_coefficients(ones, x, y); std::isfinite(fit.cost)) out.push_back({fit.bounded, fit.positive});
+  if (const auto fit = fit_two_coefficients(ones, x, y); std::isfinite(fit.cost))
+    out.push_back({fit.bounded, fit.positive});
   out.push_back({0.0, newtonian_guess(x, y)});
   return out;
 }
@@ -345,13 +346,14 @@ void CrossModel::stress_gradient(double shear_rate, std::span<const double> v, s
   const double u = std::pow(v[2] * shear_rate, v[3]);
   const double s = 1.0 / (1.0 + u);  // 1/(1+u); u/(1+u) = 1 − s; u/(1+u)² = s(1 − s): finite for u → ∞
   const double drop = (v[0] - v[1]) * shear_rate;
-  g[0] = v[0] * shear_rate * s;                                           // ∂τ/∂ln η0
-  g[1] = shear_rate * (1.0 - s);                                          // ∂τ/∂η∞
-  g[2] = -drop * v[3] * s * (1.0 - s);                                    // ∂τ/∂ln λ
-  g[3] = -drop * v[3] * std::log(v[2] * shear_rate) * s * (1.0 - s);      // ∂τ/∂ln m
+  g[0] = v[0] * shear_rate * s;                                       // ∂τ/∂ln η0
+  g[1] = shear_rate * (1.0 - s);                                      // ∂τ/∂η∞
+  g[2] = -drop * v[3] * s * (1.0 - s);                                // ∂τ/∂ln λ
+  g[3] = -drop * v[3] * std::log(v[2] * shear_rate) * s * (1.0 - s);  // ∂τ/∂ln m
 }
 
-std::vector<std::vector<double>> CrossModel::initial_guesses(std::span<const double> x, std::span<const double> y) const {
+std::vector<std::vector<double>> CrossModel::initial_guesses(std::span<const double> x,
+                                                             std::span<const double> y) const {
   static constexpr std::array<double, 8> exponents{0.25, 0.4, 0.55, 0.7, 0.85, 1.0, 1.2, 1.5};
   return plateau_law_guesses(x, y, exponents, [](double lx, double m) { return 1.0 / (1.0 + std::pow(lx, m)); });
 }
@@ -382,10 +384,10 @@ void CarreauModel::stress_gradient(double shear_rate, std::span<const double> v,
   const double f = std::exp(0.5 * (v[3] - 1.0) * log_b);
   const double w = lx * lx / (1.0 + lx * lx);  // (λγ̇)²/B, finite for λγ̇ → ∞
   const double drop = (v[0] - v[1]) * shear_rate;
-  g[0] = v[0] * shear_rate * f;                 // ∂τ/∂ln η0
-  g[1] = shear_rate * (1.0 - f);                // ∂τ/∂η∞
-  g[2] = drop * (v[3] - 1.0) * f * w;           // ∂τ/∂ln λ = (η0−η∞)γ̇ · 2·((n−1)/2)·f·w
-  g[3] = drop * f * log_b * 0.5 * v[3];         // ∂τ/∂ln n
+  g[0] = v[0] * shear_rate * f;          // ∂τ/∂ln η0
+  g[1] = shear_rate * (1.0 - f);         // ∂τ/∂η∞
+  g[2] = drop * (v[3] - 1.0) * f * w;    // ∂τ/∂ln λ = (η0−η∞)γ̇ · 2·((n−1)/2)·f·w
+  g[3] = drop * f * log_b * 0.5 * v[3];  // ∂τ/∂ln n
 }
 
 std::vector<std::vector<double>> CarreauModel::initial_guesses(std::span<const double> x,

@@ -23,24 +23,30 @@ bool Interval::is_finite() const { return std::isfinite(lower) && std::isfinite(
 double ParameterScale::value(double coordinate) const {
   switch (kind) {
     case Kind::free:
-    case Kind::at_least: return coordinate;
-    case Kind::log: return origin + std::exp(coordinate);
-    case Kind::square: return origin + coordinate * coordinate;
+    case Kind::at_least:
+      return coordinate;
+    case Kind::log:
+      return origin + std::exp(coordinate);
+    case Kind::square:
+      return origin + coordinate * coordinate;
   }
   return nan;
 }
 
 double ParameterScale::coordinate(double v) const {
   switch (kind) {
-    case Kind::free: return v;
-    case Kind::at_least: return std::max(v, origin);
+    case Kind::free:
+      return v;
+    case Kind::at_least:
+      return std::max(v, origin);
     case Kind::log: {
       // p must exceed the origin: a value at or below it is moved just above.
       const double excess = v - origin;
       const double floor = 1e-300;
       return std::log(std::max(excess, floor));
     }
-    case Kind::square: return std::sqrt(std::max(v - origin, 0.0));
+    case Kind::square:
+      return std::sqrt(std::max(v - origin, 0.0));
   }
   return nan;
 }
@@ -48,9 +54,12 @@ double ParameterScale::coordinate(double v) const {
 double ParameterScale::derivative(double coordinate) const {
   switch (kind) {
     case Kind::free:
-    case Kind::at_least: return 1.0;
-    case Kind::log: return std::exp(coordinate);
-    case Kind::square: return 2.0 * coordinate;
+    case Kind::at_least:
+      return 1.0;
+    case Kind::log:
+      return std::exp(coordinate);
+    case Kind::square:
+      return 2.0 * coordinate;
   }
   return nan;
 }
@@ -58,9 +67,12 @@ double ParameterScale::derivative(double coordinate) const {
 double ParameterScale::coordinate_lower_bound() const {
   switch (kind) {
     case Kind::free:
-    case Kind::log: return -inf;
-    case Kind::at_least: return origin;
-    case Kind::square: return 0.0;
+    case Kind::log:
+      return -inf;
+    case Kind::at_least:
+      return origin;
+    case Kind::square:
+      return 0.0;
   }
   return nan;
 }
@@ -345,7 +357,8 @@ double student_t_cdf(double t, double dof) {
 
 double student_t_quantile(double probability, double dof) {
   if (!(dof > 0)) throw std::invalid_argument("student_t_quantile: degrees of freedom must be > 0");
-  if (!(probability > 0 && probability < 1)) throw std::invalid_argument("student_t_quantile: probability must be in (0, 1)");
+  if (!(probability > 0 && probability < 1))
+    throw std::invalid_argument("student_t_quantile: probability must be in (0, 1)");
   if (probability == 0.5) return 0.0;
   if (probability < 0.5) return -student_t_quantile(1.0 - probability, dof);
   // Solve I_x(ν/2, 1/2) = 2(1 − p) for x = ν/(ν + t²) by bisection: I_x increases with x.

@@ -20,7 +20,8 @@ void check_points(std::span<const RelativeViscosityPoint> points, std::string_vi
       throw std::invalid_argument(fmt::format("{}: volume fraction {} not in [0, 1)", who, p.volume_fraction));
     if (!(p.relative_viscosity > 0) || !std::isfinite(p.relative_viscosity))
       throw std::invalid_argument(fmt::format("{}: relative viscosity {} must be positive", who, p.relative_viscosity));
-    if (!(p.std_error >= 0)) throw std::invalid_argument(fmt::format("{}: std_error {} must be >= 0", who, p.std_error));
+    if (!(p.std_error >= 0))
+      throw std::invalid_argument(fmt::format("{}: std_error {} must be >= 0", who, p.std_error));
   }
 }
 
@@ -46,8 +47,8 @@ CorrelationComparison compare(std::string name, std::span<const RelativeViscosit
   const auto n = static_cast<double>(points.size());
   c.degrees_of_freedom = static_cast<int>(points.size()) - fitted_parameters;
   const double k = fitted_parameters + 1.0;
-  c.aic = c.sum_of_squares > 0 ? n * std::log(c.sum_of_squares / n) + 2.0 * k
-                               : -std::numeric_limits<double>::infinity();
+  c.aic =
+      c.sum_of_squares > 0 ? n * std::log(c.sum_of_squares / n) + 2.0 * k : -std::numeric_limits<double>::infinity();
   return c;
 }
 
@@ -100,7 +101,8 @@ CorrelationComparison fit_max_packing(std::string name, std::span<const Relative
   CorrelationComparison c = compare(std::move(name), points, predicted, 1);
   c.max_packing = phi_m;
   c.converged = sol.converged;
-  if (!sol.converged) c.warnings.push_back(fmt::format("{}: the φ_m fit did not converge ({})", c.name, sol.stop_reason));
+  if (!sol.converged)
+    c.warnings.push_back(fmt::format("{}: the φ_m fit did not converge ({})", c.name, sol.stop_reason));
   if (n >= 2) {
     const auto stats = parameter_statistics(sol.jacobian, sol.residuals, sol.coordinates, options.confidence);
     if (!stats.is_singular) {

@@ -3,23 +3,23 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <deque>
 #include <future>
 #include <limits>
-#include <thread>
-#include <cmath>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <thread>
 
 #include <fmt/format.h>
 
+#include "gauss_legendre.hpp"
 #include "rheosim/dem/size_distribution.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
-#include "gauss_legendre.hpp"
 
 namespace rheosim::rheometer {
 namespace {
@@ -128,12 +128,14 @@ std::string describe_box(const core::RheometerCase& r, double phi) {
                        : std::string("Lees–Edwards box"),
       s.particles,
       p.size_distribution.type == core::SizeDistribution::Type::none ? "equal spheres" : "the case's size distribution",
-      st_high <= overdamped_stokes_limit ? "overdamped (inertialess, strain units)" : "inertial (implicit, strain units)",
+      st_high <= overdamped_stokes_limit ? "overdamped (inertialess, strain units)"
+                                         : "inertial (implicit, strain units)",
       st_low, st_high, st_high <= overdamped_stokes_limit ? " <=" : ", above", overdamped_stokes_limit,
-      h.specified && r.particles->hydrodynamics.lubrication ? "from particles.hydrodynamics" : "by default", s.roughness,
-      s.lubrication_cutoff,
+      h.specified && r.particles->hydrodynamics.lubrication ? "from particles.hydrodynamics" : "by default",
+      s.roughness, s.lubrication_cutoff,
       s.repulsion_force > 0.0 ? fmt::format(" + repulsion F_R0 = {:g} N", h.repulsion_force) : std::string(),
-      s.contact_stiffness > 0.0 ? s.contact_stiffness : coupling::default_contact_stiffness(phi), s.friction, re_high, r.geometry.gap / p.diameter,
+      s.contact_stiffness > 0.0 ? s.contact_stiffness : coupling::default_contact_stiffness(phi), s.friction, re_high,
+      r.geometry.gap / p.diameter,
       box_is_rate_independent(r) ? "the same dimensionless box serves every rate (Newtonian, overdamped)"
                                  : "one box per rate");
 }
@@ -301,17 +303,18 @@ class BoxRunner {
         "N1 {:.3g} μγ̇, N2 {:.3g} μγ̇, particle pressure {:.3g} μγ̇; {} spheres, strain {:.3g} (averaged {:.3g}, Δγ "
         "{:.2g}), {:.3g} contacts per sphere ({:.0f} % sliding), overlap mean {:.2g} / max {:.2g} ā, {:.1f} solver "
         "iterations per step, {:.1f} s{}",
-        describe_box(r_, point.volume_fraction), nearest->rate > 0.0 ? fmt::format("{:g} 1/s", nearest->rate) : "every rate",
-        eta, b.relative_viscosity.error, b.part_stresslet, b.part_lubrication, b.part_contact,
+        describe_box(r_, point.volume_fraction),
+        nearest->rate > 0.0 ? fmt::format("{:g} 1/s", nearest->rate) : "every rate", eta, b.relative_viscosity.error,
+        b.part_stresslet, b.part_lubrication, b.part_contact,
         b.part_repulsion != 0.0 ? fmt::format(" + repulsion {:.3g}", b.part_repulsion) : std::string(), b.n1.mean,
         b.n2.mean, b.particle_pressure.mean, b.particles, b.strain, b.averaged_strain, b.strain_step,
         b.mean_contacts_per_particle, 100.0 * b.sliding_fraction, b.mean_overlap, b.max_overlap,
         b.mean_solver_iterations, b.wall_time,
-        walls ? fmt::format("; plates: box {:.3g} × {:.3g} × {:.3g} ā, liquid shear rate {:.3g} γ̇ in the middle third "
-                            "and {:.3g} γ̇ within ā of the plates, near-plate spheres lag u∞ by {:.3g} āγ̇",
-                            b.box_length, b.box_length, b.box_height, b.core_shear_rate, b.plate_shear_rate,
-                            b.wall_slip)
-              : std::string());
+        walls
+            ? fmt::format("; plates: box {:.3g} × {:.3g} × {:.3g} ā, liquid shear rate {:.3g} γ̇ in the middle third "
+                          "and {:.3g} γ̇ within ā of the plates, near-plate spheres lag u∞ by {:.3g} āγ̇",
+                          b.box_length, b.box_length, b.box_height, b.core_shear_rate, b.plate_shear_rate, b.wall_slip)
+            : std::string());
     out.iterations = fresh ? static_cast<int>(runs->size()) : 0;
     out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;

@@ -30,10 +30,10 @@ double parameter(const core::Rheology& law, std::string_view name) {
   throw std::logic_error(fmt::format("rheology '{}' has no parameter '{}'", law.name(), name));
 }
 
-[[noreturn]] void input_error(const std::string& file, std::string key, std::string problem,
-                              std::string expected, std::string hint = {}) {
-  throw core::ConfigError({core::FileLocation{file, 0, 0}, std::move(key), std::move(problem),
-                           std::move(expected), std::move(hint)});
+[[noreturn]] void input_error(const std::string& file, std::string key, std::string problem, std::string expected,
+                              std::string hint = {}) {
+  throw core::ConfigError(
+      {core::FileLocation{file, 0, 0}, std::move(key), std::move(problem), std::move(expected), std::move(hint)});
 }
 
 // Shortest text that reads back to the same double (fmt's default for doubles).
@@ -106,7 +106,7 @@ std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const 
   check_mesh(mesh, core_fraction);
   const double R = geometry.radius;
   const double H = geometry.gap;
-  const double s = core_fraction * R;  // half-width of the core square
+  const double s = core_fraction * R;   // half-width of the core square
   const double d = R * std::sqrt(0.5);  // rim points at 45° + k·90°
   // Vertex k (0..3): core corner at 45° + k·90°; 4 + k: rim point at the same angle; +8: z = H.
   const std::array<std::array<double, 2>, 4> core_xy{{{s, s}, {-s, s}, {-s, -s}, {s, -s}}};
@@ -123,8 +123,8 @@ std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const 
   for (int layer = 0; layer < 2; ++layer) {
     const double z = layer == 0 ? 0.0 : H;
     for (int k = 0; k < 4; ++k)
-      out += fmt::format("    ({} {} {})  // {}: core corner, z = {}\n", num(core_xy[k][0]), num(core_xy[k][1]),
-                         num(z), 8 * layer + k, layer == 0 ? "0" : "H");
+      out += fmt::format("    ({} {} {})  // {}: core corner, z = {}\n", num(core_xy[k][0]), num(core_xy[k][1]), num(z),
+                         8 * layer + k, layer == 0 ? "0" : "H");
     for (int k = 0; k < 4; ++k)
       out += fmt::format("    ({} {} {})  // {}: rim, z = {}\n", num(rim_xy[k][0]), num(rim_xy[k][1]), num(z),
                          8 * layer + 4 + k, layer == 0 ? "0" : "H");
@@ -142,8 +142,8 @@ std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const 
   out += "blocks\n(\n";
   for (int b = 0; b < 5; ++b) {
     const auto& v = blocks[b];
-    out += fmt::format("    hex ({} {} {} {} {} {} {} {}) ({} {} {}) simpleGrading (1 1 1)  // {}\n", v[0], v[1],
-                       v[2], v[3], v[4], v[5], v[6], v[7], b == 0 ? nq : nr, nq, nz,
+    out += fmt::format("    hex ({} {} {} {} {} {} {} {}) ({} {} {}) simpleGrading (1 1 1)  // {}\n", v[0], v[1], v[2],
+                       v[3], v[4], v[5], v[6], v[7], b == 0 ? nq : nr, nq, nz,
                        b == 0 ? std::string("core") : fmt::format("outer {}", b - 1));
   }
   out += ");\n\nedges\n(\n";
@@ -194,10 +194,8 @@ OpenFoamTransport openfoam_transport(const core::FluidProperties& fluid) {
     const double n = p("index");
     constexpr double no_cap = 1e300;
     t.model = "powerLaw";
-    t.coeffs = {{"k", p("consistency") / rho},
-                {"n", n},
-                {"nuMin", n < 1 ? 0.0 : nu_rest},
-                {"nuMax", n > 1 ? no_cap : nu_rest}};
+    t.coeffs = {
+        {"k", p("consistency") / rho}, {"n", n}, {"nuMin", n < 1 ? 0.0 : nu_rest}, {"nuMax", n > 1 ? no_cap : nu_rest}};
   } else if (name == "carreau_yasuda") {
     t.model = "BirdCarreau";
     t.coeffs = {{"nu0", p("zero_shear_viscosity") / rho},
@@ -252,7 +250,8 @@ namespace {
 std::string transport_properties(const OpenFoamTransport& t, const core::FluidProperties& fluid) {
   std::string out = foam_header("dictionary", "constant", "transportProperties");
   out += fmt::format("// rheosim law: {} with", fluid.rheology->name());
-  for (const auto& prm : fluid.rheology->parameters()) out += fmt::format(" {} = {} {};", prm.name, num(prm.value), prm.unit);
+  for (const auto& prm : fluid.rheology->parameters())
+    out += fmt::format(" {} = {} {};", prm.name, num(prm.value), prm.unit);
   out += fmt::format("\n// density {} kg/m^3. OpenFOAM's models are kinematic: nu = mu/rho, k/rho, tau0/rho.\n",
                      num(fluid.density));
   if (!t.note.empty()) out += "// Note: " + t.note + "\n";
@@ -356,8 +355,9 @@ std::string fv_solution(const OpenFoamExportOptions& o) {
 
 std::string turbulence_properties() {
   std::string out = foam_header("dictionary", "constant", "turbulenceProperties");
-  out += "// Laminar: the viscous stress comes from transportProperties (generalised Newtonian).\n"
-         "simulationType  laminar;\n";
+  out +=
+      "// Laminar: the viscous stress comes from transportProperties (generalised Newtonian).\n"
+      "simulationType  laminar;\n";
   out += foam_footer;
   return out;
 }
@@ -373,7 +373,7 @@ std::vector<double> rim_value_fractions(const core::PlateGeometry& g, const Open
   const double s = core_fraction * R;
   const int nq = mesh.azimuthal_cells;
   const double half_step = core::units::pi / (4.0 * nq);  // half the angle of one rim face
-  const double face_radius = R * std::cos(half_step);       // the face centre lies on the chord
+  const double face_radius = R * std::cos(half_step);     // the face centre lies on the chord
   const std::array<std::array<double, 2>, 4> corner{{{s, s}, {-s, s}, {-s, -s}, {s, -s}}};
   std::vector<double> f;
   f.reserve(static_cast<std::size_t>(4 * nq * mesh.axial_cells));
@@ -412,7 +412,8 @@ std::string velocity_field(double omega, const core::PlateGeometry& g, const Ope
         "    rim\n    {{\n        type            partialSlip;\n"
         "        valueFraction   nonuniform List<scalar> {}\n(\n",
         f.size());
-    for (std::size_t i = 0; i < f.size(); ++i) rim += fmt::format("{:.9g}{}", f[i], (i % 8 == 7 || i + 1 == f.size()) ? "\n" : " ");
+    for (std::size_t i = 0; i < f.size(); ++i)
+      rim += fmt::format("{:.9g}{}", f[i], (i % 8 == 7 || i + 1 == f.size()) ? "\n" : " ");
     rim += ");\n        value           uniform (0 0 0);\n    }\n";
   }
   std::string out = foam_header("volVectorField", "0", "U");
@@ -519,19 +520,18 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
 
   const std::string closed =
       result.closed_form_torque ? fmt::format("{:.9g} N m", *result.closed_form_torque) : std::string("none");
-  write("README", fmt::format(
-                      "OpenFOAM v1912 case written by rheosim {} from {} (sha256 {}).\n"
-                      "Parallel plates R = {} m, H = {} m; rim shear rate {} 1/s, Omega = {} rad/s; "
-                      "{} cells ({}x{}x{}); transportModel {}; rim {}.\n"
-                      "Creeping-flow torque: closed form {}, quadrature {:.9g} N m; gap Reynolds number "
-                      "rho Omega H^2/mu(gammaDot_R) = {:.4g} (simpleFoam includes inertia).\n"
-                      "Run, from this directory:\n{}",
-                      core::version, c.file.empty() ? c.name : c.file, c.sha256, num(plate.radius), num(plate.gap),
-                      num(rim_shear_rate), num(omega), result.cells, options.mesh.radial_cells,
-                      options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model,
-                      options.rim == OpenFoamRim::slip ? "slip (du_t/dn = 0)" : "shear-free (partialSlip, tau_r_theta = 0)",
-                      closed,
-                      result.creeping_torque, result.gap_reynolds_number, result.commands));
+  write("README", fmt::format("OpenFOAM v1912 case written by rheosim {} from {} (sha256 {}).\n"
+                              "Parallel plates R = {} m, H = {} m; rim shear rate {} 1/s, Omega = {} rad/s; "
+                              "{} cells ({}x{}x{}); transportModel {}; rim {}.\n"
+                              "Creeping-flow torque: closed form {}, quadrature {:.9g} N m; gap Reynolds number "
+                              "rho Omega H^2/mu(gammaDot_R) = {:.4g} (simpleFoam includes inertia).\n"
+                              "Run, from this directory:\n{}",
+                              core::version, c.file.empty() ? c.name : c.file, c.sha256, num(plate.radius),
+                              num(plate.gap), num(rim_shear_rate), num(omega), result.cells, options.mesh.radial_cells,
+                              options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model,
+                              options.rim == OpenFoamRim::slip ? "slip (du_t/dn = 0)"
+                                                               : "shear-free (partialSlip, tau_r_theta = 0)",
+                              closed, result.creeping_torque, result.gap_reynolds_number, result.commands));
 
   nlohmann::ordered_json info;
   info["rheosim_version"] = core::version;
@@ -542,7 +542,8 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   nlohmann::ordered_json law;
   law["model"] = std::string(fluid.rheology->name());
   for (const auto& prm : fluid.rheology->parameters()) law[prm.name] = prm.value;
-  info["fluid"] = !options.fluid.empty() ? options.fluid : (rc->fluids.empty() ? std::string("fluid") : rc->fluids.front().name);
+  info["fluid"] =
+      !options.fluid.empty() ? options.fluid : (rc->fluids.empty() ? std::string("fluid") : rc->fluids.front().name);
   info["rheology"] = law;
   nlohmann::ordered_json coeffs;
   for (const auto& [key, value] : result.transport.coeffs) coeffs[key] = value;

@@ -33,8 +33,7 @@ double bingham_torque(const ParallelPlate& plate, double plastic_viscosity, doub
   return herschel_bulkley_torque(plate, plastic_viscosity, 1.0, yield_stress, rim_shear_rate);
 }
 
-double casson_torque(const ParallelPlate& plate, double plastic_viscosity, double yield_stress,
-                     double rim_shear_rate) {
+double casson_torque(const ParallelPlate& plate, double plastic_viscosity, double yield_stress, double rim_shear_rate) {
   // τ = (√τ₀ + √(μγ̇))² = τ₀ + 2√(τ₀μγ̇) + μγ̇; ∫₀ᴿ r^{5/2} dr / √R = 2R³/7.
   const double r3 = std::pow(plate.radius, 3);
   return 2.0 * pi * r3 *
@@ -105,8 +104,8 @@ double creeping_torque(const ParallelPlate& plate, const core::Rheology& rheolog
   double upper = 1.0;
   for (int panel = 0; panel < 60 && upper > 1e-18; ++panel) {
     const double lower = upper / 4.0;
-    integral += adaptive(integrand, lower, upper, gauss_legendre(integrand, lower, upper),
-                         relative_tolerance * scale, 0);
+    integral +=
+        adaptive(integrand, lower, upper, gauss_legendre(integrand, lower, upper), relative_tolerance * scale, 0);
     upper = lower;
   }
   return 2.0 * pi * std::pow(plate.radius, 3) * integral;

@@ -89,7 +89,7 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
       p["torque"] = torque;
       p["torque_fluid"] = torque;
       if (torque != full.torque) {
-        p["torque_grid"] = full.torque;            // this grid's own torque
+        p["torque_grid"] = full.torque;              // this grid's own torque
         p["torque_half_grid"] = full.coarse_torque;  // half the cells in r and z
       }
       p["torque_contact"] = 0.0;
@@ -122,7 +122,8 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
       const std::string group = fmt::format("/{}/shear_rate_{:g}", named.name, rate);
       const auto& s = full.state;
       const std::size_t nr = grid.radial_cells(), nz = grid.axial_cells();
-      fields.groups.push_back({group, {{"shear_rate", rate}, {"torque", torque}, {"converged", converged ? 1.0 : 0.0}}});
+      fields.groups.push_back(
+          {group, {{"shear_rate", rate}, {"torque", torque}, {"converged", converged ? 1.0 : 0.0}}});
       fields.datasets.push_back(dataset(group + "/angular_velocity", {nr, nz}, s.angular_velocity, "rad/s"));
       fields.datasets.push_back(dataset(group + "/viscosity", {nr, nz}, s.viscosity, "Pa s"));
       fields.datasets.push_back(dataset(group + "/shear_rate_field", {nr, nz}, s.shear_rate, "1/s"));
@@ -133,7 +134,8 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
       ++outcome.points;
       if (!converged) {
         ++outcome.failed_points;
-        log.error("{} at {} 1/s did not converge: {}; its last iterate is saved in fields.h5", named.name, rate, failure);
+        log.error("{} at {} 1/s did not converge: {}; its last iterate is saved in fields.h5", named.name, rate,
+                  failure);
       } else {
         log.debug("{} at {} 1/s: torque {:.6e} N m, {} iterations", named.name, rate, full.torque, full.iterations);
       }

@@ -135,8 +135,8 @@ nlohmann::ordered_json correlation_json(const CorrelationComparison& c) {
 void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs& in) {
   if (in.fluids.empty()) throw std::invalid_argument("add_flow_analysis: no fluids");
   auto& points = summary["points"];
-  const bool is_sweep = std::any_of(points.begin(), points.end(),
-                                    [](const auto& p) { return p.contains("volume_fraction"); });
+  const bool is_sweep =
+      std::any_of(points.begin(), points.end(), [](const auto& p) { return p.contains("volume_fraction"); });
   std::vector<std::string> fluid_names;
   for (const auto& p : points) {
     const std::string name = p.value("fluid", in.fluids.front().name);
@@ -254,13 +254,15 @@ void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs&
       fit_torques.push_back(torques[k]);
     }
     if (fit_valid_only)
-      warnings.push_back(fmt::format("{}: {} of {} points fail the validity checks (see the point table) and are left "
-                                     "out of the fits and yield-stress estimates",
-                                     s.label, rates.size() - valid_count, rates.size()));
+      warnings.push_back(
+          fmt::format("{}: {} of {} points fail the validity checks (see the point table) and are left "
+                      "out of the fits and yield-stress estimates",
+                      s.label, rates.size() - valid_count, rates.size()));
     else if (valid_count < rates.size())
-      warnings.push_back(fmt::format("{}: {} of {} points fail the validity checks; too few valid points remain, so all "
-                                     "are fitted: read the fits and yield stresses with that in mind",
-                                     s.label, rates.size() - valid_count, rates.size()));
+      warnings.push_back(
+          fmt::format("{}: {} of {} points fail the validity checks; too few valid points remain, so all "
+                      "are fitted: read the fits and yield stresses with that in mind",
+                      s.label, rates.size() - valid_count, rates.size()));
     sj["fitted_points"] = fit_rates.size();
 
     // Every flow model on (γ̇_R, τ_R), ranked by AICc.
@@ -289,9 +291,9 @@ void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs&
     }
 
     // Yield stress, four ways kept apart (analysis.hpp §3).
-    for (const auto& [model, method] : {std::pair{"bingham", "bingham_intercept"},
-                                        std::pair{"casson", "casson_intercept"},
-                                        std::pair{"herschel_bulkley", "herschel_bulkley"}}) {
+    for (const auto& [model, method] :
+         {std::pair{"bingham", "bingham_intercept"}, std::pair{"casson", "casson_intercept"},
+          std::pair{"herschel_bulkley", "herschel_bulkley"}}) {
       const auto it = std::find_if(fits.begin(), fits.end(), [&](const FitResult& f) { return f.model_name == model; });
       if (it == fits.end()) continue;
       auto yj = yield_json(yield_stress_from_fit(*it, method), s);

@@ -18,13 +18,13 @@
 
 #include <fmt/format.h>
 
+#include "gauss_legendre.hpp"
 #include "rheosim/core/units.hpp"
 #include "rheosim/coupling/shear_cell_point.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/dem/shear_cell_scene.hpp"
 #include "rheosim/fluid/swirl.hpp"
 #include "rheosim/rheometer/plate.hpp"
-#include "gauss_legendre.hpp"
 
 namespace rheosim::rheometer {
 namespace {
@@ -40,7 +40,8 @@ double cell_cost_seconds(const core::RheometerCase& r, double phi, double rate, 
   const auto& p = *r.particles;
   const double length = std::max(8.0 * p.diameter, 3.0 * r.geometry.gap);
   const auto n = static_cast<double>(dem::shear_cell_particle_count(r.geometry.gap, length, length, p.diameter, phi));
-  const double dt = 0.3 * dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus / softening, p.poisson_ratio});
+  const double dt =
+      0.3 * dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus / softening, p.poisson_ratio});
   // Near field: ×10–25 the DEM time per step with soft particles (docs/performance.md, issue 9).
   const double near_field = p.hydrodynamics.any() ? 20.0 : 1.0;
   return std::max(n, 1.0) * max_strain / (rate * dt) / 3e6 * near_field;
@@ -49,8 +50,8 @@ double cell_cost_seconds(const core::RheometerCase& r, double phi, double rate, 
 double inertia_effect(const core::RheometerCase& r, const core::FluidProperties& fluid, double rate) {
   if (!r.solver.inertia) return 0.0;
   fluid::SwirlParams p;
-  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading,
-            r.solver.axial_stretching};
+  p.grid = {r.geometry.radius,    r.geometry.gap,          r.solver.radial_cells,    1,
+            r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching};
   p.density = fluid.density;
   p.rheology = fluid.rheology;
   p.tolerance = r.solver.tolerance;
@@ -82,17 +83,17 @@ struct PhiStudy {
     return best->second;
   }
   LocalFlowCurve curve;
-  double softening = 1.0;          // E used = E / softening
-  double stiffness_change = 0.0;   // |τ(E/s) − τ(E/(s/10))| / τ, measured
+  double softening = 1.0;         // E used = E / softening
+  double stiffness_change = 0.0;  // |τ(E/s) − τ(E/(s/10))| / τ, measured
   double cell_length = 0.0;
-  double size_change = 0.0;        // |τ(L) − τ(2L)| / τ, measured (0 when not checked)
-  double grid_change = 0.0;        // |τ(2 N_z) − τ(N_z)| / τ: fluid layers doubled, measured
+  double size_change = 0.0;  // |τ(L) − τ(2L)| / τ, measured (0 when not checked)
+  double grid_change = 0.0;  // |τ(2 N_z) − τ(N_z)| / τ: fluid layers doubled, measured
   double linearity_deviation = 0.0;
   double statistical_error = 0.0;  // largest relative standard error of the points used
   bool all_converged = true;
   int cell_runs = 0;
   double wall_time = 0.0;
-  std::string summary;             // the choices, for model_reason
+  std::string summary;                // the choices, for model_reason
   std::vector<std::string> warnings;  // rules the study bent (checks passed on noise)
   // Cost of the whole study, for PointResult's cost split.
   coupling::CostSplit cost;
@@ -106,15 +107,17 @@ class ShearCellRunner {
   PointResult run(const SweepPoint& point, const PointProgressCallback& progress) {
     PointResult out;
     out.model = "shear_cell";
-    out.method = "periodic shear cell (CFD-DEM: LIGGGHTS box + horizontally averaged fluid column), torque from the "
-                 "local flow curve";
+    out.method =
+        "periodic shear cell (CFD-DEM: LIGGGHTS box + horizontally averaged fluid column), torque from the "
+        "local flow curve";
     if (!r_.particles) {
       out.failure = fmt::format("φ = {:g} needs a particles: section", point.volume_fraction);
       return out;
     }
     if (r_.particles->hydrodynamics.stokes_drag) {
-      out.failure = "particles.hydrodynamics: stokes_drag is the drag on an imposed flow; the shear cell solves its "
-                    "fluid column and applies coupling.drag — use lubrication and/or stresslet";
+      out.failure =
+          "particles.hydrodynamics: stokes_drag is the drag on an imposed flow; the shear cell solves its "
+          "fluid column and applies coupling.drag — use lubrication and/or stresslet";
       return out;
     }
     const auto start = std::chrono::steady_clock::now();
@@ -124,11 +127,10 @@ class ShearCellRunner {
     const auto& fluid = r_.fluid;
     const double inertia = inertia_effect(r_, fluid, rate);
     const double linear = study.curve.linear ? study.linearity_deviation : 0.0;
-    out.estimated_error = std::sqrt(study.statistical_error * study.statistical_error +
-                                    study.size_change * study.size_change +
-                                    study.stiffness_change * study.stiffness_change +
-                                    study.grid_change * study.grid_change + linear * linear +
-                                    (std::isfinite(inertia) ? inertia * inertia : 0.0));
+    out.estimated_error =
+        std::sqrt(study.statistical_error * study.statistical_error + study.size_change * study.size_change +
+                  study.stiffness_change * study.stiffness_change + study.grid_change * study.grid_change +
+                  linear * linear + (std::isfinite(inertia) ? inertia * inertia : 0.0));
     out.torque = plate_torque(study.curve, r_.geometry.radius, rate);
     out.torque_creeping = out.torque;
     // Parts of the torque: the stress fractions of the simulated rate nearest to this one.
@@ -146,16 +148,19 @@ class ShearCellRunner {
     if (!out.converged) out.failure = "the shear cell gave no finite stress";
     out.warnings = study.warnings;
     if (!study.all_converged)
-      out.warnings.push_back("shear cell: not every cell run met the steady-state tolerance within its maximum strain; "
-                             "their last-window means (± standard error, in the estimated error) are used");
+      out.warnings.push_back(
+          "shear cell: not every cell run met the steady-state tolerance within its maximum strain; "
+          "their last-window means (± standard error, in the estimated error) are used");
     const auto groups = dimensionless_groups(r_, fluid, *r_.particles, rate);
     out.model_reason = fmt::format(
         "{}; this rate: Re_gap {:.3g}, Re_p {:.3g}, St {:.3g}, Bn {:.3g}, μγ̇/E* {:.2g} (softened: {:.2g}){}, liquid "
         "inertia effect {:.2g} %; cell at {:g} 1/s: wall stress {:.4g} Pa = fluid {:.3g} + contact {:.3g} + "
-        "lubrication {:.3g} + stresslet {:.3g} + couple {:.3g}, bulk stress from the particle virial {:.4g} Pa ({:+.2g} %)",
+        "lubrication {:.3g} + stresslet {:.3g} + couple {:.3g}, bulk stress from the particle virial {:.4g} Pa "
+        "({:+.2g} %)",
         study.all_converged ? study.summary
-                            : study.summary + " (not every cell run met the steady-state tolerance within its "
-                                              "maximum strain: last-window means used)",
+                            : study.summary +
+                                  " (not every cell run met the steady-state tolerance within its "
+                                  "maximum strain: last-window means used)",
         groups.gap_reynolds, groups.particle_reynolds, groups.stokes, groups.bingham, groups.stiffness,
         groups.stiffness * study.softening,
         study.curve.linear && std::find(study.curve.shear_rate.begin(), study.curve.shear_rate.end(), rate) ==
@@ -177,7 +182,6 @@ class ShearCellRunner {
   }
 
  private:
-
   Measured cell(double phi, double rate, double softening, double length, const std::string& tag, PhiStudy& study,
                 const PointProgressCallback& progress, int axial_cells = 0) {
     coupling::ShearCellPointSettings s;
@@ -195,8 +199,8 @@ class ShearCellRunner {
     s.steady = options_.steady;
     s.run_directory = work_ / fmt::format("cell_phi{:g}", phi) / tag;
     if (s.particles.hydrodynamics.any()) {
-      s.near_field = coupling::make_near_field_model(coupling::near_field_settings(s.particles.hydrodynamics),
-                                                     s.fluid.rheology);
+      s.near_field =
+          coupling::make_near_field_model(coupling::near_field_settings(s.particles.hydrodynamics), s.fluid.rheology);
       // Lubricated suspensions wander over several strain units (φ = 0.3: ±20 % per unit, measured
       // with coupling_validate_near_field_coupled's seed-cell study), so two 2-unit windows can
       // agree by chance: longer windows and a later first decision.
@@ -213,16 +217,18 @@ class ShearCellRunner {
       if (header)
         out << "run,shear_rate,softening,cell_length,axial_cells,particles,stress,stress_error,converged,strain,"
                "fluid,contact,lubrication,stresslet,couple,bulk,wall_time\n";
-      out << fmt::format("{},{:g},{:g},{:g},{},{},{:.9g},{:.3g},{},{:.4g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}\n",
-                         tag, rate, softening, length, s.axial_cells, p.particles, p.stress, p.stress_error,
-                         p.converged ? 1 : 0, p.strain, p.stress_fluid, p.stress_contact, p.stress_lubrication,
-                         p.stress_stresslet, p.stress_couple, p.bulk_stress, p.wall_time);
+      out << fmt::format(
+          "{},{:g},{:g},{:g},{},{},{:.9g},{:.3g},{},{:.4g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}\n", tag,
+          rate, softening, length, s.axial_cells, p.particles, p.stress, p.stress_error, p.converged ? 1 : 0, p.strain,
+          p.stress_fluid, p.stress_contact, p.stress_lubrication, p.stress_stresslet, p.stress_couple, p.bulk_stress,
+          p.wall_time);
     }
     ++study.cell_runs;
     if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
-      study.warnings.push_back(fmt::format("near field: implicit solves stopped at their iteration cap ({}) in the cell "
-                                           "run {}; their forces are the last iterate's",
-                                           cap, tag));
+      study.warnings.push_back(
+          fmt::format("near field: implicit solves stopped at their iteration cap ({}) in the cell "
+                      "run {}; their forces are the last iterate's",
+                      cap, tag));
     if (p.cost.void_fraction_clamped_steps > 0)
       study.warnings.push_back(fmt::format(
           "void fraction: in the cell run {} the layer ε fell below the floor {:g} on {} of {} steps (down to {:.3g}) "
@@ -235,9 +241,16 @@ class ShearCellRunner {
     study.cost.fluid += p.cost.fluid;
     study.cost.near_field += p.cost.near_field;
     if (progress) progress({p.strain, std::numeric_limits<double>::quiet_NaN()});
-    return {.rate = rate, .stress = p.stress, .error = p.stress_error, .fluid = p.stress_fluid,
-            .contact = p.stress_contact, .lubrication = p.stress_lubrication, .stresslet = p.stress_stresslet,
-            .couple = p.stress_couple, .bulk = p.bulk_stress, .converged = p.converged};
+    return {.rate = rate,
+            .stress = p.stress,
+            .error = p.stress_error,
+            .fluid = p.stress_fluid,
+            .contact = p.stress_contact,
+            .lubrication = p.stress_lubrication,
+            .stresslet = p.stress_stresslet,
+            .couple = p.stress_couple,
+            .bulk = p.bulk_stress,
+            .converged = p.converged};
   }
 
   // The change between two measurements, and whether it passes: within the tolerance, or within
@@ -271,8 +284,10 @@ class ShearCellRunner {
     const auto at = [&](double softening) -> const Measured& {
       auto it = by_softening.find(softening);
       if (it == by_softening.end())
-        it = by_softening.emplace(softening, cell(phi, top_rate, softening, length0, tag(softening, length0, top_rate),
-                                                  study, progress)).first;
+        it = by_softening
+                 .emplace(softening,
+                          cell(phi, top_rate, softening, length0, tag(softening, length0, top_rate), study, progress))
+                 .first;
       return it->second;
     };
     study.softening = 1.0;
@@ -289,8 +304,8 @@ class ShearCellRunner {
     Measured base = at(study.softening);
     double length = length0;
     for (int doubling = 0; doubling < options_.max_cell_doublings; ++doubling) {
-      const Measured bigger = cell(phi, top_rate, study.softening, 2.0 * length, tag(study.softening, 2.0 * length, top_rate),
-                                   study, progress);
+      const Measured bigger = cell(phi, top_rate, study.softening, 2.0 * length,
+                                   tag(study.softening, 2.0 * length, top_rate), study, progress);
       const auto [change, ok] = compare(base, bigger, study, "cell size");
       study.size_change = change;
       if (ok) break;
@@ -302,9 +317,9 @@ class ShearCellRunner {
     // layers may not shrink far below a particle): the same run on twice the layers; the change
     // goes into the estimated error.
     {
-      const Measured finer = cell(phi, top_rate, study.softening, length,
-                                  tag(study.softening, length, top_rate) + "_finer", study, progress,
-                                  2 * options_.axial_cells);
+      const Measured finer =
+          cell(phi, top_rate, study.softening, length, tag(study.softening, length, top_rate) + "_finer", study,
+               progress, 2 * options_.axial_cells);
       study.grid_change = std::abs(finer.stress - base.stress) / std::abs(base.stress);
     }
 
@@ -315,15 +330,16 @@ class ShearCellRunner {
     std::map<double, Measured> measured{{top_rate, base}};
     const auto measure = [&](double rate) {
       if (!measured.contains(rate))
-        measured.emplace(rate, cell(phi, rate, study.softening, length, tag(study.softening, length, rate), study,
-                                    progress));
+        measured.emplace(rate,
+                         cell(phi, rate, study.softening, length, tag(study.softening, length, rate), study, progress));
     };
     if (stokes && rates.size() >= 3) {
       const double second = rates[rates.size() - 2];
       measure(second);
       const double eta_top = measured[top_rate].stress / top_rate, eta_second = measured[second].stress / second;
       study.linearity_deviation = std::abs(eta_top - eta_second) / eta_top;
-      const double noise = 2.0 * std::hypot(measured[top_rate].error / top_rate, measured[second].error / second) / eta_top;
+      const double noise =
+          2.0 * std::hypot(measured[top_rate].error / top_rate, measured[second].error / second) / eta_top;
       study.curve.linear = study.linearity_deviation <= std::max(options_.tolerance, noise);
       if (study.curve.linear && study.linearity_deviation > options_.tolerance)
         study.warnings.push_back(fmt::format(
@@ -417,17 +433,23 @@ double plate_torque(const LocalFlowCurve& curve, double radius, double rim_rate)
                                                       std::log(curve.shear_rate[1] / curve.shear_rate[0]);
   double integral = curve.stress_at(edges[1]) * edges[1] * edges[1] * edges[1] / (exponent + 3.0);
   for (std::size_t i = 1; i + 1 < edges.size(); ++i)
-    integral += integrate_gauss_legendre_8(edges[i], edges[i + 1], [&](double s) { return curve.stress_at(s) * s * s; });
+    integral +=
+        integrate_gauss_legendre_8(edges[i], edges[i + 1], [&](double s) { return curve.stress_at(s) * s * s; });
   return 2.0 * core::units::pi * radius * radius * radius / (rim_rate * rim_rate * rim_rate) * integral;
 }
 
 std::string_view to_string(Model model) {
   switch (model) {
-    case Model::lees_edwards: return "lees_edwards";
-    case Model::walled_box: return "walled_box";
-    case Model::full_disk: return "full_disk";
-    case Model::shear_cell: return "shear_cell";
-    case Model::automatic: return "auto";
+    case Model::lees_edwards:
+      return "lees_edwards";
+    case Model::walled_box:
+      return "walled_box";
+    case Model::full_disk:
+      return "full_disk";
+    case Model::shear_cell:
+      return "shear_cell";
+    case Model::automatic:
+      return "auto";
   }
   return "auto";
 }
@@ -454,7 +476,8 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
     // The predictive model: the near field needs the box, whose cost is fixed in strain.
     std::string limits;
     if (r.geometry.radius < 10.0 * r.geometry.gap)
-      limits += fmt::format("; R/H = {:.3g} < 10: the local flow curve misses the rim region", r.geometry.radius / r.geometry.gap);
+      limits += fmt::format("; R/H = {:.3g} < 10: the local flow curve misses the rim region",
+                            r.geometry.radius / r.geometry.gap);
     if (const auto g = dimensionless_groups(r, r.fluid, p, top_rate); g.gap_reynolds > regime_limit)
       limits += fmt::format("; gap Reynolds number {:.3g} > 1 at {:g} 1/s: the disk's secondary flow is not included",
                             g.gap_reynolds, top_rate);
@@ -506,9 +529,8 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
 PointRunner make_shear_cell_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
                                               ShearCellOptions options) {
   auto runner = std::make_shared<ShearCellRunner>(rheometer, std::move(work_dir), std::move(options));
-  return [runner](const SweepPoint& point, const PointProgressCallback& progress) {
-    return runner->run(point, progress);
-  };
+  return
+      [runner](const SweepPoint& point, const PointProgressCallback& progress) { return runner->run(point, progress); };
 }
 
 }  // namespace rheosim::rheometer

@@ -1,7 +1,7 @@
 // Resumable sweeps over fluids × φ × γ̇_R (rheometer/sweep.hpp).
 #include "rheosim/rheometer/sweep.hpp"
-#include "rheosim/rheometer/shear_cell.hpp"
 #include "rheosim/rheometer/box_point.hpp"
+#include "rheosim/rheometer/shear_cell.hpp"
 
 #include <fmt/format.h>
 
@@ -9,8 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <set>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/progress.hpp"
@@ -176,9 +176,8 @@ SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, do
   const double gap_volume = pi * r.geometry.radius * r.geometry.radius * r.geometry.gap;
   e.particles = volume_fraction * gap_volume / (pi * p.diameter * p.diameter * p.diameter / 6);
   const coupling::SuspensionPointSettings defaults;
-  const double dem_step =
-      defaults.time_step_fraction *
-      dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus, p.poisson_ratio});
+  const double dem_step = defaults.time_step_fraction *
+                          dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus, p.poisson_ratio});
   e.dem_steps = max_strain / (rim_shear_rate * dem_step);
   constexpr double particle_steps_per_second = 1.5e7;  // one core, CD §4 scene (docs/performance.md)
   constexpr double coupling_overhead = 1.2;            // void fraction + forces + fluid, measured 5–17 %
@@ -252,9 +251,10 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
     // grid, which is the φ = 0 swirl solver's: unresolved CFD-DEM needs cells wider than a
     // particle (docs/coupling.md). The point says which grid it used.
     s.seed = 1 + point.index;
-    out.method += fmt::format("; CFD-DEM fluid grid {} × {} × {} (r × θ × z; the case's solver: grid is the φ = 0 "
-                              "swirl solver's)",
-                              s.radial_cells, s.azimuthal_cells, s.axial_cells);
+    out.method += fmt::format(
+        "; CFD-DEM fluid grid {} × {} × {} (r × θ × z; the case's solver: grid is the φ = 0 "
+        "swirl solver's)",
+        s.radial_cells, s.azimuthal_cells, s.axial_cells);
     s.run_directory = work / fmt::format("point_{:04d}", point.index);
     try {
       fs::create_directories(s.run_directory);
@@ -297,9 +297,10 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
             "clamped there and the grid carries less solid than the particles",
             p.cost.void_fraction_clamped_steps, p.cost.steps));
       if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
-        out.warnings.push_back(fmt::format("near field: implicit solves stopped at their iteration cap ({}) on some DEM "
-                                           "steps; their forces are the last iterate's",
-                                           cap));
+        out.warnings.push_back(
+            fmt::format("near field: implicit solves stopped at their iteration cap ({}) on some DEM "
+                        "steps; their forces are the last iterate's",
+                        cap));
       out.strain = p.strain;
       out.iterations = static_cast<int>(p.cost.steps);
       out.wall_time = p.wall_time;
@@ -403,14 +404,14 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
   const auto number = [&](const std::string& name) {
     const auto it = a.find(name);
     if (it == a.end() || !std::holds_alternative<double>(it->second))
-      throw core::RunError(fmt::format("{}: attribute '{}' is missing; delete the file to recompute the point",
-                                       path.string(), name));
+      throw core::RunError(
+          fmt::format("{}: attribute '{}' is missing; delete the file to recompute the point", path.string(), name));
     return std::get<double>(it->second);
   };
   const auto text = [&](const std::string& name) {
     const auto it = a.find(name);
     return it != a.end() && std::holds_alternative<std::string>(it->second) ? std::get<std::string>(it->second)
-                                                                             : std::string();
+                                                                            : std::string();
   };
   if (text("fluid") != point.fluid || number("volume_fraction") != point.volume_fraction ||
       number("shear_rate") != point.rim_shear_rate)
@@ -430,15 +431,15 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
     r.warnings.push_back(rest.substr(0, end));
     rest = end == std::string::npos ? std::string() : rest.substr(end + 1);
   }
-  for (const auto& f : number_fields)
-    r.*(f.member) = f.optional && !a.contains(f.name) ? nan : number(f.name);
+  for (const auto& f : number_fields) r.*(f.member) = f.optional && !a.contains(f.name) ? nan : number(f.name);
   return r;
 }
 
 // ---------------------------------------------------------------------------------------------
 // The sweep
 
-SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core::Log& log, const PointRunners& runners) {
+SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core::Log& log,
+                       const PointRunners& runners) {
   const auto& sweep = std::get<core::SweepCase>(c.spec);
   const auto& r = sweep.rheometer;
   const auto start = std::chrono::steady_clock::now();
@@ -455,8 +456,8 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
   for (const auto& p : points)
     if ((results[p.index] = store.load(p))) ++outcome.reused_points;
   if (outcome.reused_points > 0)
-    log.info("resuming: {} of {} points are stored in {}; computing the other {}", outcome.reused_points,
-             points.size(), store.directory().string(), points.size() - static_cast<std::size_t>(outcome.reused_points));
+    log.info("resuming: {} of {} points are stored in {}; computing the other {}", outcome.reused_points, points.size(),
+             store.directory().string(), points.size() - static_cast<std::size_t>(outcome.reused_points));
 
   core::ProgressOptions progress_options;
   progress_options.initial_done = static_cast<std::size_t>(outcome.reused_points);
@@ -571,8 +572,11 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
       p["wall_time"] = res.wall_time;
       if (std::isfinite(res.cost_dem)) {
         const double overhead = res.cost_dem > 0 ? (res.cost_void_fraction + res.cost_forces) / res.cost_dem : 0.0;
-        p["cost"] = {{"dem", res.cost_dem}, {"void_fraction", res.cost_void_fraction}, {"forces", res.cost_forces},
-                     {"fluid", res.cost_fluid}, {"coupling_overhead", overhead}};
+        p["cost"] = {{"dem", res.cost_dem},
+                     {"void_fraction", res.cost_void_fraction},
+                     {"forces", res.cost_forces},
+                     {"fluid", res.cost_fluid},
+                     {"coupling_overhead", overhead}};
         if (std::isfinite(res.cost_near_field)) p["cost"]["near_field"] = res.cost_near_field;
       }
       p["converged"] = true;

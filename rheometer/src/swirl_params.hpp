@@ -13,8 +13,8 @@ namespace rheosim::rheometer {
 
 inline fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
   fluid::SwirlParams p;
-  p.grid = {r.geometry.radius, r.geometry.gap, r.solver.radial_cells, 1, r.solver.axial_cells, r.solver.radial_grading,
-            r.solver.axial_stretching};
+  p.grid = {r.geometry.radius,    r.geometry.gap,          r.solver.radial_cells,    1,
+            r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching};
   p.density = fluid.density;
   p.rheology = fluid.rheology;
   p.inertia = inertia;
@@ -39,9 +39,10 @@ inline std::vector<std::string> swirl_warnings(const core::RheometerCase& r, con
   std::vector<std::string> out;
   const auto note = [&](const fluid::SwirlResult& s, const char* which) {
     if (s.converged && s.accepted_change > r.solver.tolerance)
-      out.push_back(fmt::format("{} swirl solve accepted at its Newton floor: relative change {:.2g} over its last "
-                                "five iterations, above solver.tolerance {:.2g}",
-                                which, s.accepted_change, r.solver.tolerance));
+      out.push_back(
+          fmt::format("{} swirl solve accepted at its Newton floor: relative change {:.2g} over its last "
+                      "five iterations, above solver.tolerance {:.2g}",
+                      which, s.accepted_change, r.solver.tolerance));
   };
   note(creeping, "creeping");
   if (r.solver.inertia) note(inertial, "inertial");

@@ -3,8 +3,8 @@
 // build-sweep/test-runs/report_render/report_screenshot.png.
 #include <gtest/gtest.h>
 
-#include <cstdint>
 #include <sys/wait.h>
+#include <cstdint>
 
 #include <cstdlib>
 #include <filesystem>
@@ -40,7 +40,8 @@ struct PngSize {
 // Width and height from the IHDR chunk; zeros when the file is not a PNG.
 PngSize png_size(const fs::path& path) {
   const std::string bytes = read_text(path);
-  if (bytes.size() < 24 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0 || bytes.compare(12, 4, "IHDR") != 0) return {};
+  if (bytes.size() < 24 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0 || bytes.compare(12, 4, "IHDR") != 0)
+    return {};
   const auto be32 = [&](std::size_t at) {
     std::uint32_t v = 0;
     for (std::size_t k = 0; k < 4; ++k) v = (v << 8) | static_cast<unsigned char>(bytes[at + k]);
@@ -77,9 +78,9 @@ TEST(ReportRender, SweepReportHasEveryPlotAndRendersInChromium) {
     EXPECT_EQ(read_text(out / (name + ".gnuplot.log")).find("rror"), std::string::npos)
         << read_text(out / (name + ".gnuplot.log"));
   }
-  for (const char* csv : {"flow_curve.csv", "fits.csv", "fit_curves.csv", "residuals.csv", "torque_lines.csv",
-                          "yield_stress.csv", "relative_viscosity.csv", "relative_viscosity_curves.csv",
-                          "speed_error.csv", "torque.csv"})
+  for (const char* csv :
+       {"flow_curve.csv", "fits.csv", "fit_curves.csv", "residuals.csv", "torque_lines.csv", "yield_stress.csv",
+        "relative_viscosity.csv", "relative_viscosity_curves.csv", "speed_error.csv", "torque.csv"})
     EXPECT_TRUE(fs::exists(out / csv)) << csv;
   // Offline: nothing is fetched from the network.
   EXPECT_EQ(html.find("http://"), std::string::npos);
@@ -96,7 +97,8 @@ TEST(ReportRender, SweepReportHasEveryPlotAndRendersInChromium) {
   const fs::path shot = out / "report_screenshot.png";
   const std::string command = "cd '" + out.string() +
                               "' && timeout 120 chromium --headless --no-sandbox --disable-gpu --hide-scrollbars "
-                              "--screenshot='" + shot.string() + "' --window-size=1280,9000 'file://" +
+                              "--screenshot='" +
+                              shot.string() + "' --window-size=1280,9000 'file://" +
                               fs::absolute(out / "report.html").string() + "' > chromium.log 2>&1";
   EXPECT_EQ(shell(command), 0) << read_text(out / "chromium.log");
   const PngSize size = png_size(shot);

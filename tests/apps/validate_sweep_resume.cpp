@@ -1,9 +1,9 @@
 // A sweep killed with SIGKILL mid-way and started again computes only the missing points and
 // ends with the same results as an uninterrupted run (issue 6). Drives the built `rheosim`
 // binary as a user would: fork/exec, kill -9, run again.
-#include <gtest/gtest.h>
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,8 +26,8 @@ namespace {
 const std::string binary = RHEOSIM_BINARY;
 const fs::path case_file = fs::path(RHEOSIM_SOURCE_DIR) / "tests/apps/data/small_sweep.yaml";
 const fs::path runs = fs::path(RHEOSIM_BINARY_DIR) / "test-runs";
-constexpr int sweep_points = 16;      // 2 φ × 8 rates
-constexpr int finished_points = 8;    // φ = 0; the φ = 0.1 points fail (over the CFD-DEM point budget)
+constexpr int sweep_points = 16;    // 2 φ × 8 rates
+constexpr int finished_points = 8;  // φ = 0; the φ = 0.1 points fail (over the CFD-DEM point budget)
 
 // Starts `rheosim run CASE --out DIR` with output to DIR.log; returns the child's pid.
 pid_t start_run(const fs::path& case_path, const fs::path& out, const fs::path& log) {
@@ -95,8 +95,10 @@ TEST(SweepResume, KilledSweepResumesWithOnlyTheMissingPointsAndTheSameResults) {
   const fs::path resume_log = runs / "sweep_resume_second.log";
   EXPECT_EQ(run_to_end(case_file, killed, resume_log), 1) << "φ > 0 points fail: exit 1\n" << read_text(resume_log);
   const std::string log = read_text(resume_log);
-  EXPECT_NE(log.find(fmt::format("resuming: {} of {} points are stored", kept, sweep_points)), std::string::npos) << log;
-  EXPECT_NE(log.find(fmt::format("{} computed now, {} read back", sweep_points - kept, kept)), std::string::npos) << log;
+  EXPECT_NE(log.find(fmt::format("resuming: {} of {} points are stored", kept, sweep_points)), std::string::npos)
+      << log;
+  EXPECT_NE(log.find(fmt::format("{} computed now, {} read back", sweep_points - kept, kept)), std::string::npos)
+      << log;
   for (const auto& [file, time] : written) EXPECT_EQ(fs::last_write_time(file), time) << file << " was rewritten";
   EXPECT_EQ(static_cast<int>(stored_points(killed).size()), finished_points);
 

@@ -57,7 +57,8 @@ TEST(Case, RheometerCaseParsesIntoTypedValues) {
 }
 
 TEST(Case, ParticleDefaultsAreTheSeedValues) {
-  const Case c = parse_case(plate_case + "particles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000}\n", "p.yaml");
+  const Case c =
+      parse_case(plate_case + "particles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000}\n", "p.yaml");
   const auto& p = *std::get<RheometerCase>(c.spec).particles;
   EXPECT_DOUBLE_EQ(p.volume_fraction, 0.1);
   EXPECT_DOUBLE_EQ(p.youngs_modulus, 3.0e9);  // CD §4
@@ -124,7 +125,8 @@ TEST(Case, TextWhereANumberBelongs) {
 // extrapolate needs the solver's half grid (even counts >= 8); the stretching is read as given.
 TEST(Case, SolverExtrapolationNeedsCellCountsThatHalve) {
   const auto solver = [](const std::string& settings) { return plate_case + "solver: {" + settings + "}\n"; };
-  const Case c = parse_case(solver("radial_cells: 20, axial_cells: 16, axial_stretching: 2, extrapolate: true"), "c.yaml");
+  const Case c =
+      parse_case(solver("radial_cells: 20, axial_cells: 16, axial_stretching: 2, extrapolate: true"), "c.yaml");
   const auto& s = std::get<RheometerCase>(c.spec).solver;
   EXPECT_TRUE(s.extrapolate);
   EXPECT_DOUBLE_EQ(s.axial_stretching, 2.0);
@@ -199,8 +201,9 @@ TEST(Case, SweepNeedsParticlesForNonZeroFractions) {
 }
 
 TEST(Case, SweepParticlesRejectAVolumeFraction) {
-  const auto e = parse_error(replace(plate_case, "kind: rheometer", "kind: sweep") +
-                             "volume_fractions: [0, 0.1]\nparticles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000}\n");
+  const auto e =
+      parse_error(replace(plate_case, "kind: rheometer", "kind: sweep") +
+                  "volume_fractions: [0, 0.1]\nparticles: {volume_fraction: 0.1, diameter: 2.0e-4, density: 1000}\n");
   EXPECT_EQ(e.details().key_path, "particles.volume_fraction");
 }
 
@@ -259,8 +262,9 @@ void expect_cavity_refuses(const std::string& key, const std::string& value, con
 
 TEST(Case, LddGradientIsCheckedAgainstTheScene) {
   EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case, "c.yaml").spec).solver.gradient, "auto");
-  EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case + "solver: {gradient: renormalised}\n", "c.yaml").spec).solver.gradient,
-            "renormalised");
+  EXPECT_EQ(
+      std::get<LddCase>(parse_case(cavity_case + "solver: {gradient: renormalised}\n", "c.yaml").spec).solver.gradient,
+      "renormalised");
   // A cavity's wall rows need the wall node's own value in its gradient.
   expect_cavity_refuses("gradient", "centred", "renormalised");
   const auto typo = parse_error(cavity_case + "solver: {gradient: centered}\n");
@@ -268,8 +272,9 @@ TEST(Case, LddGradientIsCheckedAgainstTheScene) {
 }
 
 TEST(Case, LddCavityRefusesTheDivergingDensityReordering) {
-  EXPECT_EQ(std::get<LddCase>(parse_case(cavity_case + "solver: {reordering: lattice}\n", "c.yaml").spec).solver.reordering,
-            "lattice");
+  EXPECT_EQ(
+      std::get<LddCase>(parse_case(cavity_case + "solver: {reordering: lattice}\n", "c.yaml").spec).solver.reordering,
+      "lattice");
   expect_cavity_refuses("reordering", "density", "lattice");
 }
 

@@ -28,8 +28,7 @@ class OutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("rheosim_test_output_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("rheosim_test_output_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -278,11 +277,14 @@ std::vector<Hdf5Attribute> sorted_by_name(std::vector<Hdf5Attribute> attributes)
 TEST_F(OutputTest, Hdf5RoundTripIsExact) {
   const std::vector<double> values = awkward_doubles();
   Hdf5Content content;
-  content.attributes = {{"rheosim_version", std::string("0.1.0")}, {"input_hash", std::string("ab12")},
-                        {"wall_time", 12.5}};
+  content.attributes = {
+      {"rheosim_version", std::string("0.1.0")}, {"input_hash", std::string("ab12")}, {"wall_time", 12.5}};
   content.groups = {{"sweep", {{"volume_fraction", 0.3}, {"note", std::string("φ sweep, γ̇ in 1/s")}}}};
   content.datasets.push_back({"sweep/shear_rate", {3}, {10.0, 50.0, 100.0}, "1/s", {}});
-  content.datasets.push_back({"sweep/torque", {2, 3}, {0.1, 1.0 / 3.0, 1e-300, -0.0, 7.0, M_PI}, "N m",
+  content.datasets.push_back({"sweep/torque",
+                              {2, 3},
+                              {0.1, 1.0 / 3.0, 1e-300, -0.0, 7.0, M_PI},
+                              "N m",
                               {{"steady", 1.0}, {"method", std::string("strain window")}}});
   content.datasets.push_back({"raw/values", {values.size()}, values, "", {}});
   content.datasets.push_back({"empty", {0}, {}, "", {}});

@@ -95,8 +95,7 @@ const std::vector<LawCase>& law_cases() {
        "exponent: 0.7}",
        2.0},
       {"cross (m = 1)",
-       "{model: cross, zero_shear_viscosity: 1.0, infinite_shear_viscosity: 0, time_constant: 0.5, exponent: 1}",
-       2.0},
+       "{model: cross, zero_shear_viscosity: 1.0, infinite_shear_viscosity: 0, time_constant: 0.5, exponent: 1}", 2.0},
   };
   return cases;
 }
@@ -112,7 +111,7 @@ std::vector<double> shear_rate_sweep(double scale) {
 // ------------------------------------------------------------------------ registry and names
 
 TEST(RheologyRegistry, ListsExactlyTheSevenLaws) {
-  const std::vector<std::string> expected = {"bingham",          "carreau_yasuda", "casson", "cross",
+  const std::vector<std::string> expected = {"bingham",          "carreau_yasuda", "casson",   "cross",
                                              "herschel_bulkley", "newtonian",      "power_law"};
   EXPECT_EQ(core::builtin_rheologies().names(), expected);
 }
@@ -201,13 +200,12 @@ TEST(RheologyClosedForm, PowerLaw) {
 
 TEST(RheologyClosedForm, Bingham) {
   // μ∞ + τ0 (1 − e^(−mγ̇))/γ̇ with μ∞ = 0.1, τ0 = 2, m = 1000.
-  expect_viscosities(
-      law_from_yaml("{model: bingham, plastic_viscosity: 0.1, yield_stress: 2, regularization: 1000}"),
-      {{0.0, 0.1 + 2000.0},
-       {1e-5, 0.1 + 2.0 * (1.0 - std::exp(-0.01)) / 1e-5},
-       {1e-3, 0.1 + 2000.0 * (1.0 - std::exp(-1.0))},
-       {1.0, 2.1},
-       {10.0, 0.3}});
+  expect_viscosities(law_from_yaml("{model: bingham, plastic_viscosity: 0.1, yield_stress: 2, regularization: 1000}"),
+                     {{0.0, 0.1 + 2000.0},
+                      {1e-5, 0.1 + 2.0 * (1.0 - std::exp(-0.01)) / 1e-5},
+                      {1e-3, 0.1 + 2000.0 * (1.0 - std::exp(-1.0))},
+                      {1.0, 2.1},
+                      {10.0, 0.3}});
 }
 
 TEST(RheologyClosedForm, Casson) {
@@ -222,8 +220,8 @@ TEST(RheologyClosedForm, Casson) {
 
 TEST(RheologyClosedForm, HerschelBulkley) {
   // k γ̇^(n−1) + τ0 (1 − e^(−mγ̇))/γ̇ with k = 0.5, n = 0.6, τ0 = 2, m = 1000.
-  const auto law = law_from_yaml(
-      "{model: herschel_bulkley, consistency: 0.5, index: 0.6, yield_stress: 2, regularization: 1000}");
+  const auto law =
+      law_from_yaml("{model: herschel_bulkley, consistency: 0.5, index: 0.6, yield_stress: 2, regularization: 1000}");
   expect_viscosities(law, {{1.0, 2.5},
                            {32.0, 0.1875},
                            {1e-3, 0.5 * std::pow(1e-3, -0.4) + 2000.0 * (1.0 - std::exp(-1.0))},
@@ -302,8 +300,8 @@ TEST(RheologyLimits, CarreauYasudaAndCrossPlateaus) {
       {"{model: carreau_yasuda, zero_shear_viscosity: 2, infinite_shear_viscosity: 0.01, time_constant: 0.5, a: 0.5, "
        "n: 0.5}",
        2.0, 0.01, 0.5, 0.5 - 1.0, 4e-5},
-      {"{model: cross, zero_shear_viscosity: 2, infinite_shear_viscosity: 0.01, time_constant: 0.5, exponent: 1}",
-       2.0, 0.01, 0.5, -1.0, 2e-9},
+      {"{model: cross, zero_shear_viscosity: 2, infinite_shear_viscosity: 0.01, time_constant: 0.5, exponent: 1}", 2.0,
+       0.01, 0.5, -1.0, 2e-9},
       {"{model: cross, zero_shear_viscosity: 2, infinite_shear_viscosity: 0.01, time_constant: 0.5, exponent: 0.7}",
        2.0, 0.01, 0.5, -0.7, 1e-6},
   };
@@ -316,8 +314,7 @@ TEST(RheologyLimits, CarreauYasudaAndCrossPlateaus) {
     const double excess = law->viscosity(high_rate) - p.mu_inf;
     EXPECT_GT(excess, 0.0) << p.yaml;
     EXPECT_LT(excess, 1e-3 * (p.mu0 - p.mu_inf)) << p.yaml;
-    EXPECT_NEAR(excess / ((p.mu0 - p.mu_inf) * std::pow(p.lambda * high_rate, p.high_rate_slope)), 1.0, 1e-5)
-        << p.yaml;
+    EXPECT_NEAR(excess / ((p.mu0 - p.mu_inf) * std::pow(p.lambda * high_rate, p.high_rate_slope)), 1.0, 1e-5) << p.yaml;
     // Monotonically thinning in between.
     double previous = law->viscosity(0.0);
     for (const double rate : shear_rate_sweep(1.0 / p.lambda)) {
@@ -382,8 +379,8 @@ TEST(RheologyAtRest, ClampedLawsAreFlatBelowTheirFloor) {
   EXPECT_EQ(casson.mu(0.0), casson.mu(casson.min_shear_rate()));
   EXPECT_LT(casson.dmu(2.0 * casson.min_shear_rate()), 0.0);
 
-  const core::Cross cross({.zero_shear_viscosity = 1, .infinite_shear_viscosity = 0, .time_constant = 0.5,
-                           .exponent = 0.5});
+  const core::Cross cross(
+      {.zero_shear_viscosity = 1, .infinite_shear_viscosity = 0, .time_constant = 0.5, .exponent = 0.5});
   EXPECT_DOUBLE_EQ(cross.min_shear_rate(), 1e-9 / 0.5);
   EXPECT_EQ(cross.dmu(0.0), 0.0);
   EXPECT_EQ(cross.mu(0.0), cross.mu(cross.min_shear_rate()));
@@ -425,9 +422,10 @@ TEST(RheologyRegularization, StressConvergesToIdealLawLikeOneOverM) {
   for (const Law& law : {Law{"bingham", bingham_stress, 1.0}, Law{"casson", casson_stress, 3.5}}) {
     std::vector<double> errors;
     for (const double m : {1e3, 1e4, 1e5}) {
-      const auto reg = law_from_yaml(fmt::format("{{model: {}, plastic_viscosity: {}, yield_stress: {}, "
-                                                 "regularization: {}}}",
-                                                 law.model, mu_inf, tau0, m));
+      const auto reg =
+          law_from_yaml(fmt::format("{{model: {}, plastic_viscosity: {}, yield_stress: {}, "
+                                    "regularization: {}}}",
+                                    law.model, mu_inf, tau0, m));
       errors.push_back(stress_error_l1(*reg, law.exact, mu_inf, tau0));
       std::printf("%-8s m = %8.0e s   L1 |τ_reg − τ| = %.6e Pa/s   L1·m/τ0 = %.5f\n", law.model.c_str(), m,
                   errors.back(), errors.back() * m / tau0);
@@ -483,14 +481,13 @@ TEST(RheologyDerivative, PapanastasiouFactorAccurateOnBothSidesOfTheSeriesSwitch
     // ulp for x >= 1e-3; below that, the series' leading terms are exact to double precision.
     const long double lx = x;
     const long double g = -std::expm1(-lx) / lx;
-    const long double dg = x >= 1e-3 ? (lx * std::exp(-lx) + std::expm1(-lx)) / (lx * lx)
-                                     : -0.5L + lx / 3 - lx * lx / 8;
+    const long double dg =
+        x >= 1e-3 ? (lx * std::exp(-lx) + std::expm1(-lx)) / (lx * lx) : -0.5L + lx / 3 - lx * lx / 8;
     EXPECT_LT(relative_difference(pap::factor(x), static_cast<double>(g)), 1e-15) << x;
     EXPECT_LT(relative_difference(pap::factor_derivative(x), static_cast<double>(dg)), 2e-14) << x;
   }
   // No jump where the series hands over to the closed form.
-  EXPECT_LT(relative_difference(pap::factor_derivative(std::nextafter(0.1, 0.0)), pap::factor_derivative(0.1)),
-            2e-14);
+  EXPECT_LT(relative_difference(pap::factor_derivative(std::nextafter(0.1, 0.0)), pap::factor_derivative(0.1)), 2e-14);
 }
 
 // ------------------------------------------------------------------------- array forms
@@ -534,9 +531,9 @@ TEST(RheologyValidation, NegativeViscosityIsRejectedWithKeyAndRange) {
 
 TEST(RheologyValidation, IndexOutsideZeroTwoIsRejectedWithKeyAndRange) {
   const std::string range = core::Range::open_closed(0.0, 2.0).str();
-  for (const std::string yaml : {"{model: power_law, consistency: 1, index: 0}",
-                                 "{model: power_law, consistency: 1, index: 2.5}",
-                                 "{model: herschel_bulkley, consistency: 1, index: 2.5, yield_stress: 1}"}) {
+  for (const std::string yaml :
+       {"{model: power_law, consistency: 1, index: 0}", "{model: power_law, consistency: 1, index: 2.5}",
+        "{model: herschel_bulkley, consistency: 1, index: 2.5, yield_stress: 1}"}) {
     const std::string what = config_error(yaml);
     EXPECT_TRUE(contains(what, "fluid.rheology.index")) << what;
     EXPECT_TRUE(contains(what, range)) << what;
@@ -551,9 +548,9 @@ TEST(RheologyValidation, InfiniteShearViscosityMustBeBelowZeroShear) {
   for (const std::string model : {"carreau_yasuda", "cross"}) {
     const std::string shape = model == "cross" ? "exponent: 0.5" : "a: 2, n: 0.5";
     for (const double mu_inf : {1.0, 3.0}) {  // equal to and above μ0 = 1
-      const std::string what = config_error(fmt::format(
-          "{{model: {}, zero_shear_viscosity: 1, infinite_shear_viscosity: {}, time_constant: 1, {}}}", model,
-          mu_inf, shape));
+      const std::string what = config_error(
+          fmt::format("{{model: {}, zero_shear_viscosity: 1, infinite_shear_viscosity: {}, time_constant: 1, {}}}",
+                      model, mu_inf, shape));
       EXPECT_TRUE(contains(what, "fluid.rheology.infinite_shear_viscosity")) << what;
       EXPECT_TRUE(contains(what, "zero_shear_viscosity")) << what;
     }

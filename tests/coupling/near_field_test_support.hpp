@@ -20,8 +20,8 @@ struct Sphere {
 struct BoxSpec {
   std::array<double, 3> low{}, high{};
   std::array<bool, 3> periodic{false, false, false};
-  double time_step = 1e-6;         // [s]
-  double youngs_modulus = 1e7;     // [Pa] (soft: the validations resolve contacts with a large δt)
+  double time_step = 1e-6;      // [s]
+  double youngs_modulus = 1e7;  // [Pa] (soft: the validations resolve contacts with a large δt)
   double friction = 0.3;
   double restitution = 0.5;
 };
@@ -48,9 +48,8 @@ inline void make_sphere_box(dem::Engine& engine, const BoxSpec& box, const std::
   for (std::size_t p = 0; p < spheres.size(); ++p) {
     const Sphere& s = spheres[p];
     engine.command(fmt::format("create_atoms 1 single {:.17g} {:.17g} {:.17g} units box", s.x, s.y, s.z));
-    engine.command(fmt::format(
-        "set atom {} diameter {:.17g} density {:.17g} vx {:.17g} vy {:.17g} vz {:.17g}", p + 1, 2.0 * s.radius,
-        s.density, s.vx, s.vy, s.vz));
+    engine.command(fmt::format("set atom {} diameter {:.17g} density {:.17g} vx {:.17g} vy {:.17g} vz {:.17g}", p + 1,
+                               2.0 * s.radius, s.density, s.vx, s.vy, s.vz));
   }
 }
 

@@ -33,7 +33,8 @@ fluid::TransientParams gap_fluid(double gravity) {
 TEST_F(CouplerTest, FluidTimeStepMustBeTheCouplingIntervalTimesTheDemStep) {
   fluid::TransientSolver fluid(gap_fluid(0.0));
   dem::Engine engine({.run_directory = folder_.path()});
-  testing::make_box(engine, 0.002, 0.0005, 1e-6, 0.0, {{.x = 0.001, .y = 0, .z = 2.5e-4, .diameter = 1e-4, .density = 1000}});
+  testing::make_box(engine, 0.002, 0.0005, 1e-6, 0.0,
+                    {{.x = 0.001, .y = 0, .z = 2.5e-4, .diameter = 1e-4, .density = 1000}});
   CouplerSettings settings;
   settings.coupling_interval = 100;
   settings.fluid_time_step = 2e-4;  // 100 × 1e-6 = 1e-4
@@ -56,8 +57,13 @@ TEST_F(CouplerTest, FluidTimeStepMustBeTheCouplingIntervalTimesTheDemStep) {
 dem::RheometerScene::Params scene_params(const std::filesystem::path& dir) {
   dem::RheometerScene::Params p;
   p.geometry = {.radius = 0.002, .gap = 0.0005};
-  p.particles = {.volume_fraction = 0.05, .diameter = 1e-4, .density = 1000, .youngs_modulus = 1e7,
-                 .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
+  p.particles = {.volume_fraction = 0.05,
+                 .diameter = 1e-4,
+                 .density = 1000,
+                 .youngs_modulus = 1e7,
+                 .poisson_ratio = 0.33,
+                 .restitution = 0.9,
+                 .friction = 0.3};
   p.rim_shear_rate = 20.0;
   p.time_step = 1e-6;
   p.torque_sample_interval = 50;

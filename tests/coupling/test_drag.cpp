@@ -216,8 +216,7 @@ TEST(Drag, SchillerNaumannIsTheIsolatedSphere) {
     const auto at = [&](double reynolds) { return particle_at_reynolds(reynolds * void_fraction, void_fraction); };
     EXPECT_NEAR(model->exchange_coefficient(at(1e-9)), stokes, 1e-6 * stokes) << void_fraction;
     EXPECT_NEAR(model->exchange_coefficient(at(1.0)), 1.15 * stokes, 1e-12 * stokes) << void_fraction;
-    EXPECT_NEAR(model->exchange_coefficient(at(100.0)), (1.0 + 0.15 * std::pow(100.0, 0.687)) * stokes,
-                1e-12 * stokes);
+    EXPECT_NEAR(model->exchange_coefficient(at(100.0)), (1.0 + 0.15 * std::pow(100.0, 0.687)) * stokes, 1e-12 * stokes);
     // Newton's regime: F = (π/8) 0.44 ρ d² w², so β = 0.44 Re/24 × Stokes.
     EXPECT_NEAR(model->exchange_coefficient(at(4000.0)), 0.44 * 4000.0 / 24.0 * stokes, 1e-12 * 100 * stokes);
   }

@@ -57,7 +57,7 @@ TEST(Forces, PressureGradientAndViscousForcesFollowTheVolumeAndSign) {
   models.push_back(make_force_model("viscous"));
   compute_forces(models, {.density = 1000}, samples, f);
   EXPECT_DOUBLE_EQ(f[0].pressure_gradient[2], -2e-12 * 9810.0);  // CD eq. 34: −V∇p
-  EXPECT_DOUBLE_EQ(f[0].viscous[1], 2e-12 * 2.0);                // +V∇·τ (header: the seed's sign is CFDEM's −∇·τ)
+  EXPECT_DOUBLE_EQ(f[0].viscous[1], 2e-12 * 2.0);  // +V∇·τ (header: the seed's sign is CFDEM's −∇·τ)
   EXPECT_DOUBLE_EQ(f[0].explicit_force[0], -2e-11 + 2e-12);
   EXPECT_EQ(f[0].drag_coefficient, 0.0);
 }
@@ -203,7 +203,8 @@ TEST(Exchange, ActionReactionToRoundOff) {
     // Σ K V = Σ β (the implicit coefficient carries every particle's β once).
     double kv = 0.0, beta = 0.0;
     for (std::size_t c = 0; c < g.cell_count(); ++c)
-      kv += exchange.drag_coefficient()[c] * g.cell_volume(c / (g.azimuthal_cells() * g.axial_cells()), c % g.axial_cells());
+      kv += exchange.drag_coefficient()[c] *
+            g.cell_volume(c / (g.azimuthal_cells() * g.axial_cells()), c % g.axial_cells());
     for (const ParticleForce& f : forces) beta += f.drag_coefficient;
     EXPECT_NEAR(kv, beta, 1e-13 * beta);
   }

@@ -74,7 +74,7 @@ TEST(LubricationResistance, SpherePlateIsLimitOfUnequalSpheres) {
   const auto plate = sphere_plate_resistance(xi_plate);
   const double l = std::log(1.0 / xi_plate);
   EXPECT_NEAR(plate.squeeze, 1.0 / xi_plate + 0.2 * l, 1e-12 * plate.squeeze);  // Cox & Brenner
-  EXPECT_NEAR(plate.shear, 8.0 / 15.0 * l, 1e-14);                               // Goldman, Cox & Brenner
+  EXPECT_NEAR(plate.shear, 8.0 / 15.0 * l, 1e-14);                              // Goldman, Cox & Brenner
   EXPECT_NEAR(plate.rotation_coupling_self, 0.2 * l, 1e-14);
   EXPECT_NEAR(plate.rotation_self, 0.4 * l, 1e-14);
   // A sphere next to a much larger one (λ = 1e4) at the same h: same leading squeeze force
@@ -158,8 +158,8 @@ TEST(LubricationGap, RigidBodyMotionGivesNoSingularForce) {
     const double a1 = 1e-4, a2 = lambda * a1, h = 1e-7;
     const auto pair = make_pair(a1, a2, h, {1.0, 2.0, -0.5});
     const std::array<double, 3> omega{3.0, -1.0, 2.0}, u0{0.01, 0.02, -0.03};
-    const std::array<double, 3> x1{0.0, 0.0, 0.0}, x2 = {pair.gap.separation[0], pair.gap.separation[1],
-                                                        pair.gap.separation[2]};
+    const std::array<double, 3> x1{0.0, 0.0, 0.0},
+        x2 = {pair.gap.separation[0], pair.gap.separation[1], pair.gap.separation[2]};
     std::vector<double> v(12, 0.0), out(12, 0.0);
     for (int s = 0; s < 2; ++s) {
       const auto& x = s == 0 ? x1 : x2;

@@ -46,7 +46,7 @@ AmbientFlow simple_shear(double rate) {
 
 TEST(NearFieldRegistry, ListsTheTermsAndRejectsUnknownNames) {
   const auto names = near_field_model_names();
-  const std::vector<std::string> expected{"lubrication", "none",        "repulsion",
+  const std::vector<std::string> expected{"lubrication",     "none",        "repulsion",
                                           "single_particle", "stokes_drag", "stresslet"};
   EXPECT_EQ(names, expected);
   try {
@@ -198,7 +198,7 @@ TEST(NearField, NoneAddsNothing) {
 TEST(NearField, SingleSphereTorqueAndStressletAreStokes) {
   const auto doc = core::Document::from_string("model: power_law\nconsistency: 2.0\nindex: 0.5\n", "rheology");
   for (const auto& [mode, factor] : {std::pair{core::StressletViscosity::secant, 1.0},
-                                    std::pair{core::StressletViscosity::homogenized, 0.3 + 0.7 * 0.5}}) {
+                                     std::pair{core::StressletViscosity::homogenized, 0.3 + 0.7 * 0.5}}) {
     NearFieldSettings s;
     s.models = {"stresslet"};
     s.stresslet_viscosity = mode;
@@ -266,8 +266,14 @@ TEST(NearField, ImplicitSingleParticleRelaxesOntoTheFlow) {
   NearFieldResult res;
   for (int step = 0; step < 5; ++step) {
     res.reset(1, 0);
-    m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r, .masses = masses,
-                 .other_forces = zero, .other_torques = zero, .time_step = dt},
+    m->evaluate({.positions = x,
+                 .velocities = v,
+                 .angular_velocities = w,
+                 .radii = r,
+                 .masses = masses,
+                 .other_forces = zero,
+                 .other_torques = zero,
+                 .time_step = dt},
                 {}, simple_shear(rate), res);
     const double inertia = 0.4 * mass * a * a;
     for (std::size_t k = 0; k < 3; ++k) {
@@ -278,9 +284,9 @@ TEST(NearField, ImplicitSingleParticleRelaxesOntoTheFlow) {
   }
   EXPECT_NEAR(v[0], rate * x[2], 1e-3 * rate * x[2]);
   EXPECT_NEAR(w[1], rate / 2.0, 1e-3 * rate);
-  EXPECT_EQ(m->stable_time_step({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, rho) <
-                dt / 20.0,
-            true);
+  EXPECT_EQ(
+      m->stable_time_step({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, rho) < dt / 20.0,
+      true);
 }
 
 // Two equal spheres pressed together by ±F in quiescent fluid: the quasi-static gap obeys
@@ -321,8 +327,14 @@ TEST(NearField, ImplicitSqueezeFollowsQuasiStaticTrajectory) {
   int max_iterations = 0;
   for (int step = 0; step < steps; ++step) {
     res.reset(2, 0);
-    m->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r, .masses = masses,
-                 .other_forces = other, .other_torques = zero, .time_step = dt},
+    m->evaluate({.positions = x,
+                 .velocities = v,
+                 .angular_velocities = w,
+                 .radii = r,
+                 .masses = masses,
+                 .other_forces = other,
+                 .other_torques = zero,
+                 .time_step = dt},
                 {}, {}, res);
     max_iterations = std::max(max_iterations, res.solver_iterations);
     for (std::size_t k = 0; k < 6; ++k) {
@@ -376,8 +388,8 @@ TEST(NearField, PeriodicCellListFindsEveryPair) {
   ASSERT_GT(expected, 10U);
   NearFieldResult res;
   res.reset(n, 0);
-  model({"lubrication"})->evaluate({.positions = x, .velocities = v, .angular_velocities = v, .radii = r}, scene, {},
-                                   res);
+  model({"lubrication"})
+      ->evaluate({.positions = x, .velocities = v, .angular_velocities = v, .radii = r}, scene, {}, res);
   EXPECT_EQ(res.lubricated_pairs, expected);
 }
 
@@ -392,8 +404,8 @@ TEST(NearField, PeriodicPairSqueezesAcrossTheBoundary) {
   scene.box_high = {length, length, 0.0};
   NearFieldResult res;
   res.reset(2, 0);
-  model({"lubrication"})->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, scene, {},
-                                   res);
+  model({"lubrication"})
+      ->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, scene, {}, res);
   EXPECT_EQ(res.lubricated_pairs, 1U);
   EXPECT_GT(res.forces[0], 0.0);  // particle 0 moves −x towards its neighbour's image: pushed back +x
   EXPECT_NEAR(res.forces[0], -res.forces[3], 1e-15);
@@ -444,8 +456,8 @@ TEST(NearField, PlateLubricationForceAndMoment) {
   const std::vector<double> x{3e-4, -2e-4, H - a - h}, v(3, 0.0), w(3, 0.0), r{a};
   NearFieldResult res;
   res.reset(1, 2);
-  model({"lubrication"})->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, scene, {},
-                                   res);
+  model({"lubrication"})
+      ->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r}, scene, {}, res);
   EXPECT_EQ(res.lubricated_walls, 1U);
   const double xi = (h + 1e-3 * a) / a;
   const double expected = 6.0 * pi * a * (8.0 / 15.0) * std::log(1.0 / xi) * U;

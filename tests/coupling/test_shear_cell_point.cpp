@@ -41,8 +41,8 @@ ShearCellPointSettings settings(core::FluidProperties f, double rate, double phi
 }
 
 TEST(ShearCellPoint, WithoutParticlesTheColumnIsExactCouette) {
-  for (const std::string law : {"model: newtonian\nviscosity: 1.0e-3\n",
-                                "model: power_law\nconsistency: 0.01\nindex: 0.5\n"}) {
+  for (const std::string law :
+       {"model: newtonian\nviscosity: 1.0e-3\n", "model: power_law\nconsistency: 0.01\nindex: 0.5\n"}) {
     for (const double rate : {10.0, 100.0}) {
       const auto s = settings(fluid(law), rate, 0.0);
       const auto point = run_shear_cell_point(s);
@@ -71,7 +71,7 @@ TEST(ShearCellPoint, ChecksItsSettings) {
 // rotation torque into the bookkeeping, and counts its calls.
 class CountingNearField final : public NearFieldModel {
  public:
-  static constexpr double plate_load = -2e-9;   // x force on the top plate [N]
+  static constexpr double plate_load = -2e-9;    // x force on the top plate [N]
   static constexpr double stresslet_xz = 3e-13;  // Σ S_xz [N·m]
   static constexpr double torque_y = 4e-13;      // Σ T_y [N·m]
   [[nodiscard]] std::string_view name() const override { return "counting"; }
@@ -117,9 +117,12 @@ TEST(ShearCellPoint, NearFieldRunsOnEveryDemStepAndReachesTheWallStress) {
 
 TEST(ShearCellPoint, NearFieldSceneDescribesTheBox) {
   const auto dir = fs::temp_directory_path() / fmt::format("rheosim_test_cell_nf_{}", ::getpid());
-  dem::ShearCellScene scene({.gap = 5e-4, .cell_length = 1.2e-3, .cell_width = 1e-3,
+  dem::ShearCellScene scene({.gap = 5e-4,
+                             .cell_length = 1.2e-3,
+                             .cell_width = 1e-3,
                              .particles = {.volume_fraction = 0.1, .diameter = 2e-4, .density = 1000.0},
-                             .shear_rate = 40.0, .run_directory = dir});
+                             .shear_rate = 40.0,
+                             .run_directory = dir});
   const auto nf = make_near_field_scene(scene);
   ASSERT_EQ(nf.plates.size(), 2U);
   EXPECT_EQ(nf.plates[0].z, 0.0);

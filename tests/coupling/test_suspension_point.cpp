@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <string>
 
 #include "coupling_test_support.hpp"
 #include "rheosim/coupling/suspension_point.hpp"
@@ -17,7 +17,8 @@ namespace rheosim::coupling {
 namespace {
 
 TEST(SteadyState, NoisyConstantTorqueIsSteadyWithAnErrorBar) {
-  SteadyStateDetector d({.strain_window = 1.0, .relative_tolerance = 0.02, .min_strain = 2.0, .max_strain = 50.0}, 10.0);
+  SteadyStateDetector d({.strain_window = 1.0, .relative_tolerance = 0.02, .min_strain = 2.0, .max_strain = 50.0},
+                        10.0);
   std::mt19937 rng(1);
   std::normal_distribution<double> noise(0.0, 0.05);
   double t = 0.0;
@@ -73,8 +74,13 @@ TEST(SuspensionPoint, ShortRunReportsTorquePartsAndCost) {
   SuspensionPointSettings s;
   s.geometry = {.radius = 0.002, .gap = 0.0005};
   s.fluid = {.density = 1000, .rheology = testing::newtonian(1e-3)};
-  s.particles = {.volume_fraction = 0.03, .diameter = 1e-4, .density = 1000, .youngs_modulus = 1e7,
-                 .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
+  s.particles = {.volume_fraction = 0.03,
+                 .diameter = 1e-4,
+                 .density = 1000,
+                 .youngs_modulus = 1e7,
+                 .poisson_ratio = 0.33,
+                 .restitution = 0.9,
+                 .friction = 0.3};
   s.rim_shear_rate = 50.0;
   s.radial_cells = 4;
   s.azimuthal_cells = 8;

@@ -17,8 +17,12 @@ namespace {
 using ::testing::ElementsAre;
 
 fluid::CylindricalGrid grid(int n_theta, double grading = 1.0) {
-  return fluid::CylindricalGrid({.radius = 0.01, .gap = 0.002, .radial_cells = 6, .azimuthal_cells = n_theta,
-                                 .axial_cells = 4, .radial_grading = grading});
+  return fluid::CylindricalGrid({.radius = 0.01,
+                                 .gap = 0.002,
+                                 .radial_cells = 6,
+                                 .azimuthal_cells = n_theta,
+                                 .axial_cells = 4,
+                                 .radial_grading = grading});
 }
 
 struct Particles {
@@ -33,8 +37,8 @@ struct Particles {
 // Random particles anywhere, including overlapping the plates, the rim and the axis.
 Particles random_particles(int n, unsigned seed) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> radius(0.0, 0.0102), angle(0.0, 2.0 * std::numbers::pi),
-      height(-1e-4, 0.0021), size(5e-5, 2e-4);
+  std::uniform_real_distribution<double> radius(0.0, 0.0102), angle(0.0, 2.0 * std::numbers::pi), height(-1e-4, 0.0021),
+      size(5e-5, 2e-4);
   Particles p;
   for (int i = 0; i < n; ++i) {
     const double r = radius(rng), t = angle(rng);
@@ -130,8 +134,9 @@ TEST(VoidFraction, FloorRedistributesTheExcessAndReportsIt) {
   for (int a = 0; a < 6; ++a)
     for (int b = 0; b < 6; ++b)
       for (int c = 0; c < 4; ++c)
-        p.add((r - 6e-4 + a * 2.4e-4) * std::cos(t - 0.2 + b * 0.08), (r - 6e-4 + a * 2.4e-4) * std::sin(t - 0.2 + b * 0.08),
-              z - 1.8e-4 + c * 1.2e-4, 1.5e-4);  // raw ε ≈ 0.47 in that cell
+        p.add((r - 6e-4 + a * 2.4e-4) * std::cos(t - 0.2 + b * 0.08),
+              (r - 6e-4 + a * 2.4e-4) * std::sin(t - 0.2 + b * 0.08), z - 1.8e-4 + c * 1.2e-4,
+              1.5e-4);  // raw ε ≈ 0.47 in that cell
   VoidFractionField field(g, 0.6);
   const VoidFractionReport& rep = field.update(*make_void_fraction_scheme("centre"), p.view());
   EXPECT_LT(rep.min_void_fraction_raw, 0.5);
@@ -156,8 +161,8 @@ TEST(VoidFraction, LocatorMirrorsPointsOutsideTheDomain) {
 
 // Cells are found by z/Δz, which a plate-clustered axial grid does not have.
 TEST(VoidFraction, LocatorRejectsAStretchedAxialGrid) {
-  const fluid::CylindricalGrid g({.radius = 0.01, .gap = 0.002, .radial_cells = 6, .axial_cells = 4,
-                                  .axial_stretching = 1.5});
+  const fluid::CylindricalGrid g(
+      {.radius = 0.01, .gap = 0.002, .radial_cells = 6, .axial_cells = 4, .axial_stretching = 1.5});
   EXPECT_THROW(CellLocator{g}, std::invalid_argument);
 }
 

@@ -39,8 +39,14 @@ TEST_F(Validation, VolumeAndMomentumAreConservedEveryStep) {
       // Radii up to the rim and heights from plate to plate (centres 0.55 d/2 .. inside).
       const double r = std::sqrt(u01(rng)) * (radius - 0.3 * d), t = 2 * pi * u01(rng);
       const double z = 0.3 * d + u01(rng) * (gap - 0.6 * d);
-      particles.push_back({.x = r * std::cos(t), .y = r * std::sin(t), .z = z, .diameter = d, .density = 1500,
-                           .vx = 2e-3 * (u01(rng) - 0.5), .vy = 2e-3 * (u01(rng) - 0.5), .vz = 1e-3 * (u01(rng) - 0.5)});
+      particles.push_back({.x = r * std::cos(t),
+                           .y = r * std::sin(t),
+                           .z = z,
+                           .diameter = d,
+                           .density = 1500,
+                           .vx = 2e-3 * (u01(rng) - 0.5),
+                           .vy = 2e-3 * (u01(rng) - 0.5),
+                           .vz = 1e-3 * (u01(rng) - 0.5)});
     }
     particles.push_back({.x = 0.0, .y = 0.0, .z = 0.5 * gap, .diameter = d, .density = 1500, .vx = 1e-3});
     dem::Engine engine({.run_directory = folder_.path() / scheme});
@@ -61,10 +67,11 @@ TEST_F(Validation, VolumeAndMomentumAreConservedEveryStep) {
       EXPECT_EQ(r.void_fraction.unplaced_volume, 0.0);
     }
     const CostSplit& c = coupler.cost();
-    std::printf("%s: worst relative volume error %.2e, worst relative momentum error %.2e, %zu points mapped back; "
-                "cost per step DEM %.3f ms, void fraction %.3f ms, forces %.3f ms, fluid %.3f ms\n",
-                scheme, worst_volume, worst_momentum, mapped, 1e3 * c.dem / c.steps, 1e3 * c.void_fraction / c.steps,
-                1e3 * c.forces / c.steps, 1e3 * c.fluid / c.steps);
+    std::printf(
+        "%s: worst relative volume error %.2e, worst relative momentum error %.2e, %zu points mapped back; "
+        "cost per step DEM %.3f ms, void fraction %.3f ms, forces %.3f ms, fluid %.3f ms\n",
+        scheme, worst_volume, worst_momentum, mapped, 1e3 * c.dem / c.steps, 1e3 * c.void_fraction / c.steps,
+        1e3 * c.forces / c.steps, 1e3 * c.fluid / c.steps);
     EXPECT_LT(worst_volume, 1e-13) << scheme;
     EXPECT_LT(worst_momentum, 1e-13) << scheme;
     if (std::string(scheme) == "divided") {

@@ -20,16 +20,21 @@ SuspensionPointSettings dense_point(const std::filesystem::path& folder, double 
   SuspensionPointSettings s;
   s.geometry = {.radius = 0.003, .gap = 0.0005};
   s.fluid = {.density = 1000, .rheology = testing::newtonian(1e-3)};
-  s.particles = {.volume_fraction = 0.3, .diameter = 2e-4, .density = 1000, .youngs_modulus = 3e9,
-                 .poisson_ratio = 0.33, .restitution = 0.9, .friction = 0.3};
+  s.particles = {.volume_fraction = 0.3,
+                 .diameter = 2e-4,
+                 .density = 1000,
+                 .youngs_modulus = 3e9,
+                 .poisson_ratio = 0.33,
+                 .restitution = 0.9,
+                 .friction = 0.3};
   s.rim_shear_rate = 100.0;
   s.radial_cells = 8;
   s.azimuthal_cells = 8;
   s.axial_cells = 2;
   s.coupling.coupling_interval = 100;
   // Run to max_strain without an early stop: the test is about stability over that window.
-  s.steady = {.strain_window = max_strain / 2, .relative_tolerance = 1e-9, .min_strain = max_strain,
-              .max_strain = max_strain};
+  s.steady = {
+      .strain_window = max_strain / 2, .relative_tolerance = 1e-9, .min_strain = max_strain, .max_strain = max_strain};
   s.seed = 2;  // the placement of `rheosim run`'s second point (seed 1 + point index)
   s.run_directory = folder;
   return s;

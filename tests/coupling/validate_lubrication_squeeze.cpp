@@ -78,7 +78,8 @@ TEST(ValidateLubricationSqueeze, TwoEqualSpheresFollowJeffreyOnishi) {
   EXPECT_LT(worst, 0.01);
   // δt against the explicit limit at the final gap.
   const auto limit = make_near_field_model(settings, testing::newtonian(mu))
-                         ->stable_time_step({.positions = engine.positions(), .velocities = engine.velocities(),
+                         ->stable_time_step({.positions = engine.positions(),
+                                             .velocities = engine.velocities(),
                                              .angular_velocities = engine.angular_velocities(),
                                              .radii = engine.radii()},
                                             rho);

@@ -44,14 +44,14 @@ constexpr double pi = std::numbers::pi;
 
 struct CellSettings {
   double phi = 0.3;
-  double rate = 100.0;          // γ̇ [1/s]
-  double viscosity = 1.0;       // μ [Pa·s] (Newtonian matrix)
-  std::string rheology_yaml;    // another matrix law (YAML of `rheology:`); empty: Newtonian μ
-  double diameter = 2e-4;       // d [m]
-  double gap_over_d = 10.0;     // H/d
-  double cell_over_d = 6.0;     // L_x/d = L_y/d
-  double strain = 6.0;          // total strain
-  double skip_strain = 2.0;     // transient left out of the means
+  double rate = 100.0;        // γ̇ [1/s]
+  double viscosity = 1.0;     // μ [Pa·s] (Newtonian matrix)
+  std::string rheology_yaml;  // another matrix law (YAML of `rheology:`); empty: Newtonian μ
+  double diameter = 2e-4;     // d [m]
+  double gap_over_d = 10.0;   // H/d
+  double cell_over_d = 6.0;   // L_x/d = L_y/d
+  double strain = 6.0;        // total strain
+  double skip_strain = 2.0;   // transient left out of the means
   double friction = 0.3;
   std::vector<std::string> models{"stokes_drag", "stresslet", "lubrication"};
   bool plate_lubrication = true;  // false: the plates bound the cell for contacts only
@@ -66,9 +66,9 @@ struct CellSettings {
 struct CellResult {
   double phi = 0.0;
   std::int64_t particles = 0;
-  double eta_r = 0.0, eta_r_error = 0.0;  // bulk (Batchelor) stress / μγ̇
+  double eta_r = 0.0, eta_r_error = 0.0;                               // bulk (Batchelor) stress / μγ̇
   double stresslet = 0.0, pair_lubrication = 0.0, pair_contact = 0.0;  // its particle parts
-  double eta_r_plate = 0.0;               // top plate: fluid + contact + lubrication
+  double eta_r_plate = 0.0;                                            // top plate: fluid + contact + lubrication
   double plate_contact = 0.0, plate_lubrication = 0.0;
   double eta_r_virial_with_plates = 0.0;  // virial including the plate gaps and contacts
   double matrix_stress = 0.0;             // μ(γ̇) γ̇ [Pa]
@@ -88,12 +88,19 @@ CellResult run_cell(const CellSettings& c) {
   props.restitution = 0.5;
   props.friction = c.friction;
   const double H = c.gap_over_d * d, L = c.cell_over_d * d;
-  dem::ShearCellScene cell({.gap = H, .cell_length = L, .cell_width = L, .particles = props,
-                            .shear_rate = c.rate, .time_step_fraction = 0.2, .seed = c.seed,
-                            .run_directory = folder.path(), .stress_sample_interval = 50});
+  dem::ShearCellScene cell({.gap = H,
+                            .cell_length = L,
+                            .cell_width = L,
+                            .particles = props,
+                            .shear_rate = c.rate,
+                            .time_step_fraction = 0.2,
+                            .seed = c.seed,
+                            .run_directory = folder.path(),
+                            .stress_sample_interval = 50});
   dem::Engine& engine = cell.engine();
   // Contact virial of the particle pairs (LIGGGHTS' pressure tensor, virial part only).
-  engine.commands({"compute rheosim_nf_temp all temp", "compute rheosim_nf_pressure all pressure rheosim_nf_temp virial",
+  engine.commands({"compute rheosim_nf_temp all temp",
+                   "compute rheosim_nf_pressure all pressure rheosim_nf_temp virial",
                    "fix rheosim_nf_virial all ave/time 1 50 50 c_rheosim_nf_pressure[5]"});
 
   NearFieldSettings settings;
@@ -111,8 +118,9 @@ CellResult run_cell(const CellSettings& c) {
   scene.box_high = {L, L, H};
   const double u_top = c.rate * H;
   scene.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
-  scene.plates.push_back(
-      {.z = H, .faces_up = false, .velocity_at = [u_top](const Vector3&) { return Vector3{u_top, 0.0, 0.0}; }});
+  scene.plates.push_back({.z = H, .faces_up = false, .velocity_at = [u_top](const Vector3&) {
+                            return Vector3{u_top, 0.0, 0.0};
+                          }});
   // Plate lubrication off: the plates are put far away for the near-field model.
   if (!c.plate_lubrication) {
     scene.plates[0].z = -1.0;
@@ -201,13 +209,14 @@ CellResult run_cell(const CellSettings& c) {
 double krieger_dougherty(double phi, double phi_max) { return std::pow(1.0 - phi / phi_max, -2.5 * phi_max); }
 
 void print(const char* label, const CellResult& r) {
-  std::printf("%s φ = %.4f (N = %lld): bulk η_r = %.3f ± %.3f (1 + stresslet %.3f + pair lubrication %.3f + pair "
-              "contact %.3f); KD(0.6) = %.3f | top plate: η_r = %.3f (fluid 1, contact %.3f, lubrication %.3f), "
-              "virial incl. plates %.3f | steps %lld, DEM %.1f s, near field %.1f s, max CG iterations %d\n",
-              label, r.phi, static_cast<long long>(r.particles), r.eta_r, r.eta_r_error, r.stresslet,
-              r.pair_lubrication, r.pair_contact, krieger_dougherty(r.phi, 0.6), r.eta_r_plate, r.plate_contact,
-              r.plate_lubrication, r.eta_r_virial_with_plates, static_cast<long long>(r.steps), r.dem_seconds,
-              r.near_field_seconds, r.max_iterations);
+  std::printf(
+      "%s φ = %.4f (N = %lld): bulk η_r = %.3f ± %.3f (1 + stresslet %.3f + pair lubrication %.3f + pair "
+      "contact %.3f); KD(0.6) = %.3f | top plate: η_r = %.3f (fluid 1, contact %.3f, lubrication %.3f), "
+      "virial incl. plates %.3f | steps %lld, DEM %.1f s, near field %.1f s, max CG iterations %d\n",
+      label, r.phi, static_cast<long long>(r.particles), r.eta_r, r.eta_r_error, r.stresslet, r.pair_lubrication,
+      r.pair_contact, krieger_dougherty(r.phi, 0.6), r.eta_r_plate, r.plate_contact, r.plate_lubrication,
+      r.eta_r_virial_with_plates, static_cast<long long>(r.steps), r.dem_seconds, r.near_field_seconds,
+      r.max_iterations);
   std::fflush(stdout);
 }
 
@@ -230,7 +239,6 @@ TEST(ValidateNearFieldShearCell, BookkeepingAddsUpAndTheNearFieldLiftsTheStress)
   EXPECT_LT(seed_model.eta_r, 1.3);
   EXPECT_GT(full.eta_r, seed_model.eta_r + 1.0);
 }
-
 
 constexpr double mu = 1e-3;  // water [Pa·s], the seed's liquid
 
@@ -262,8 +270,13 @@ ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
   s.gap = c.gap;
   s.cell_length = s.cell_width = c.cell;
   s.fluid = {.density = 1000.0, .rheology = newtonian()};
-  s.particles = {.volume_fraction = c.phi, .diameter = 2e-4, .density = 1000.0,
-                 .youngs_modulus = 3.0e9 / c.softening, .poisson_ratio = 0.33, .restitution = 0.9, .friction = c.friction};
+  s.particles = {.volume_fraction = c.phi,
+                 .diameter = 2e-4,
+                 .density = 1000.0,
+                 .youngs_modulus = 3.0e9 / c.softening,
+                 .poisson_ratio = 0.33,
+                 .restitution = 0.9,
+                 .friction = c.friction};
   s.particles.drag = c.drag;
   const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, s.particles.youngs_modulus, 0.33});
   s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));

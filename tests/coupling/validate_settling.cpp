@@ -50,8 +50,9 @@ Settling settle(const std::filesystem::path& folder, double mu, double rho_p, do
   fp.axial_gravity = -g;
   fluid::TransientSolver fluid(fp);
   dem::Engine engine({.run_directory = folder});
-  testing::make_box(engine, radius, gap, fluid_dt / interval, g,
-                    {{.x = 0.006 * std::cos(0.5), .y = 0.006 * std::sin(0.5), .z = 0.018, .diameter = d, .density = rho_p}});
+  testing::make_box(
+      engine, radius, gap, fluid_dt / interval, g,
+      {{.x = 0.006 * std::cos(0.5), .y = 0.006 * std::sin(0.5), .z = 0.018, .diameter = d, .density = rho_p}});
   CouplerSettings settings;
   settings.coupling_interval = interval;
   settings.fluid_time_step = fluid_dt;
@@ -78,10 +79,11 @@ TEST_F(Validation, SettlingSphereReachesStokesVelocityAtLowReynolds) {
   const Settling s = settle(folder_.path(), mu, rho_p, 2e-5, 2, 0.012);  // t_p = ρ_p d²/18μ = 0.44 ms
   const double stokes = (rho_p - 1000.0) * g * d * d / (18.0 * mu);
   const double law = di_felice_terminal(d, rho_p, 1000.0, mu, s.void_fraction);
-  std::printf("settling, Re_p = %.4f: v = %.6e m/s, Di Felice %.6e (error %.3f %%), Stokes %.6e (error %.3f %%), "
-              "slip error %.2e, ε = %.6f, wall %.2f s\n",
-              s.reynolds, s.terminal_velocity, law, 100 * (s.terminal_velocity / law - 1), stokes,
-              100 * (s.terminal_velocity / stokes - 1), s.slip / law - 1, s.void_fraction, s.wall_time);
+  std::printf(
+      "settling, Re_p = %.4f: v = %.6e m/s, Di Felice %.6e (error %.3f %%), Stokes %.6e (error %.3f %%), "
+      "slip error %.2e, ε = %.6f, wall %.2f s\n",
+      s.reynolds, s.terminal_velocity, law, 100 * (s.terminal_velocity / law - 1), stokes,
+      100 * (s.terminal_velocity / stokes - 1), s.slip / law - 1, s.void_fraction, s.wall_time);
   EXPECT_NEAR(s.terminal_velocity, law, 0.02 * law);
   EXPECT_NEAR(s.terminal_velocity, stokes, 0.02 * stokes);
   EXPECT_NEAR(s.slip, law, 1e-4 * law);  // relative to the fluid it sampled, the drag law holds exactly

@@ -38,8 +38,7 @@ TEST(ShearCellPointValidation, PlatesCarryTheSameStressAndTheSuspensionIsMoreVis
     s.gap = 5e-4;
     s.cell_length = s.cell_width = 1.6e-3;
     s.fluid = {.density = 1000.0, .rheology = core::make_rheology(doc.root())};
-    s.particles = {.volume_fraction = phi, .diameter = 2e-4, .density = 1000.0,
-                   .youngs_modulus = 3.0e6};
+    s.particles = {.volume_fraction = phi, .diameter = 2e-4, .density = 1000.0, .youngs_modulus = 3.0e6};
     s.coupling_interval = 4;  // Δt_CFD = 4 δt ≈ 1.2e-5 s (δt = 0.3 t_R ≈ 3e-6 s at E = 3 MPa)
     s.shear_rate = rate;
     s.axial_cells = 2;

@@ -56,10 +56,11 @@ TEST_F(Validation, NeutrallyBuoyantParticleFollowsTheShearedFluid) {
   const double slip = std::hypot(s.fluid_velocity[0] - s.velocity[0], s.fluid_velocity[1] - s.velocity[1],
                                  s.fluid_velocity[2] - s.velocity[2]);
   const double couette = omega * r * s.position[2] / gap;
-  std::printf("sheared particle: r %.6e → %.6e m, z %.6e → %.6e m, u_θ,p = %.6e m/s, fluid there %.6e m/s "
-              "(|slip|/|u_f| = %.2e), Couette Ωrz/H = %.6e m/s (error %.3f %%), fluid torque %.4e N·m\n",
-              r0, r, z0, s.position[2], azimuthal, fluid_speed, slip / fluid_speed, couette,
-              100 * (azimuthal / couette - 1), coupler.last().record.fluid_torque);
+  std::printf(
+      "sheared particle: r %.6e → %.6e m, z %.6e → %.6e m, u_θ,p = %.6e m/s, fluid there %.6e m/s "
+      "(|slip|/|u_f| = %.2e), Couette Ωrz/H = %.6e m/s (error %.3f %%), fluid torque %.4e N·m\n",
+      r0, r, z0, s.position[2], azimuthal, fluid_speed, slip / fluid_speed, couette, 100 * (azimuthal / couette - 1),
+      coupler.last().record.fluid_torque);
   EXPECT_LT(slip / fluid_speed, 0.01);
   EXPECT_NEAR(azimuthal, couette, 0.02 * couette);
   EXPECT_NEAR(r, r0, 0.01 * r0);

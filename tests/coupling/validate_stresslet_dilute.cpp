@@ -72,8 +72,10 @@ DiluteResult run_dilute(double phi_target, std::shared_ptr<const core::Rheology>
   const double mu = matrix->viscosity(rate);
   dem::Engine engine({.run_directory = folder.path()});
   testing::make_sphere_box(engine,
-                           {.low = {0, 0, -3 * a}, .high = {length, length, height + 3 * a},
-                            .periodic = {true, true, false}, .time_step = 1e-6},
+                           {.low = {0, 0, -3 * a},
+                            .high = {length, length, height + 3 * a},
+                            .periodic = {true, true, false},
+                            .time_step = 1e-6},
                            spheres);
   NearFieldSettings settings;
   settings.models = {"stokes_drag", "stresslet", "lubrication"};
@@ -125,9 +127,10 @@ DiluteResult run_dilute(double phi_target, std::shared_ptr<const core::Rheology>
 }
 
 void report(const char* label, const DiluteResult& r) {
-  std::printf("%s: φ = %.4f, η_r = %.5f (Einstein %.5f), lubrication part %.2e, max slip/(γ̇a) %.2e, "
-              "mean Ω_y/γ̇ %.5f\n",
-              label, r.phi, r.relative_viscosity, 1.0 + 2.5 * r.phi, r.lubrication_part, r.max_slip, r.mean_spin);
+  std::printf(
+      "%s: φ = %.4f, η_r = %.5f (Einstein %.5f), lubrication part %.2e, max slip/(γ̇a) %.2e, "
+      "mean Ω_y/γ̇ %.5f\n",
+      label, r.phi, r.relative_viscosity, 1.0 + 2.5 * r.phi, r.lubrication_part, r.max_slip, r.mean_spin);
 }
 
 TEST(ValidateStressletDilute, NewtonianMatrixGivesEinstein) {
@@ -151,9 +154,10 @@ TEST(ValidateStressletDilute, PowerLawMatrixSecantAndHomogenizedStresslet) {
   const auto doc = core::Document::from_string("model: power_law\nconsistency: 3.0\nindex: 0.5\n", "rheology");
   const auto matrix = core::make_rheology(doc.root());
   for (const auto& [mode, intrinsic] : {std::pair{core::StressletViscosity::secant, 2.5},
-                                       std::pair{core::StressletViscosity::homogenized, 0.75 + 1.75 * 0.5}}) {
+                                        std::pair{core::StressletViscosity::homogenized, 0.75 + 1.75 * 0.5}}) {
     const DiluteResult r = run_dilute(0.03, matrix, 5, mode);
-    report(mode == core::StressletViscosity::secant ? "power_law n = 0.5, secant" : "power_law n = 0.5, homogenized", r);
+    report(mode == core::StressletViscosity::secant ? "power_law n = 0.5, secant" : "power_law n = 0.5, homogenized",
+           r);
     EXPECT_NEAR(r.relative_viscosity - 1.0 - r.lubrication_part, intrinsic * r.phi, 1e-3 * intrinsic * r.phi);
     EXPECT_NEAR(r.relative_viscosity, 1.0 + intrinsic * r.phi, 0.1 * intrinsic * r.phi);
     EXPECT_NEAR(r.mean_spin, 0.5, 0.02);

@@ -47,19 +47,19 @@ namespace fs = std::filesystem;
 using rheosim::dem::RheometerScene;
 
 struct Options {
-  double radius = 1e-3;         // R [m]
-  double gap = 2.5e-4;          // H [m]
-  double diameter = 1e-4;       // d [m]
-  double volume_fraction = 0.5;  // φ
-  double rate = 16000.0;        // γ̇_R [1/s]
+  double radius = 1e-3;            // R [m]
+  double gap = 2.5e-4;             // H [m]
+  double diameter = 1e-4;          // d [m]
+  double volume_fraction = 0.5;    // φ
+  double rate = 16000.0;           // γ̇_R [1/s]
   double transient_strain = 15.0;  // strain before averaging
   double window_strain = 15.0;     // strain averaged over
-  int batches = 6;              // batch means for the standard error
-  double initial_speed = -1.0;  // [m/s]; < 0: half the plate's rim speed γ̇_R H
+  int batches = 6;                 // batch means for the standard error
+  double initial_speed = -1.0;     // [m/s]; < 0: half the plate's rim speed γ̇_R H
   std::uint64_t seed = 1;
   bool compare = false;
   bool print_series = false;
-  fs::path out;                 // run folders; default: a temporary folder, removed at the end
+  fs::path out;  // run folders; default: a temporary folder, removed at the end
 };
 
 Options parse(int argc, char** argv) {
@@ -67,25 +67,40 @@ Options parse(int argc, char** argv) {
   std::map<std::string, std::string> kv;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--compare") o.compare = true;
-    else if (a == "--print-series") o.print_series = true;
+    if (a == "--compare")
+      o.compare = true;
+    else if (a == "--print-series")
+      o.print_series = true;
     else if (a.rfind("--", 0) == 0 && a.find('=') != std::string::npos)
       kv[a.substr(2, a.find('=') - 2)] = a.substr(a.find('=') + 1);
-    else throw std::invalid_argument(fmt::format("unknown argument '{}'", a));
+    else
+      throw std::invalid_argument(fmt::format("unknown argument '{}'", a));
   }
   for (const auto& [key, value] : kv) {
-    if (key == "radius") o.radius = std::stod(value);
-    else if (key == "gap") o.gap = std::stod(value);
-    else if (key == "diameter") o.diameter = std::stod(value);
-    else if (key == "phi") o.volume_fraction = std::stod(value);
-    else if (key == "rate") o.rate = std::stod(value);
-    else if (key == "transient") o.transient_strain = std::stod(value);
-    else if (key == "window") o.window_strain = std::stod(value);
-    else if (key == "batches") o.batches = std::stoi(value);
-    else if (key == "speed") o.initial_speed = std::stod(value);
-    else if (key == "seed") o.seed = std::stoull(value);
-    else if (key == "out") o.out = value;
-    else throw std::invalid_argument(fmt::format("unknown option --{}", key));
+    if (key == "radius")
+      o.radius = std::stod(value);
+    else if (key == "gap")
+      o.gap = std::stod(value);
+    else if (key == "diameter")
+      o.diameter = std::stod(value);
+    else if (key == "phi")
+      o.volume_fraction = std::stod(value);
+    else if (key == "rate")
+      o.rate = std::stod(value);
+    else if (key == "transient")
+      o.transient_strain = std::stod(value);
+    else if (key == "window")
+      o.window_strain = std::stod(value);
+    else if (key == "batches")
+      o.batches = std::stoi(value);
+    else if (key == "speed")
+      o.initial_speed = std::stod(value);
+    else if (key == "seed")
+      o.seed = std::stoull(value);
+    else if (key == "out")
+      o.out = value;
+    else
+      throw std::invalid_argument(fmt::format("unknown option --{}", key));
   }
   if (o.batches < 2) throw std::invalid_argument("--batches must be >= 2");
   return o;
@@ -93,10 +108,10 @@ Options parse(int argc, char** argv) {
 
 struct RunResult {
   std::int64_t total_count = 0;
-  bool partition_ok = true;      // local arrays partition ids 1..N
-  bool placement_ok = true;      // the same placement on every rank
-  double mean = 0.0;             // torque over the window [N·m]
-  double standard_error = 0.0;   // from batch means [N·m]
+  bool partition_ok = true;     // local arrays partition ids 1..N
+  bool placement_ok = true;     // the same placement on every rank
+  double mean = 0.0;            // torque over the window [N·m]
+  double standard_error = 0.0;  // from batch means [N·m]
   double wall_seconds = 0.0;
   std::int64_t steps = 0;
   std::vector<rheosim::dem::TorqueSample> series;
@@ -108,20 +123,20 @@ RunResult run_scene(const Options& o, MPI_Comm comm, const fs::path& dir) {
   int size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
-  RheometerScene::Params p{.geometry = {.radius = o.radius, .gap = o.gap},
-                           .particles = {.volume_fraction = o.volume_fraction, .diameter = o.diameter,
-                                         .density = 1000.0},
-                           .rim_shear_rate = o.rate,
-                           .gravity = std::nullopt,
-                           .seed = o.seed,
-                           .run_directory = dir,
-                           .initial_speed = o.initial_speed >= 0.0 ? o.initial_speed : 0.5 * o.rate * o.gap,
-                           .communicator_fortran_handle = MPI_Comm_c2f(comm)};
+  RheometerScene::Params p{
+      .geometry = {.radius = o.radius, .gap = o.gap},
+      .particles = {.volume_fraction = o.volume_fraction, .diameter = o.diameter, .density = 1000.0},
+      .rim_shear_rate = o.rate,
+      .gravity = std::nullopt,
+      .seed = o.seed,
+      .run_directory = dir,
+      .initial_speed = o.initial_speed >= 0.0 ? o.initial_speed : 0.5 * o.rate * o.gap,
+      .communicator_fortran_handle = MPI_Comm_c2f(comm)};
   // Batches of whole torque samples: the window is batches × per_batch samples.
   const double dt = p.time_step_fraction * rheosim::dem::rayleigh_time({.radius = 0.5 * o.diameter,
-                                                                         .density = p.particles.density,
-                                                                         .youngs_modulus = p.particles.youngs_modulus,
-                                                                         .poisson_ratio = p.particles.poisson_ratio});
+                                                                        .density = p.particles.density,
+                                                                        .youngs_modulus = p.particles.youngs_modulus,
+                                                                        .poisson_ratio = p.particles.poisson_ratio});
   const auto steps_per_strain = static_cast<std::int64_t>(std::ceil(1.0 / (o.rate * dt)));
   p.torque_sample_interval = std::max<std::int64_t>(1, steps_per_strain / 20);
   RheometerScene scene(p);
@@ -144,7 +159,8 @@ RunResult run_scene(const Options& o, MPI_Comm comm, const fs::path& dir) {
   // The same placement everywhere: compare a checksum of the centres with rank 0's.
   double checksum = 0.0;
   if (const auto& placed = scene.placement())
-    for (std::size_t i = 0; i < placed->centres.size(); ++i) checksum += placed->centres[i] * static_cast<double>(i % 7 + 1);
+    for (std::size_t i = 0; i < placed->centres.size(); ++i)
+      checksum += placed->centres[i] * static_cast<double>(i % 7 + 1);
   double reference = checksum;
   MPI_Bcast(&reference, 1, MPI_DOUBLE, 0, comm);
   int same = reference == checksum ? 1 : 0;

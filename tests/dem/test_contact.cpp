@@ -134,8 +134,7 @@ TEST(Contact, InvalidInputsAreRejectedByName) {
   EXPECT_THAT(error_of([&] { (void)effective_modulus(bad, seed_particle); }), HasSubstr("youngs_modulus"));
   bad = seed_particle;
   bad.poisson_ratio = 0.6;
-  EXPECT_THAT(error_of([&] { (void)rayleigh_time(bad); }),
-              AllOf(HasSubstr("poisson_ratio"), HasSubstr("[0, 0.5]")));
+  EXPECT_THAT(error_of([&] { (void)rayleigh_time(bad); }), AllOf(HasSubstr("poisson_ratio"), HasSubstr("[0, 0.5]")));
   EXPECT_THAT(error_of([&] { (void)rayleigh_time_step(seed_particle, 0.0); }),
               AllOf(HasSubstr("fraction"), HasSubstr("(0, 1]")));
   EXPECT_THAT(error_of([&] { (void)hertz_collision_time(seed_particle, seed_particle, 0.0); }),

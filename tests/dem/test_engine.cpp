@@ -360,7 +360,7 @@ TEST_F(EngineTest, ErrorInsideRunThrows) {
   add_particle(engine, 0.0, 0.0, 0.0099);
   set_seed_material(engine);
   engine.command("velocity all set 0.0 0.0 100.0 units box");  // leaves the fixed box at once
-  engine.commands({"thermo 1", "thermo_modify lost error"});  // LIGGGHTS ignores lost particles by default
+  engine.commands({"thermo 1", "thermo_modify lost error"});   // LIGGGHTS ignores lost particles by default
   try {
     engine.run(100);
     FAIL() << "expected EngineError";

@@ -28,9 +28,7 @@ namespace fs = std::filesystem;
 
 const ElasticSphere seed_particle{.radius = 100e-6, .density = 1000.0, .youngs_modulus = 3e9, .poisson_ratio = 0.33};
 
-double seed_mass() {
-  return 4.0 / 3.0 * std::numbers::pi * std::pow(seed_particle.radius, 3) * seed_particle.density;
-}
+double seed_mass() { return 4.0 / 3.0 * std::numbers::pi * std::pow(seed_particle.radius, 3) * seed_particle.density; }
 
 class EngineStepCallbackTest : public ::testing::Test {
  protected:
@@ -80,7 +78,7 @@ class EngineStepCallbackTest : public ::testing::Test {
 TEST_F(EngineStepCallbackTest, ConstantForceMovesParticleAsFOverM) {
   Engine engine({.run_directory = dir_});
   make_box(engine, {{0.0, 0.0, 0.005}});
-  const std::array<double, 3> force{2e-6, -1e-6, 3e-6};  // N
+  const std::array<double, 3> force{2e-6, -1e-6, 3e-6};    // N
   const std::array<double, 3> torque{1e-14, 0.0, -2e-14};  // N·m
   int calls = 0;
   engine.set_step_force_callback([&](const StepState& s, std::span<double> f, std::span<double> t) {
@@ -188,9 +186,8 @@ TEST_F(EngineStepCallbackTest, DampingCallbackFollowsDiscreteDecay) {
 TEST_F(EngineStepCallbackTest, ExceptionInCallbackFailsTheEngine) {
   Engine engine({.run_directory = dir_});
   make_box(engine, {{0.0, 0.0, 0.005}});
-  engine.set_step_force_callback([](const StepState&, std::span<double>, std::span<double>) {
-    throw std::runtime_error("model refused");
-  });
+  engine.set_step_force_callback(
+      [](const StepState&, std::span<double>, std::span<double>) { throw std::runtime_error("model refused"); });
   EXPECT_THROW(engine.run(5), EngineError);
   EXPECT_TRUE(engine.has_failed());
 }

@@ -283,9 +283,12 @@ TEST_F(RheometerSceneTest, DroppedParticleReboundsWithRestitution) {
   for (int k = 0; k < 1000 && std::isnan(rebound_speed); ++k) {
     const double z = scene.engine().positions()[2];
     const double vz = scene.engine().velocities()[2];
-    if (z < radius) touched = true;
-    else if (!touched) impact_speed = -vz;  // last state before the contact
-    else rebound_speed = vz;                // first state after it
+    if (z < radius)
+      touched = true;
+    else if (!touched)
+      impact_speed = -vz;  // last state before the contact
+    else
+      rebound_speed = vz;  // first state after it
     scene.advance(1);
   }
   ASSERT_FALSE(std::isnan(rebound_speed)) << "no rebound within 1000 steps";
@@ -334,10 +337,10 @@ TEST_F(RheometerSceneTest, ParticleOnRotatingPlateIsCarriedAtItsContactPoint) {
   const double azimuthal = (x[0] * v[1] - x[1] * v[0]) / r;
   RecordProperty("contact_slip_over_omega_r", fmt::format("{:.3g}", slip / (omega * r)));
   RecordProperty("centre_speed_over_omega_r", fmt::format("{:.5f}", azimuthal / (omega * r)));
-  EXPECT_LT(slip, 1e-3 * omega * r);                      // contact point carried at Ω r
-  EXPECT_NEAR(azimuthal, 2.0 / 7.0 * omega * r, 1e-3 * omega * r);  // centre: (2/7) Ω r
-  EXPECT_NEAR(r, r0, 1e-3 * r0);                          // circling the axis
-  EXPECT_NEAR(x[2], gap - radius, 1e-3 * radius);         // pressed against the plate
+  EXPECT_LT(slip, 1e-3 * omega * r);                                                // contact point carried at Ω r
+  EXPECT_NEAR(azimuthal, 2.0 / 7.0 * omega * r, 1e-3 * omega * r);                  // centre: (2/7) Ω r
+  EXPECT_NEAR(r, r0, 1e-3 * r0);                                                    // circling the axis
+  EXPECT_NEAR(x[2], gap - radius, 1e-3 * radius);                                   // pressed against the plate
   EXPECT_LT(std::abs(scene.torque_series().back().torque), 1e-3 * sliding_torque);  // rolling: no friction moment
 
   // Doubling the rate mid-run: slip again, then roll at the new plate speed; the centre gains
@@ -349,8 +352,8 @@ TEST_F(RheometerSceneTest, ParticleOnRotatingPlateIsCarriedAtItsContactPoint) {
   const auto v2 = scene.engine().velocities();
   const auto w2 = scene.engine().angular_velocities();
   const double r2 = std::hypot(x2[0], x2[1]);
-  const double slip2 = std::hypot(v2[0] + w2[1] * radius + 2.0 * omega * x2[1],
-                                  v2[1] - w2[0] * radius - 2.0 * omega * x2[0]);
+  const double slip2 =
+      std::hypot(v2[0] + w2[1] * radius + 2.0 * omega * x2[1], v2[1] - w2[0] * radius - 2.0 * omega * x2[0]);
   EXPECT_LT(slip2, 1e-3 * 2.0 * omega * r2);
   EXPECT_NEAR((x2[0] * v2[1] - x2[1] * v2[0]) / r2, 2.0 / 7.0 * 2.0 * omega * r2, 2e-3 * omega * r2);
   std::ifstream log(p.run_directory / "liggghts.log");

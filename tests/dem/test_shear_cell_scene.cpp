@@ -64,8 +64,12 @@ class ShearCellSceneTest : public ::testing::Test {
   }
   [[nodiscard]] ShearCellScene::Params params(double volume_fraction, double shear_rate,
                                               const std::string& sub = "run") const {
-    return {.gap = gap, .cell_length = cell, .cell_width = cell, .particles = particles(volume_fraction),
-            .shear_rate = shear_rate, .run_directory = dir_ / sub};
+    return {.gap = gap,
+            .cell_length = cell,
+            .cell_width = cell,
+            .particles = particles(volume_fraction),
+            .shear_rate = shear_rate,
+            .run_directory = dir_ / sub};
   }
   fs::path dir_;
 };

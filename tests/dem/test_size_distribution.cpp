@@ -123,14 +123,16 @@ TEST(SizeDistributionCase, BadInputNamesTheKey) {
   const std::string head = "particles:\n  volume_fraction: 0.2\n  diameter: 1.0e-4\n  density: 1000\n";
   auto e = parse_error(head + "  size_distribution: {type: gaussian}\n");
   EXPECT_EQ(e.details().key_path, "particles.size_distribution.type");
-  e = parse_error(head + "  size_distribution: {type: discrete, diameters: [8.0e-5, 1.0e-4], volume_fractions: [0.5, 0.6]}\n");
+  e = parse_error(head +
+                  "  size_distribution: {type: discrete, diameters: [8.0e-5, 1.0e-4], volume_fractions: [0.5, 0.6]}\n");
   EXPECT_EQ(e.details().key_path, "particles.size_distribution.volume_fractions");
   e = parse_error(head + "  size_distribution: {type: uniform, min_diameter: 1.1e-4, max_diameter: 1.2e-4}\n");
   EXPECT_THAT(e.what(), HasSubstr("outside the distribution's range"));
   e = parse_error(head + "  size_distribution: {type: uniform, min_diameter: 8.0e-5, max_diameter: 6.0e-4}\n");
   EXPECT_THAT(e.what(), HasSubstr("do not fit in the gap"));
-  e = parse_error(head + "  size_distribution: {type: lognormal, geometric_std: 1.1, max_diameter: 1.0e-4, "
-                         "min_diamter: 5.0e-5}\n");
+  e = parse_error(head +
+                  "  size_distribution: {type: lognormal, geometric_std: 1.1, max_diameter: 1.0e-4, "
+                  "min_diamter: 5.0e-5}\n");
   EXPECT_EQ(e.details().key_path, "particles.size_distribution.min_diamter");  // unknown key, suggestion
 }
 
@@ -139,10 +141,14 @@ TEST(SizeDistributionCase, BadInputNamesTheKey) {
 TEST(SampleDiameters, FillsTheSolidVolumeWithinOnePercent) {
   const double target = 0.3 * gap_volume;
   const SizeDistribution uniform{.type = SizeDistribution::Type::uniform, .min_diameter = 8e-5, .max_diameter = 1.2e-4};
-  const SizeDistribution lognormal{.type = SizeDistribution::Type::lognormal, .min_diameter = 1e-4 / 1.44,
-                                   .max_diameter = 1.44e-4, .geometric_std = 1.2};
-  const SizeDistribution discrete{.type = SizeDistribution::Type::discrete, .classes = 2,
-                                  .diameters = {8e-5, 1.2e-4}, .volume_fractions = {0.3, 0.7}};
+  const SizeDistribution lognormal{.type = SizeDistribution::Type::lognormal,
+                                   .min_diameter = 1e-4 / 1.44,
+                                   .max_diameter = 1.44e-4,
+                                   .geometric_std = 1.2};
+  const SizeDistribution discrete{.type = SizeDistribution::Type::discrete,
+                                  .classes = 2,
+                                  .diameters = {8e-5, 1.2e-4},
+                                  .volume_fractions = {0.3, 0.7}};
   for (const auto& s : {uniform, lognormal, discrete}) {
     const auto d = sample_diameters(s, 1e-4, target, 7);
     EXPECT_NEAR(solid_volume(d), target, 0.01 * target);
@@ -162,8 +168,10 @@ TEST(SampleDiameters, FillsTheSolidVolumeWithinOnePercent) {
 
 // The volume-median of the drawn lognormal is d50 (volume basis), its spread σ_g.
 TEST(SampleDiameters, LognormalHasTheVolumeMedianAndSpread) {
-  const SizeDistribution s{.type = SizeDistribution::Type::lognormal, .min_diameter = 1e-4 / 16.0,
-                           .max_diameter = 1.6e-3, .geometric_std = 1.3};
+  const SizeDistribution s{.type = SizeDistribution::Type::lognormal,
+                           .min_diameter = 1e-4 / 16.0,
+                           .max_diameter = 1.6e-3,
+                           .geometric_std = 1.3};
   auto d = sample_diameters(s, 1e-4, 2e4 * core::units::sphere_volume(1e-4), 11);
   std::sort(d.begin(), d.end());
   const double total = solid_volume(d);
@@ -190,8 +198,8 @@ TEST(PolydispersePlacement, NoOverlapsAndPhiWithinOnePercent) {
   const SizeDistribution narrow{.type = SizeDistribution::Type::uniform, .min_diameter = 9e-5, .max_diameter = 1e-4};
   for (const double phi : {0.1, 0.3, 0.5}) {
     const auto d = sample_diameters(phi < 0.4 ? wide : narrow, 1e-4, phi * gap_volume, 5);
-    const auto p = place_particles({.plate_radius = plate_radius, .gap = gap, .diameter = 1e-4, .seed = 5,
-                                    .diameters = d});
+    const auto p =
+        place_particles({.plate_radius = plate_radius, .gap = gap, .diameter = 1e-4, .seed = 5, .diameters = d});
     EXPECT_EQ(p.count, d.size());
     EXPECT_EQ(p.diameters, d);
     EXPECT_NEAR(p.volume_fraction, phi, 0.01 * phi) << "φ = " << phi;
@@ -221,8 +229,11 @@ TEST(PolydisperseScene, HoldsTheDrawnSpheres) {
       "particles:\n  volume_fraction: 0.3\n  diameter: 1.0e-4\n  density: 1000\n"
       "  size_distribution: {type: lognormal, geometric_std: 1.1}\n");
   {
-    RheometerScene scene({.geometry = {.radius = plate_radius, .gap = gap}, .particles = q, .rim_shear_rate = 100.0,
-                          .gravity = std::nullopt, .run_directory = dir});
+    RheometerScene scene({.geometry = {.radius = plate_radius, .gap = gap},
+                          .particles = q,
+                          .rim_shear_rate = 100.0,
+                          .gravity = std::nullopt,
+                          .run_directory = dir});
     ASSERT_TRUE(scene.placement().has_value());
     const auto& placed = *scene.placement();
     EXPECT_NEAR(placed.volume_fraction, 0.3, 0.003);

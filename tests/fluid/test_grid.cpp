@@ -183,8 +183,12 @@ TEST(Grid, UniformGridHasEqualRadialWidths) {
 // every other face (so grid sequencing and Richardson pairs refine by exactly 2).
 TEST(Grid, AxialStretchingClustersSymmetricallyTowardsBothPlates) {
   const auto stretched = [](int n_z, double beta) {
-    return CylindricalGrid({.radius = plate_radius, .gap = plate_gap, .radial_cells = 6, .axial_cells = n_z,
-                            .radial_grading = 0.5, .axial_stretching = beta});
+    return CylindricalGrid({.radius = plate_radius,
+                            .gap = plate_gap,
+                            .radial_cells = 6,
+                            .axial_cells = n_z,
+                            .radial_grading = 0.5,
+                            .axial_stretching = beta});
   };
   const double beta = 1.5;
   const CylindricalGrid g = stretched(16, beta), half = stretched(8, beta);

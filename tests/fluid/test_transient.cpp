@@ -85,9 +85,10 @@ TEST_P(Projection, LeavesADivergenceFreeFieldWithVoidFractionVaryingInTheta) {
   solver.set_velocity(ur, ut, uz);
   const int iterations = solver.project_velocity();
   const double after = max_abs(solver.divergence());
-  std::printf("N_theta=%d: max |div(eps u)| %.3e 1/s before, %.3e after (eps = 1, %d PCG iteration), %.3e after "
-              "(random eps in [0.4, 1], %d PCG iterations)\n",
-              nt, before, after_uniform, exact_iterations, after, iterations);
+  std::printf(
+      "N_theta=%d: max |div(eps u)| %.3e 1/s before, %.3e after (eps = 1, %d PCG iteration), %.3e after "
+      "(random eps in [0.4, 1], %d PCG iterations)\n",
+      nt, before, after_uniform, exact_iterations, after, iterations);
   EXPECT_LE(exact_iterations, 1);
   EXPECT_LT(after_uniform, 1e-10 * before);
   EXPECT_LT(after, 1e-9 * before);
@@ -127,9 +128,10 @@ TEST(TransientContinuity, HoldsWithAVoidFractionChangingInTime) {
   worst = 0;
   for (std::size_t c = 0; c < div.size(); ++c)  // BDF2: ∇·(εu) = −(3ε² − 4ε¹ + ε⁰)/(2Δt)
     worst = std::max(worst, std::abs(div[c] + (3 * eps2[c] - 4 * eps1[c] + eps0[c]) / (2 * dt)));
-  std::printf("continuity with changing eps: residual %.2e (step 1), %.2e (step 2) of the rate %.1f 1/s; PCG %d, %d "
-              "iterations\n",
-              first.max_divergence, worst, rate, first.pressure_iterations, second.pressure_iterations);
+  std::printf(
+      "continuity with changing eps: residual %.2e (step 1), %.2e (step 2) of the rate %.1f 1/s; PCG %d, %d "
+      "iterations\n",
+      first.max_divergence, worst, rate, first.pressure_iterations, second.pressure_iterations);
   EXPECT_LT(worst, 1e-9 * rate);
   EXPECT_LT(second.max_divergence, 1e-9 * rate);
 }
@@ -140,7 +142,8 @@ class LinearSwirl : public ::testing::TestWithParam<int> {};
 
 TEST_P(LinearSwirl, IsPreservedInTheCreepingLimitWithTheClosedFormTorque) {
   const int nt = GetParam();
-  for (const std::string yaml : {"model: newtonian\nviscosity: 1.0e-3\n", "model: power_law\nconsistency: 1.0e-3\nindex: 0.6\n"}) {
+  for (const std::string yaml :
+       {"model: newtonian\nviscosity: 1.0e-3\n", "model: power_law\nconsistency: 1.0e-3\nindex: 0.6\n"}) {
     TransientSolver solver(params(10, nt, 6, false, law(yaml)));
     const auto& g = solver.grid();
     const Index ix(g);
@@ -155,13 +158,15 @@ TEST_P(LinearSwirl, IsPreservedInTheCreepingLimitWithTheClosedFormTorque) {
     const double torque0 = solver.torque();
     for (int n = 0; n < 10; ++n) (void)solver.advance(0.05 * density * gap * gap / 1e-3);
     double drift = 0;
-    for (std::size_t c = 0; c < ut.size(); ++c) drift = std::max(drift, std::abs(solver.azimuthal_velocity()[c] - ut[c]));
+    for (std::size_t c = 0; c < ut.size(); ++c)
+      drift = std::max(drift, std::abs(solver.azimuthal_velocity()[c] - ut[c]));
     const double speed = omega * radius;
-    std::printf("N_theta=%d %s: after 10 steps max|u_theta - r Omega z/H|/(Omega R) = %.1e, |u_r|, |u_z| <= %.1e, torque "
-                "change %.1e\n",
-                nt, yaml.substr(7, 9).c_str(), drift / speed,
-                std::max(max_abs(solver.radial_velocity()), max_abs(solver.axial_velocity())) / speed,
-                std::abs(solver.torque() / torque0 - 1));
+    std::printf(
+        "N_theta=%d %s: after 10 steps max|u_theta - r Omega z/H|/(Omega R) = %.1e, |u_r|, |u_z| <= %.1e, torque "
+        "change %.1e\n",
+        nt, yaml.substr(7, 9).c_str(), drift / speed,
+        std::max(max_abs(solver.radial_velocity()), max_abs(solver.axial_velocity())) / speed,
+        std::abs(solver.torque() / torque0 - 1));
     EXPECT_LT(drift, 1e-12 * speed);
     EXPECT_LT(max_abs(solver.radial_velocity()), 1e-12 * speed);
     EXPECT_LT(max_abs(solver.axial_velocity()), 1e-12 * speed);
@@ -195,8 +200,9 @@ TEST(SolidBodyRotation, IsASteadyStateWithTheCentrifugalPressure) {
         for (std::size_t k = 0; k < ix.nz; ++k) {
           ut[ix.cell(i, j, k)] = omega * g.radial_centres()[i];
           if (i > 0)
-            pressure[ix.cell(i, j, k)] = pressure[ix.cell(i - 1, j, k)] + density * omega * omega * g.radial_faces()[i] *
-                                                                              (g.radial_centres()[i] - g.radial_centres()[i - 1]);
+            pressure[ix.cell(i, j, k)] =
+                pressure[ix.cell(i - 1, j, k)] +
+                density * omega * omega * g.radial_faces()[i] * (g.radial_centres()[i] - g.radial_centres()[i - 1]);
         }
     const std::vector<double> zero_r(solver.radial_velocity().size()), zero_z(solver.axial_velocity().size());
     solver.set_velocity(zero_r, ut, zero_z);
@@ -208,20 +214,23 @@ TEST(SolidBodyRotation, IsASteadyStateWithTheCentrifugalPressure) {
       if (n == 0) first_disturbance = std::max(max_abs(solver.radial_velocity()), max_abs(solver.axial_velocity()));
     }
     double drift = 0, pressure_error = 0;
-    for (std::size_t c = 0; c < ut.size(); ++c) drift = std::max(drift, std::abs(solver.azimuthal_velocity()[c] - ut[c]));
+    for (std::size_t c = 0; c < ut.size(); ++c)
+      drift = std::max(drift, std::abs(solver.azimuthal_velocity()[c] - ut[c]));
     // Pressure differences against the exact discrete profile (p_0 = 0 there).
     for (std::size_t i = 1; i < ix.nr; ++i)
       for (std::size_t j = 0; j < ix.nt; ++j)
         for (std::size_t k = 0; k < ix.nz; ++k) {
           const double dp = solver.pressure()[ix.cell(i, j, k)] - solver.pressure()[ix.cell(0, j, k)];
-          pressure_error = std::max(pressure_error, std::abs(dp - pressure[ix.cell(i, j, k)]) / (0.5 * density * speed * speed));
+          pressure_error =
+              std::max(pressure_error, std::abs(dp - pressure[ix.cell(i, j, k)]) / (0.5 * density * speed * speed));
         }
     const double secondary = std::max(max_abs(solver.radial_velocity()), max_abs(solver.axial_velocity()));
-    std::printf("solid-body rotation from %s: first step disturbs u_r, u_z by %.1e Omega R; after %d steps max|u_theta - "
-                "Omega r| = %.1e, |u_r|, |u_z| <= %.1e Omega R, pressure error %.1e rho (Omega R)^2/2, |torque| %.1e of "
-                "the creeping one\n",
-                exact_start ? "its discrete pressure" : "p = 0", first_disturbance / speed, steps, drift / speed,
-                secondary / speed, pressure_error, std::abs(solver.torque()) / creeping_torque);
+    std::printf(
+        "solid-body rotation from %s: first step disturbs u_r, u_z by %.1e Omega R; after %d steps max|u_theta - "
+        "Omega r| = %.1e, |u_r|, |u_z| <= %.1e Omega R, pressure error %.1e rho (Omega R)^2/2, |torque| %.1e of "
+        "the creeping one\n",
+        exact_start ? "its discrete pressure" : "p = 0", first_disturbance / speed, steps, drift / speed,
+        secondary / speed, pressure_error, std::abs(solver.torque()) / creeping_torque);
     const double tolerance = exact_start ? 1e-13 : 1e-8;
     EXPECT_LT(drift, tolerance * speed);
     EXPECT_LT(secondary, tolerance * speed);
@@ -287,9 +296,10 @@ TEST(Stability, NonAxisymmetricFlowDecaysAtLargeViscousCourantNumbers) {
       largest_rise = std::max(largest_rise, e / previous);
       previous = e;
     }
-    std::printf("viscous Courant %.0f (at the plateau viscosity): energy %.3e of the initial after 40 steps, %d rises "
-                "(largest step-to-step ratio %.3f)\n",
-                viscous_courant, previous / initial, rises, largest_rise);
+    std::printf(
+        "viscous Courant %.0f (at the plateau viscosity): energy %.3e of the initial after 40 steps, %d rises "
+        "(largest step-to-step ratio %.3f)\n",
+        viscous_courant, previous / initial, rises, largest_rise);
     // Strictly monotone up to ~30; at 1000 the explicit transposed part, with the law's
     // 250 × viscosity contrast, allows a few bounded bumps while the energy falls by 1e13.
     if (viscous_courant <= 30) {
@@ -321,8 +331,9 @@ TEST(PredictorSolvers, DirectAndIterativePathsAgree) {
   double worst = 0;
   for (std::size_t n = 0; n < fields[0].size(); ++n) worst = std::max(worst, std::abs(fields[0][n] - fields[1][n]));
   const double speed = plate.angular_velocity(300) * radius;
-  std::printf("direct vs CG+IC(0) (at most %d iterations): max velocity difference %.1e Omega R, torque difference %.1e\n",
-              iterations[1], worst / speed, std::abs(torques[0] / torques[1] - 1));
+  std::printf(
+      "direct vs CG+IC(0) (at most %d iterations): max velocity difference %.1e Omega R, torque difference %.1e\n",
+      iterations[1], worst / speed, std::abs(torques[0] / torques[1] - 1));
   EXPECT_EQ(iterations[0], 0);
   EXPECT_GT(iterations[1], 0);
   EXPECT_LT(worst, 1e-10 * speed);
@@ -338,13 +349,15 @@ TEST(Axis, RadialVelocityOnTheAxisIsTheCartesianExtrapolationOfTheFirstRing) {
   const double u = 0.003, direction = 0.4;  // uniform Cartesian velocity u(cos 0.4, sin 0.4)
   std::vector<double> ur(solver.radial_velocity().size(), 0.0);
   for (std::size_t j = 0; j < ix.nt; ++j)
-    for (std::size_t k = 0; k < ix.nz; ++k) ur[(1 * ix.nt + j) * ix.nz + k] = u * std::cos(g.azimuthal_centres()[j] - direction);
+    for (std::size_t k = 0; k < ix.nz; ++k)
+      ur[(1 * ix.nt + j) * ix.nz + k] = u * std::cos(g.azimuthal_centres()[j] - direction);
   const std::vector<double> ut(solver.azimuthal_velocity().size()), uz(solver.axial_velocity().size());
   solver.set_velocity(ur, ut, uz);
   double worst = 0;
   for (std::size_t j = 0; j < ix.nt; ++j)
     for (std::size_t k = 0; k < ix.nz; ++k)
-      worst = std::max(worst, std::abs(solver.radial_velocity()[j * ix.nz + k] - u * std::cos(g.azimuthal_centres()[j] - direction)));
+      worst = std::max(worst, std::abs(solver.radial_velocity()[j * ix.nz + k] -
+                                       u * std::cos(g.azimuthal_centres()[j] - direction)));
   EXPECT_LT(worst, 1e-15);
   for (std::size_t j = 0; j < ix.nt; ++j) EXPECT_EQ(solver.radial_velocity()[(ix.nr * ix.nt + j) * ix.nz], 0.0);  // rim
 }
@@ -357,7 +370,8 @@ TEST(Sampling, IsExactForTheLinearSwirl) {
   std::vector<double> ut(g.cell_count());
   for (std::size_t i = 0; i < ix.nr; ++i)
     for (std::size_t j = 0; j < ix.nt; ++j)
-      for (std::size_t k = 0; k < ix.nz; ++k) ut[ix.cell(i, j, k)] = g.radial_centres()[i] * omega * g.axial_centres()[k] / gap;
+      for (std::size_t k = 0; k < ix.nz; ++k)
+        ut[ix.cell(i, j, k)] = g.radial_centres()[i] * omega * g.axial_centres()[k] / gap;
   const std::vector<double> zero_r(solver.radial_velocity().size()), zero_z(solver.axial_velocity().size());
   solver.set_velocity(zero_r, ut, zero_z);
   std::mt19937 rng(3);
@@ -384,7 +398,8 @@ TEST(Failures, CourantViolationIsRefusedAndTheStateKept) {
   std::vector<double> ut(g.cell_count());
   for (std::size_t i = 0; i < ix.nr; ++i)
     for (std::size_t j = 0; j < ix.nt; ++j)
-      for (std::size_t k = 0; k < ix.nz; ++k) ut[ix.cell(i, j, k)] = g.radial_centres()[i] * 40 * g.axial_centres()[k] / gap;
+      for (std::size_t k = 0; k < ix.nz; ++k)
+        ut[ix.cell(i, j, k)] = g.radial_centres()[i] * 40 * g.axial_centres()[k] / gap;
   solver.set_velocity(std::vector<double>(solver.radial_velocity().size()), ut,
                       std::vector<double>(solver.axial_velocity().size()));
   (void)solver.advance(1e-3);

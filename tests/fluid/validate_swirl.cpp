@@ -32,7 +32,10 @@ SwirlParams params(std::shared_ptr<const core::Rheology> rheology, bool inertia,
 }
 
 TEST(SwirlCreeping, NewtonianAndPowerLawTorqueWithinFiveHundredthsOfAPercent) {
-  struct Fluid { std::string yaml; double n; };
+  struct Fluid {
+    std::string yaml;
+    double n;
+  };
   const std::vector<Fluid> fluids = {{"model: newtonian\nviscosity: 1.0e-3\n", 1.0},
                                      {"model: power_law\nconsistency: 1.0e-3\nindex: 0.3\n", 0.3},
                                      {"model: power_law\nconsistency: 1.0e-3\nindex: 0.6\n", 0.6},
@@ -130,12 +133,13 @@ TEST(SwirlInertia, WaterAtTheIssuesHighReynoldsCaseConvergesUnderRefinement) {
   const double extrapolated = torques[2] + (torques[2] - torques[1]) / (std::pow(2.0, order) - 1);
   const double re = wide.gap_reynolds_number(1000, rate, 1e-3);
   const double re_rot = 1000 * omega * radius * radius / 1e-3;
-  const double daily_nece = 3.70 * std::pow(h / radius, 0.1) / std::sqrt(re_rot) /
-                            (2 * std::acos(-1.0) / ((h / radius) * re_rot));
-  std::printf("water H=2mm rate=1000: Re=%.0f observed order %.2f, Richardson torque %.6e N m, creeping %.6e, "
-              "rise %.0f%% (x%.2f; Daily-Nece II: x%.1f), finest grid %.2e from Richardson\n",
-              re, order, extrapolated, creeping, 100 * (extrapolated / creeping - 1), extrapolated / creeping,
-              daily_nece, std::abs(torques[2] - extrapolated) / extrapolated);
+  const double daily_nece =
+      3.70 * std::pow(h / radius, 0.1) / std::sqrt(re_rot) / (2 * std::acos(-1.0) / ((h / radius) * re_rot));
+  std::printf(
+      "water H=2mm rate=1000: Re=%.0f observed order %.2f, Richardson torque %.6e N m, creeping %.6e, "
+      "rise %.0f%% (x%.2f; Daily-Nece II: x%.1f), finest grid %.2e from Richardson\n",
+      re, order, extrapolated, creeping, 100 * (extrapolated / creeping - 1), extrapolated / creeping, daily_nece,
+      std::abs(torques[2] - extrapolated) / extrapolated);
   EXPECT_GT(order, 1.2);
   EXPECT_LT(order, 2.8);
   EXPECT_GT(extrapolated, 5 * creeping);
@@ -168,7 +172,9 @@ namespace {
 // fluids at Bingham numbers Bn = τ₀/(μ γ̇_R) up to 1000 with sharp regularisation. The
 // creeping solution ω = Ωz/H holds for every law, so each must end there.
 TEST(SwirlHardCases, ConvergeFromRestWithoutNaN) {
-  struct Case { std::string name, yaml; };
+  struct Case {
+    std::string name, yaml;
+  };
   const double rate = 10;
   const std::vector<Case> cases = {
       {"power law n=0.2", "model: power_law\nconsistency: 1.0e-3\nindex: 0.2\n"},
@@ -176,8 +182,9 @@ TEST(SwirlHardCases, ConvergeFromRestWithoutNaN) {
       {"bingham Bn=10 m=1e3", "model: bingham\nplastic_viscosity: 0.1\nyield_stress: 10\nregularization: 1000\n"},
       {"bingham Bn=1000 m=1e5", "model: bingham\nplastic_viscosity: 0.1\nyield_stress: 1000\nregularization: 1.0e5\n"},
       {"casson Bn=1000 m=1e5", "model: casson\nplastic_viscosity: 0.1\nyield_stress: 1000\nregularization: 1.0e5\n"},
-      {"herschel_bulkley Bn=100", "model: herschel_bulkley\nconsistency: 0.1\nindex: 0.4\nyield_stress: 100\n"
-                                  "regularization: 1.0e4\n"}};
+      {"herschel_bulkley Bn=100",
+       "model: herschel_bulkley\nconsistency: 0.1\nindex: 0.4\nyield_stress: 100\n"
+       "regularization: 1.0e4\n"}};
   for (const auto& c : cases) {
     SwirlParams p = params(law(c.yaml), false);
     p.max_iterations = 2000;
@@ -188,8 +195,8 @@ TEST(SwirlHardCases, ConvergeFromRestWithoutNaN) {
     ASSERT_TRUE(result.converged) << c.name << ": " << result.failure;
     const double reference = rheometer::creeping_torque(plate, *p.rheology, rate);
     const double error = std::abs(result.torque - reference) / reference;
-    std::printf("%-24s from rest: %4d iterations, torque %.6e, quadrature %.6e, rel. difference %.1e\n",
-                c.name.c_str(), result.iterations, result.torque, reference, error);
+    std::printf("%-24s from rest: %4d iterations, torque %.6e, quadrature %.6e, rel. difference %.1e\n", c.name.c_str(),
+                result.iterations, result.torque, reference, error);
     EXPECT_LT(error, 5e-4) << c.name;
     for (double w : result.state.angular_velocity) ASSERT_TRUE(std::isfinite(w)) << c.name;
   }
@@ -225,8 +232,8 @@ Convergence grid_study(const std::shared_ptr<const core::Rheology>& fluid, doubl
     EXPECT_TRUE(result.converged) << result.failure;
     EXPECT_NEAR(result.bottom_torque, result.torque, 1e-6 * result.torque);
     torques.push_back(result.torque);
-    std::printf("%s grid %4d x %3d: torque %.9e N m, %d iterations, %.3f s\n", label, cells.nr, cells.nz,
-                result.torque, result.iterations, result.wall_time);
+    std::printf("%s grid %4d x %3d: torque %.9e N m, %d iterations, %.3f s\n", label, cells.nr, cells.nz, result.torque,
+                result.iterations, result.wall_time);
   }
   const std::size_t n = torques.size();
   const double d1 = torques[n - 3] - torques[n - 2], d2 = torques[n - 2] - torques[n - 1];
@@ -274,7 +281,8 @@ TEST(SwirlGridConvergence, ShearThinningIsSecondOrderAcrossTheGap) {
 TEST(SwirlGridConvergence, ShearThinningIsSecondOrderFromEightCellsWhenClusteredAtThePlates) {
   const auto fluid = law("model: power_law\nconsistency: 1.0e-3\nindex: 0.3\n");
   const double stretching = 2.0;
-  const auto c = grid_study(fluid, 100, {{20, 8}, {20, 16}, {20, 32}}, "power law n=0.3 Re=21, clustered z", stretching);
+  const auto c =
+      grid_study(fluid, 100, {{20, 8}, {20, 16}, {20, 32}}, "power law n=0.3 Re=21, clustered z", stretching);
   SwirlParams p = params(fluid, true, 20, 128);
   p.grid.radial_grading = 0.1;
   p.grid.axial_stretching = stretching;
@@ -311,9 +319,10 @@ TEST(SwirlGridConvergence, SequencedSolveExtrapolatesWithinTheTarget) {
   };
   const auto point = solve(40, 32), fine = solve(80, 128);
   const double error = std::abs(point.extrapolated_torque - fine.extrapolated_torque) / fine.extrapolated_torque;
-  std::printf("n=0.6 rate=100: 40x32 torque %.9e, extrapolated %.9e (own estimate %.1e); 80x128 extrapolated "
-              "%.9e; difference %.1e\n",
-              point.torque, point.extrapolated_torque, point.extrapolation_error, fine.extrapolated_torque, error);
+  std::printf(
+      "n=0.6 rate=100: 40x32 torque %.9e, extrapolated %.9e (own estimate %.1e); 80x128 extrapolated "
+      "%.9e; difference %.1e\n",
+      point.torque, point.extrapolated_torque, point.extrapolation_error, fine.extrapolated_torque, error);
   EXPECT_LT(error, 5e-4);
   EXPECT_LT(fine.extrapolation_error, 5e-4);
 }

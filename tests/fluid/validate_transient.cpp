@@ -126,12 +126,13 @@ Outcome run(const Case& c, int azimuthal_cells, bool direct) {
   out.relative_difference = std::abs(out.transient_torque - out.steady_torque) / out.steady_torque;
   out.asymmetry = azimuthal_cells > 1 ? asymmetry(solver, mu_rim * rate) : 0.0;
   std::printf(
-      "%-28s N_theta=%d (%s) Re=%.2f rate=%.4g 1/s: %ld steps (t = %.2f H^2 rho/mu_R), wall %.3f s, max PCG iterations %d\n"
+      "%-28s N_theta=%d (%s) Re=%.2f rate=%.4g 1/s: %ld steps (t = %.2f H^2 rho/mu_R), wall %.3f s, max PCG iterations "
+      "%d\n"
       "    transient torque %.10e N m, steady SwirlSolver %.10e N m, rel. difference %.2e; "
       "inertia effect (steady/creeping - 1) %.3e; axisymmetry defect %.1e\n",
-      c.name.c_str(), azimuthal_cells, direct ? "LDLT" : "CG+IC0", density * omega * gap * gap / mu_rim, rate, out.steps, out.time,
-      out.wall_time, out.max_pressure_iterations, out.transient_torque, out.steady_torque, out.relative_difference,
-      out.steady_torque / out.creeping_torque - 1, out.asymmetry);
+      c.name.c_str(), azimuthal_cells, direct ? "LDLT" : "CG+IC0", density * omega * gap * gap / mu_rim, rate,
+      out.steps, out.time, out.wall_time, out.max_pressure_iterations, out.transient_torque, out.steady_torque,
+      out.relative_difference, out.steady_torque / out.creeping_torque - 1, out.asymmetry);
   return out;
 }
 
@@ -171,7 +172,8 @@ std::string setup_name(const ::testing::TestParamInfo<SolverSetup>& param_info) 
 }
 
 INSTANTIATE_TEST_SUITE_P(AzimuthalCells, TransientReachesSteadyTorque,
-                         ::testing::Values(SolverSetup{1, true}, SolverSetup{8, true}, SolverSetup{8, false}), setup_name);
+                         ::testing::Values(SolverSetup{1, true}, SolverSetup{8, true}, SolverSetup{8, false}),
+                         setup_name);
 
 // Time accuracy: the spin-up of a Newtonian fluid in the creeping limit has
 // ω(z, t) = Ω[z/H + (2/π) Σ (−1)ⁿ/n sin(nπz/H) e^(−n²π²τ)], τ = νt/H², so the torque on the top
@@ -190,7 +192,8 @@ TEST(TransientSpinUp, TorqueFollowsTheSeriesSolutionWithSecondOrderInTime) {
   };
   const auto series_omega = [&](double z, double tau) {
     double sum = z / gap;
-    for (int n = 1; n < 400; ++n) sum += 2 / pi * (n % 2 ? -1.0 : 1.0) / n * std::sin(n * pi * z / gap) * std::exp(-n * n * pi * pi * tau);
+    for (int n = 1; n < 400; ++n)
+      sum += 2 / pi * (n % 2 ? -1.0 : 1.0) / n * std::sin(n * pi * z / gap) * std::exp(-n * n * pi * pi * tau);
     return omega * sum;
   };
   for (int azimuthal_cells : {1, 4}) {
@@ -207,9 +210,10 @@ TEST(TransientSpinUp, TorqueFollowsTheSeriesSolutionWithSecondOrderInTime) {
       for (int n = 0; n < 20; ++n) (void)solver.advance(dt);
       const double exact = series_torque(solver.time() / viscous_time);
       const double error = std::abs(solver.torque() - exact) / exact;
-      std::printf("spin-up from rest, N_theta=%d N_z=64 dt=0.01 H^2/nu: T(0.2 H^2/nu) = %.8e N m, series %.8e, rel. error "
-                  "%.2e\n",
-                  azimuthal_cells, solver.torque(), exact, error);
+      std::printf(
+          "spin-up from rest, N_theta=%d N_z=64 dt=0.01 H^2/nu: T(0.2 H^2/nu) = %.8e N m, series %.8e, rel. error "
+          "%.2e\n",
+          azimuthal_cells, solver.torque(), exact, error);
       EXPECT_LT(error, 1e-3);
     }
     // (b) smooth start at τ = 0.05, run to τ = 0.25
@@ -222,7 +226,8 @@ TEST(TransientSpinUp, TorqueFollowsTheSeriesSolutionWithSecondOrderInTime) {
       for (std::size_t i = 0; i < g.radial_cells(); ++i)
         for (std::size_t j = 0; j < g.azimuthal_cells(); ++j)
           for (std::size_t k = 0; k < g.axial_cells(); ++k)
-            ut[(i * g.azimuthal_cells() + j) * g.axial_cells() + k] = g.radial_centres()[i] * series_omega(g.axial_centres()[k], 0.05);
+            ut[(i * g.azimuthal_cells() + j) * g.axial_cells() + k] =
+                g.radial_centres()[i] * series_omega(g.axial_centres()[k], 0.05);
       solver.set_velocity(std::vector<double>(solver.radial_velocity().size()), ut,
                           std::vector<double>(solver.axial_velocity().size()));
       const auto start = std::chrono::steady_clock::now();
@@ -232,9 +237,10 @@ TEST(TransientSpinUp, TorqueFollowsTheSeriesSolutionWithSecondOrderInTime) {
       const double exact = series_torque(0.05 + solver.time() / viscous_time);
       error = std::abs(solver.torque() - exact) / exact;
       torques.push_back(solver.torque());
-      std::printf("spin-up from tau=0.05, N_theta=%d N_z=64 dt=%.4f H^2/nu: %3d steps, %.3f s wall; T(0.25 H^2/nu) = %.10e "
-                  "N m, series %.10e, rel. error %.2e\n",
-                  azimuthal_cells, dt_over_tv, steps, wall, solver.torque(), exact, error);
+      std::printf(
+          "spin-up from tau=0.05, N_theta=%d N_z=64 dt=%.4f H^2/nu: %3d steps, %.3f s wall; T(0.25 H^2/nu) = %.10e "
+          "N m, series %.10e, rel. error %.2e\n",
+          azimuthal_cells, dt_over_tv, steps, wall, solver.torque(), exact, error);
     }
     {  // variable steps: alternating Δt and Δt/2 (variable-step SBDF2 coefficients)
       TransientSolver solver(tp);
@@ -243,15 +249,17 @@ TEST(TransientSpinUp, TorqueFollowsTheSeriesSolutionWithSecondOrderInTime) {
       for (std::size_t i = 0; i < g.radial_cells(); ++i)
         for (std::size_t j = 0; j < g.azimuthal_cells(); ++j)
           for (std::size_t k = 0; k < g.axial_cells(); ++k)
-            ut[(i * g.azimuthal_cells() + j) * g.axial_cells() + k] = g.radial_centres()[i] * series_omega(g.axial_centres()[k], 0.05);
+            ut[(i * g.azimuthal_cells() + j) * g.axial_cells() + k] =
+                g.radial_centres()[i] * series_omega(g.axial_centres()[k], 0.05);
       solver.set_velocity(std::vector<double>(solver.radial_velocity().size()), ut,
                           std::vector<double>(solver.axial_velocity().size()));
       for (int n = 0; n < 26; ++n) (void)solver.advance((n % 2 ? 0.005 : 0.01) * viscous_time);
       (void)solver.advance(0.005 * viscous_time);  // τ = 0.05 + 13 × 0.015 + 0.005 = 0.25
       const double exact = series_torque(0.05 + solver.time() / viscous_time);
       const double variable_error = std::abs(solver.torque() - exact) / exact;
-      std::printf("spin-up from tau=0.05, N_theta=%d, dt alternating 0.01/0.005 H^2/nu: T(%.4f H^2/nu) rel. error %.2e\n",
-                  azimuthal_cells, 0.05 + solver.time() / viscous_time, variable_error);
+      std::printf(
+          "spin-up from tau=0.05, N_theta=%d, dt alternating 0.01/0.005 H^2/nu: T(%.4f H^2/nu) rel. error %.2e\n",
+          azimuthal_cells, 0.05 + solver.time() / viscous_time, variable_error);
       // Alternating 2:1 steps carry a larger BDF2 error constant (the scalar model y' = −π²y
       // gives 2.5 × the error of uniform Δt = 0.01 H²/ν): bound it by 4 × that error.
       EXPECT_LT(variable_error, 6e-4);

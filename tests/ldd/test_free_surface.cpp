@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <cmath>
 #include <numbers>
 #include <random>
 #include <string>
@@ -21,18 +21,18 @@
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
-#include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
 
 namespace rheosim::ldd {
 namespace {
 
 std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
-  const std::string text = "kind: ldd\ndimension: 2\nscene: {type: column, size: [1, 1]}\n"
-                           "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
-                           std::to_string(viscosity) +
-                           "}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: column, size: [1, 1]}\n"
+      "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
+      std::to_string(viscosity) + "}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
   return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
 }
 
@@ -123,9 +123,10 @@ TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {
     max_speed = std::max(max_speed, std::hypot(s.velocity()[2 * i], s.velocity()[2 * i + 1]));
   }
   const double bottom_pressure = rho * g * (height - dx);
-  std::printf("[ measured ] hydrostatic column: max |p - rho g h| = %.4g Pa = %.3g %% of rho g H, max |u| = %.3g m/s, "
-              "volume drift %.3g %%\n",
-              worst, 100 * worst / bottom_pressure, max_speed, 100 * (s.fluid_volume() / volume0 - 1));
+  std::printf(
+      "[ measured ] hydrostatic column: max |p - rho g h| = %.4g Pa = %.3g %% of rho g H, max |u| = %.3g m/s, "
+      "volume drift %.3g %%\n",
+      worst, 100 * worst / bottom_pressure, max_speed, 100 * (s.fluid_volume() / volume0 - 1));
   EXPECT_LT(worst, 0.01 * bottom_pressure);
   EXPECT_LT(max_speed, 1e-3 * std::sqrt(g * height));  // noise level: 0.1 % of the wave speed
   EXPECT_LT(std::abs(s.fluid_volume() / volume0 - 1), 0.01);
@@ -285,9 +286,10 @@ TEST(FreeSurface, RecedingGateReleasesAViscousColumnWithoutPressureCollapse) {
         bottom = std::max(bottom, s.pressure()[i]);
     slowest_bottom = std::min(slowest_bottom, bottom);
   }
-  std::printf("[ measured ] receding gate: lowest bottom pressure %.4g Pa (rho g H = %.4g Pa), max |u| %.3g m/s, "
-              "volume drift %.3g %%\n",
-              slowest_bottom, rho * g * height, fastest, 100 * (s.fluid_volume() / volume0 - 1));
+  std::printf(
+      "[ measured ] receding gate: lowest bottom pressure %.4g Pa (rho g H = %.4g Pa), max |u| %.3g m/s, "
+      "volume drift %.3g %%\n",
+      slowest_bottom, rho * g * height, fastest, 100 * (s.fluid_volume() / volume0 - 1));
   EXPECT_GT(slowest_bottom, 0.5 * rho * g * height);
   EXPECT_LT(fastest, 0.1);  // ρgH²/μ; the unilateral gate alone: 0.2 m/s
   EXPECT_LT(std::abs(s.fluid_volume() / volume0 - 1), 0.01);
@@ -335,7 +337,8 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   std::filesystem::remove_all(dir);
   const RunOutcome outcome = run_case(c, dir, core::Log::null());
   EXPECT_EQ(outcome.status, "end_time");
-  for (const char* file : {"summary.json", "front.csv", "table1.csv", "table1.txt", "nodes.pvd", "frames/nodes_0000.vtk"})
+  for (const char* file :
+       {"summary.json", "front.csv", "table1.csv", "table1.txt", "nodes.pvd", "frames/nodes_0000.vtk"})
     EXPECT_TRUE(std::filesystem::exists(dir / file)) << file;
   const auto summary = core::read_json(dir / "summary.json");
   EXPECT_EQ(summary["scene"], "dam_break");

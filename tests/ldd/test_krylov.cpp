@@ -92,7 +92,7 @@ TEST(BiCGStabPair, IsBitIdenticalToTwoSeparateJacobiSolves) {
   const Chain c = chain(n);
   std::vector<double> b(2 * n, 0.0), x(2 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
-    b[2 * i] = 0.0;                                         // x component: Dirichlet values only
+    b[2 * i] = 0.0;                                          // x component: Dirichlet values only
     b[2 * i + 1] = std::sin(0.05 * static_cast<double>(i));  // y component: smooth interior source
     x[2 * i + 1] = 0.1;                                      // a warm start for y
   }

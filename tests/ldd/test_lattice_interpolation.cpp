@@ -81,7 +81,7 @@ TEST(QuadraticFit, FallsBackToLinearWithTooFewNeighbours) {
   c.positions = {0, 0, 0.1, 0, -0.1, 0, 0.0, 0.1};
   c.neighbours = find_neighbours(c.positions, 2, support);
   const QuadraticFit fit(c.positions, c.neighbours, support);
-  EXPECT_EQ(fit.linear_only_count(), 4U);  // node 0 sees all three others; the rest fewer
+  EXPECT_EQ(fit.linear_only_count(), 4U);           // node 0 sees all three others; the rest fewer
   const std::vector<double> f{1.0, 1.2, 0.8, 1.5};  // f = 1 + 2x + 5y
   const auto d = fit.derivatives(c.neighbours, f, 1, 0, 0);
   EXPECT_NEAR(d[0], 2.0, 1e-12);

@@ -102,7 +102,8 @@ TEST(Neighbours, FilteredCandidatesEqualAFreshSearchAfterSmallMoves) {
   neighbours_within(candidates, positions, 3, 1.0, used);
   expect_same(used, find_neighbours(positions, 3, 1.0));
   EXPECT_THROW(neighbours_within(candidates, positions, 3, 1.0, candidates), std::invalid_argument);
-  EXPECT_THROW((void)neighbours_within(candidates, std::vector<double>{0, 0, 1, 0, 2, 0}, 2, 1.0), std::invalid_argument);
+  EXPECT_THROW((void)neighbours_within(candidates, std::vector<double>{0, 0, 1, 0, 2, 0}, 2, 1.0),
+               std::invalid_argument);
 }
 
 TEST(Neighbours, LatticeNodesExactlyAtDistanceHAreExcluded) {
@@ -150,7 +151,7 @@ TEST(Neighbours, SingleNodeHasNoNeighbours) {
 
 TEST(Neighbours, NodesFarApart) {
   // Two close pairs a kilometre apart with h = 1 mm: 1e6 cells per direction, O(N) memory.
-  const std::vector<double> positions{0.0, 0.0, 0.0,    0.0005, 0.0, 0.0,
+  const std::vector<double> positions{0.0,    0.0,    0.0,     0.0005, 0.0,    0.0,
                                       1000.0, 1000.0, -1000.0, 1000.0, 1000.0, -999.9995};
   const NeighbourList list = find_neighbours(positions, 3, 1e-3);
   EXPECT_THAT(list.neighbours_of(0), ElementsAre(1u));

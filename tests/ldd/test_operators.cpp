@@ -28,8 +28,8 @@ namespace {
 constexpr double pi = std::numbers::pi;
 
 struct Cloud {
-  std::vector<double> x;        // interleaved 2D
-  std::vector<bool> boundary;   // on the unit square's edge
+  std::vector<double> x;       // interleaved 2D
+  std::vector<bool> boundary;  // on the unit square's edge
   double spacing = 0;
 };
 
@@ -339,8 +339,8 @@ double poisson_error(int n, double jitter) {
 
 TEST(Poisson, SecondOrderOnLattice) {
   const double e16 = poisson_error(16, 0.0), e32 = poisson_error(32, 0.0), e64 = poisson_error(64, 0.0);
-  std::printf("[ measured ] lattice Poisson max error: N=16 %.2e, N=32 %.2e, N=64 %.2e, orders %.2f, %.2f\n", e16,
-              e32, e64, std::log2(e16 / e32), std::log2(e32 / e64));
+  std::printf("[ measured ] lattice Poisson max error: N=16 %.2e, N=32 %.2e, N=64 %.2e, orders %.2f, %.2f\n", e16, e32,
+              e64, std::log2(e16 / e32), std::log2(e32 / e64));
   EXPECT_NEAR(std::log2(e16 / e32), 2.0, 0.25);
   EXPECT_NEAR(std::log2(e32 / e64), 2.0, 0.25);
 }

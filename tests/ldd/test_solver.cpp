@@ -20,10 +20,10 @@ namespace rheosim::ldd {
 namespace {
 
 std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
-  const std::string text = "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
-                           "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
-                           std::to_string(viscosity) +
-                           "}}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+      "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
+      std::to_string(viscosity) + "}}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
   return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
 }
 
@@ -179,9 +179,9 @@ TEST(RunCase, WritesSummaryCenterlinesFramesAndResiduals) {
   EXPECT_EQ(summary["input_sha256"].get<std::string>(), c.sha256);
   EXPECT_EQ(summary["centerlines"]["vertical"].size(), 101U);
   EXPECT_NEAR(summary["centerlines"]["vertical"].back()["u"].get<double>(), 1.0, 0.05);  // the lid
-  for (const char* f : {"centerline_vertical.csv", "centerline_horizontal.csv", "residual.csv", "field.vtk",
-                        "frames/nodes.vtk.series", "frames/field.vtk.series", "frames/field_0001.vtk", "nodes.pvd",
-                        "centerlines.gp"})
+  for (const char* f :
+       {"centerline_vertical.csv", "centerline_horizontal.csv", "residual.csv", "field.vtk", "frames/nodes.vtk.series",
+        "frames/field.vtk.series", "frames/field_0001.vtk", "nodes.pvd", "centerlines.gp"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   std::filesystem::remove_all(dir);
 }

@@ -225,8 +225,10 @@ TEST(WallRegistry, BuildsEveryTypeByNameAndRejectsUnknownOnes) {
 }
 
 std::string slump_case(const std::string& walls) {
-  return "kind: ldd\ndimension: 3\nscene:\n  type: slump\n  cone: {height: 0.1, bottom_diameter: 0.08, top_diameter: 0.04}\n"
-         "  lift_velocity: 0.5\n  walls:\n" + walls +
+  return "kind: ldd\ndimension: 3\nscene:\n  type: slump\n  cone: {height: 0.1, bottom_diameter: 0.08, top_diameter: "
+         "0.04}\n"
+         "  lift_velocity: 0.5\n  walls:\n" +
+         walls +
          "fluid: {density: 1000, rheology: {model: newtonian, viscosity: 10.0}}\ngravity: [0, 0, -9.81]\n"
          "resolution: {spacing: 0.01}\ntime: {step: 2.0e-3, end: 0.6}\nsolver: {pbd_sweeps: 6, moment_rcond: 0.01}\n";
 }

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "data/ghia1982.hpp"
+#include "rheosim/core/case.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
@@ -35,9 +35,10 @@ std::vector<double> probe_fractions(const std::vector<GhiaPoint>& points) {
 class RheologyFromYaml {
  public:
   static std::shared_ptr<const core::Rheology> make(const std::string& rheology_yaml) {
-    const std::string text = "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
-                             "fluid: {density: 1, rheology: " +
-                             rheology_yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
+    const std::string text =
+        "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+        "fluid: {density: 1, rheology: " +
+        rheology_yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
     return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
   }
 };
@@ -54,7 +55,8 @@ GhiaRun run_against_ghia(int cells, double dt, double end, double steady_toleran
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   SolverParams params;
-  params.rheology = RheologyFromYaml::make(re1000 ? "{model: newtonian, viscosity: 0.001}" : "{model: newtonian, viscosity: 0.01}");
+  params.rheology =
+      RheologyFromYaml::make(re1000 ? "{model: newtonian, viscosity: 0.001}" : "{model: newtonian, viscosity: 0.01}");
   params.spacing = 1.0 / cells;
   params.time_step = dt;
   GhiaRun run;
@@ -64,10 +66,11 @@ GhiaRun run_against_ghia(int cells, double dt, double end, double steady_toleran
     const double reference = re1000 ? points[k].re1000 : points[k].re100;
     run.max_error = std::max(run.max_error, std::abs(computed - reference));
   }
-  std::printf("[ measured ] Re %d, %d² cells, δt %g: t = %.2f s (%zu steps, residual %.1e), max |error| vs Ghia = %.4f, "
-              "%.2f ms/step\n",
-              re1000 ? 1000 : 100, cells, dt, run.result.time, run.result.steps, run.result.final_residual, run.max_error,
-              run.result.ms_per_step);
+  std::printf(
+      "[ measured ] Re %d, %d² cells, δt %g: t = %.2f s (%zu steps, residual %.1e), max |error| vs Ghia = %.4f, "
+      "%.2f ms/step\n",
+      re1000 ? 1000 : 100, cells, dt, run.result.time, run.result.steps, run.result.final_residual, run.max_error,
+      run.result.ms_per_step);
   return run;
 }
 

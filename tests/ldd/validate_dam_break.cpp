@@ -57,10 +57,11 @@ std::vector<double> lubrication_front(double rho, double g, double mu, double le
 }
 
 core::LddCase coarse_case(const char* time_step, const char* gradient = "auto") {
-  const std::string text = std::string(
-      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [2.0, 0.1], channel_length: 3.0}\n"
-      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
-      "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.01}\ntime: {step: ") +
+  const std::string text =
+      std::string(
+          "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [2.0, 0.1], channel_length: 3.0}\n"
+          "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+          "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.01}\ntime: {step: ") +
       time_step + ", end: 1.14}\nsolver: {velocity_tolerance: 1.0e-6, gradient: " + gradient + "}\n";
   return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec);
 }
@@ -77,9 +78,10 @@ TEST(DamBreakValidation, CoarseBinghamFrontStaysBelowTheNewtonianLubricationMode
   ASSERT_FALSE(r.diverged) << r.message;
   const std::vector<double> times(std::begin(DamBreakReference::times), std::end(DamBreakReference::times));
   const std::vector<double> lubrication = lubrication_front(1200, 9.81, 25.0, 2.0, 0.1, times);
-  std::printf("[ measured ] dam break Δ = 10 mm, δt = 1e-3 s: %zu nodes, %.3g ms/step, volume drift %.3g %%\n"
-              "[ measured ] %8s %10s %12s %12s\n",
-              r.nodes, r.ms_per_step, 100 * r.volume_drift, "t (s)", "exp. (m)", "LDD (m)", "lubric. (m)");
+  std::printf(
+      "[ measured ] dam break Δ = 10 mm, δt = 1e-3 s: %zu nodes, %.3g ms/step, volume drift %.3g %%\n"
+      "[ measured ] %8s %10s %12s %12s\n",
+      r.nodes, r.ms_per_step, 100 * r.volume_drift, "t (s)", "exp. (m)", "LDD (m)", "lubric. (m)");
   for (std::size_t q = 0; q < times.size(); ++q)
     std::printf("[ measured ] %8.2f %10.3f %12.3f %12.3f\n", times[q], DamBreakReference::experiment[q],
                 r.front_at_table1[q], lubrication[q]);
@@ -104,7 +106,8 @@ TEST(DamBreakValidation, SmallerTimeStepGivesTheSameFrontsAndGainsNoEnergy) {
                 fine.front_at_table1[q]);
   EXPECT_LT(fine_peak, 1.2 * coarse_peak);
   for (std::size_t q = 1; q < coarse.front_at_table1.size(); ++q)  // from t = 0.23 s
-    EXPECT_NEAR(fine.front_at_table1[q] / coarse.front_at_table1[q], 1.0, 0.08) << "t = " << DamBreakReference::times[q];
+    EXPECT_NEAR(fine.front_at_table1[q] / coarse.front_at_table1[q], 1.0, 0.08)
+        << "t = " << DamBreakReference::times[q];
 }
 
 // Growth per step of the linearised step map, probed at t = 0.25 s (the collapsing front).
@@ -126,10 +129,11 @@ TEST(DamBreakValidation, LinearisedStepIsStableWithTheCentredGradientOnly) {
   FreeNode centred_kind{}, renormalised_kind{};
   const double centred = step_map_growth("centred", centred_node, centred_kind);
   const double renormalised = step_map_growth("renormalised", renormalised_node, renormalised_kind);
-  std::printf("[ measured ] step-map growth per step at t = 0.25 s: centred %.5f (mode at node %zu, kind %d), "
-              "eq. 14 %.5f (node %zu, kind %d)\n",
-              centred, centred_node, static_cast<int>(centred_kind), renormalised, renormalised_node,
-              static_cast<int>(renormalised_kind));
+  std::printf(
+      "[ measured ] step-map growth per step at t = 0.25 s: centred %.5f (mode at node %zu, kind %d), "
+      "eq. 14 %.5f (node %zu, kind %d)\n",
+      centred, centred_node, static_cast<int>(centred_kind), renormalised, renormalised_node,
+      static_cast<int>(renormalised_kind));
   EXPECT_LE(centred, 1.0);
   EXPECT_GT(renormalised, 1.05);  // the defect the centred gradient removes, still visible to the probe
 }

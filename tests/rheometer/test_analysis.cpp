@@ -178,8 +178,8 @@ const std::vector<ModelCase> model_cases{
 
 TEST(AnalysisModels, RegistryListsEveryModelByName) {
   const auto names = builtin_flow_models().names();
-  const std::vector<std::string> expected{"bingham", "carreau", "casson", "cross", "herschel_bulkley", "newtonian",
-                                          "power_law"};
+  const std::vector<std::string> expected{"bingham",          "carreau",   "casson",   "cross",
+                                          "herschel_bulkley", "newtonian", "power_law"};
   EXPECT_EQ(names, expected);
   for (const auto& c : model_cases) EXPECT_EQ(make_flow_model(c.name)->name(), c.name);
   try {

@@ -4,6 +4,7 @@
 // missing. (They share this file's ctest label; filter them with -R OpenFoamValidation.)
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -14,7 +15,6 @@
 #include <regex>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
@@ -28,12 +28,12 @@ namespace {
 namespace fs = std::filesystem;
 
 core::Case rheometer_case(const std::string& rheology, double density = 1000.0) {
-  return core::parse_case("kind: rheometer\n"
-                          "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
-                          "fluid:\n  density: " +
-                              std::to_string(density) + "\n  rheology: " + rheology +
-                              "\nshear_rates: [1, 10, 50, 100]\n",
-                          "plate.yaml");
+  return core::parse_case(
+      "kind: rheometer\n"
+      "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
+      "fluid:\n  density: " +
+          std::to_string(density) + "\n  rheology: " + rheology + "\nshear_rates: [1, 10, 50, 100]\n",
+      "plate.yaml");
 }
 
 std::string read(const fs::path& p) {
@@ -73,7 +73,8 @@ std::string list_body(const std::string& dict, const std::string& keyword) {
 }
 
 std::size_t count(const std::string& text, const std::regex& re) {
-  return static_cast<std::size_t>(std::distance(std::sregex_iterator(text.begin(), text.end(), re), std::sregex_iterator()));
+  return static_cast<std::size_t>(
+      std::distance(std::sregex_iterator(text.begin(), text.end(), re), std::sregex_iterator()));
 }
 
 OpenFoamExportOptions m1_options() {
@@ -82,9 +83,7 @@ OpenFoamExportOptions m1_options() {
   return options;
 }
 
-std::map<std::string, double> coeffs(const OpenFoamTransport& t) {
-  return {t.coeffs.begin(), t.coeffs.end()};
-}
+std::map<std::string, double> coeffs(const OpenFoamTransport& t) { return {t.coeffs.begin(), t.coeffs.end()}; }
 
 TEST(OpenFoamExport, MeshPresetsFollowCd) {
   EXPECT_EQ(OpenFoamMesh::preset("M1"), (OpenFoamMesh{15, 30, 4}));
@@ -101,9 +100,15 @@ TEST(OpenFoamExport, WritesEveryFileOfTheCase) {
   TempDir dir("files");
   const auto c = rheometer_case("{model: power_law, consistency: 1.0e-3, index: 0.6}");
   const auto result = export_openfoam(c, 50.0, dir.path(), {});
-  const std::vector<std::string> expected = {"system/blockMeshDict", "system/controlDict",  "system/fvSchemes",
-                                             "system/fvSolution",    "constant/transportProperties",
-                                             "constant/turbulenceProperties", "0/U", "0/p", "README",
+  const std::vector<std::string> expected = {"system/blockMeshDict",
+                                             "system/controlDict",
+                                             "system/fvSchemes",
+                                             "system/fvSolution",
+                                             "constant/transportProperties",
+                                             "constant/turbulenceProperties",
+                                             "0/U",
+                                             "0/p",
+                                             "README",
                                              "rheosim.json"};
   ASSERT_EQ(result.files.size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) {
@@ -185,10 +190,14 @@ TEST(OpenFoamExport, BlockMeshDictIsAFiveBlockOGrid) {
   for (auto it = std::sregex_iterator(vertices.begin(), vertices.end(), point); it != std::sregex_iterator(); ++it) {
     const double x = std::stod((*it)[1]), y = std::stod((*it)[2]), z = std::stod((*it)[3]);
     const double r = std::hypot(x, y);
-    if (std::abs(r - 0.015) < 1e-12) ++on_rim;
-    else EXPECT_NEAR(r, 0.0075 * std::sqrt(2.0), 1e-12);  // core corners at s = R/2
-    if (z == 0.0005) ++on_top;
-    else EXPECT_EQ(z, 0.0);
+    if (std::abs(r - 0.015) < 1e-12)
+      ++on_rim;
+    else
+      EXPECT_NEAR(r, 0.0075 * std::sqrt(2.0), 1e-12);  // core corners at s = R/2
+    if (z == 0.0005)
+      ++on_top;
+    else
+      EXPECT_EQ(z, 0.0);
   }
   EXPECT_EQ(on_rim, 8);
   EXPECT_EQ(on_top, 8);
@@ -223,7 +232,9 @@ TEST(OpenFoamExport, BlockMeshDictIsAFiveBlockOGrid) {
 
 TEST(OpenFoamExport, TransportPropertiesAreKinematic) {
   const double rho = 1250.0;
-  const auto fluid = [&](const std::string& rheology) { return std::get<core::RheometerCase>(rheometer_case(rheology, rho).spec).fluid; };
+  const auto fluid = [&](const std::string& rheology) {
+    return std::get<core::RheometerCase>(rheometer_case(rheology, rho).spec).fluid;
+  };
 
   auto t = openfoam_transport(fluid("{model: newtonian, viscosity: 2.5e-3}"));
   EXPECT_EQ(t.model, "Newtonian");
@@ -263,7 +274,8 @@ TEST(OpenFoamExport, TransportPropertiesAreKinematic) {
   const double casson_rest = std::pow(std::sqrt(0.01) + std::sqrt(1e-2 * 1000), 2) / rho;
   EXPECT_NEAR(coeffs(t).at("nuMax"), casson_rest, 1e-5 * casson_rest);
 
-  t = openfoam_transport(fluid("{model: carreau_yasuda, zero_shear_viscosity: 1.0, infinite_shear_viscosity: 0.001, "
+  t =
+      openfoam_transport(fluid("{model: carreau_yasuda, zero_shear_viscosity: 1.0, infinite_shear_viscosity: 0.001, "
                                "time_constant: 0.5, a: 2, n: 0.4}"));
   EXPECT_EQ(t.model, "BirdCarreau");
   EXPECT_DOUBLE_EQ(coeffs(t).at("nu0"), 1.0 / rho);
@@ -272,7 +284,8 @@ TEST(OpenFoamExport, TransportPropertiesAreKinematic) {
   EXPECT_DOUBLE_EQ(coeffs(t).at("n"), 0.4);
   EXPECT_DOUBLE_EQ(coeffs(t).at("a"), 2.0);
 
-  t = openfoam_transport(fluid("{model: cross, zero_shear_viscosity: 1.0, infinite_shear_viscosity: 0.001, "
+  t =
+      openfoam_transport(fluid("{model: cross, zero_shear_viscosity: 1.0, infinite_shear_viscosity: 0.001, "
                                "time_constant: 0.5, exponent: 0.7}"));
   EXPECT_EQ(t.model, "CrossPowerLaw");
   EXPECT_DOUBLE_EQ(coeffs(t).at("nu0"), 1.0 / rho);
@@ -283,13 +296,14 @@ TEST(OpenFoamExport, TransportPropertiesAreKinematic) {
 
 TEST(OpenFoamExport, ChoosesOneOfSeveralFluids) {
   TempDir dir("fluids");
-  const auto c = core::parse_case("kind: rheometer\n"
-                                  "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
-                                  "fluids:\n"
-                                  "  - {name: water, density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\n"
-                                  "  - {name: thin, density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}\n"
-                                  "shear_rates: [10]\n",
-                                  "fluids.yaml");
+  const auto c = core::parse_case(
+      "kind: rheometer\n"
+      "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
+      "fluids:\n"
+      "  - {name: water, density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\n"
+      "  - {name: thin, density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}\n"
+      "shear_rates: [10]\n",
+      "fluids.yaml");
   OpenFoamExportOptions options;
   options.mesh = OpenFoamMesh::m1();
   EXPECT_EQ(export_openfoam(c, 10.0, dir.path(), options).transport.model, "Newtonian");  // the first
@@ -386,8 +400,7 @@ double moment_z(const fs::path& file) {
 TEST(OpenFoamValidation, BlockMeshAndCheckMeshAcceptTheM1Grid) {
   if (!have("blockMesh") || !have("checkMesh")) GTEST_SKIP() << "OpenFOAM (/usr/bin/blockMesh) is not installed";
   TempDir dir("m1mesh");
-  (void)export_openfoam(rheometer_case("{model: newtonian, viscosity: 1.0e-3}"), 10.0, dir.path(),
-                        m1_options());
+  (void)export_openfoam(rheometer_case("{model: newtonian, viscosity: 1.0e-3}"), 10.0, dir.path(), m1_options());
   ASSERT_EQ(run_in(dir.path(), "blockMesh > log.blockMesh 2>&1"), 0) << read(dir.path() / "log.blockMesh");
   ASSERT_EQ(run_in(dir.path(), "checkMesh > log.checkMesh 2>&1"), 0) << read(dir.path() / "log.checkMesh");
   const std::string log = read(dir.path() / "log.checkMesh");
@@ -403,8 +416,8 @@ TEST(OpenFoamValidation, BlockMeshAndCheckMeshAcceptTheM1Grid) {
 TEST(OpenFoamValidation, SimpleFoamNewtonianTorqueOnM1) {
   if (!have("blockMesh") || !have("simpleFoam")) GTEST_SKIP() << "OpenFOAM (/usr/bin/simpleFoam) is not installed";
   TempDir dir("m1run");
-  const auto result = export_openfoam(rheometer_case("{model: newtonian, viscosity: 1.0e-3}"), 10.0, dir.path(),
-                                      m1_options());
+  const auto result =
+      export_openfoam(rheometer_case("{model: newtonian, viscosity: 1.0e-3}"), 10.0, dir.path(), m1_options());
   ASSERT_EQ(run_in(dir.path(), "blockMesh > log.blockMesh 2>&1 && simpleFoam > log.simpleFoam 2>&1"), 0)
       << read(dir.path() / "log.simpleFoam");
   EXPECT_NE(read(dir.path() / "log.simpleFoam").find("SIMPLE solution converged"), std::string::npos);

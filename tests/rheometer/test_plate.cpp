@@ -59,8 +59,7 @@ TEST(Plate, YieldStressClosedFormsMatchQuadratureAsRegularisationVanishes) {
   const double rate = 10.0;
   const std::string bingham = "model: bingham\nplastic_viscosity: 0.1\nyield_stress: 5.0\nregularization: ";
   const std::string casson = "model: casson\nplastic_viscosity: 0.1\nyield_stress: 5.0\nregularization: ";
-  const std::string hb =
-      "model: herschel_bulkley\nconsistency: 0.1\nindex: 0.5\nyield_stress: 5.0\nregularization: ";
+  const std::string hb = "model: herschel_bulkley\nconsistency: 0.1\nindex: 0.5\nyield_stress: 5.0\nregularization: ";
   for (const auto& [yaml, exact] : {std::pair{bingham, bingham_torque(cd_plate, 0.1, 5.0, rate)},
                                     std::pair{casson, casson_torque(cd_plate, 0.1, 5.0, rate)},
                                     std::pair{hb, herschel_bulkley_torque(cd_plate, 0.1, 0.5, 5.0, rate)}}) {
@@ -79,8 +78,9 @@ TEST(Plate, YieldStressClosedFormsMatchQuadratureAsRegularisationVanishes) {
 }
 
 TEST(Plate, LawsWithoutClosedFormSayNothing) {
-  const auto fluid = law("model: cross\nzero_shear_viscosity: 1.0\ninfinite_shear_viscosity: 0.01\n"
-                         "time_constant: 0.1\nexponent: 0.7\n");
+  const auto fluid =
+      law("model: cross\nzero_shear_viscosity: 1.0\ninfinite_shear_viscosity: 0.01\n"
+          "time_constant: 0.1\nexponent: 0.7\n");
   EXPECT_FALSE(closed_form_torque(cd_plate, *fluid, 10).has_value());
   EXPECT_GT(creeping_torque(cd_plate, *fluid, 10), 0);
 }

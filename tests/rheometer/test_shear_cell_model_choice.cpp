@@ -63,8 +63,8 @@ TEST(ShearCellGroups, SeedPointAtTheEdgeOfTheStokesRegime) {
   auto p = *r.particles;
   const auto g = dimensionless_groups(r, r.fluid, p, 100.0);
   EXPECT_NEAR(g.gap_reynolds, 0.8333333333, 1e-9);
-  EXPECT_NEAR(g.particle_reynolds, 1.0, 1e-12);         // ρ γ̇ a² / μ
-  EXPECT_NEAR(g.stokes, 2.0 / 9.0, 1e-12);              // (2/9) ρ_p γ̇ a² / μ
+  EXPECT_NEAR(g.particle_reynolds, 1.0, 1e-12);  // ρ γ̇ a² / μ
+  EXPECT_NEAR(g.stokes, 2.0 / 9.0, 1e-12);       // (2/9) ρ_p γ̇ a² / μ
   EXPECT_EQ(g.bingham, 0.0);
   EXPECT_NEAR(g.stiffness, 0.1 / (3e9 / (2 * (1 - 0.33 * 0.33))), 1e-20);
   EXPECT_DOUBLE_EQ(g.gap_over_diameter, 2.5);
@@ -111,7 +111,6 @@ TEST(ShearCellModelChoice, CaseKeyAndAutomaticChoice) {
   const auto small_box = choose_suspension_model(small_predictive, 0.1, 1e9);
   EXPECT_EQ(small_box.model, Model::walled_box);
   EXPECT_NE(small_box.reason.find("R/H = 6"), std::string::npos) << small_box.reason;
-
 }
 
 TEST(ShearCellModelChoice, DragOnlyAutomaticChoice) {

@@ -117,7 +117,8 @@ TEST(ValidateAnalysis, IntervalsCoverTheTruthAtTheNominalRate) {
       const auto stress = noisy_curve(*model, truth->values, rates, truth->noise, 1000 + static_cast<std::uint64_t>(s));
       const auto fit = fit_flow_curve(model, rates, stress);
       converged += fit.converged ? 1 : 0;
-      for (std::size_t j = 0; j < truth->values.size(); ++j) covered[j] += fit.ci95[j].contains(truth->values[j]) ? 1 : 0;
+      for (std::size_t j = 0; j < truth->values.size(); ++j)
+        covered[j] += fit.ci95[j].contains(truth->values[j]) ? 1 : 0;
     }
     EXPECT_EQ(converged, seeds) << name;
     std::string line = fmt::format("coverage of 95 % intervals over {} seeds, {:>17}:", seeds, name);
@@ -135,8 +136,8 @@ TEST(ValidateAnalysis, AkaikeCriterionPrefersTheTrueModel) {
   // Each law's data are fitted by the laws a rheologist would try; AICc should pick the law that
   // generated them in most noise realisations (nested laws can tie when the extra parameter is 0).
   const auto rates = log_spaced(0.1, 1000, 20);
-  const std::vector<std::string> candidates{"newtonian", "power_law", "bingham", "casson", "herschel_bulkley",
-                                            "cross", "carreau"};
+  const std::vector<std::string> candidates{"newtonian",        "power_law", "bingham", "casson",
+                                            "herschel_bulkley", "cross",     "carreau"};
   const int seeds = 20;
   for (const auto& t : truths) {
     const auto model = make_flow_model(t.name);
@@ -161,7 +162,8 @@ TEST(ValidateAnalysis, PlateCorrectionRecoversTheFlowCurveFromQuadratureTorques)
   // (plate.hpp): the local log–log fit of n′ makes τ_R accurate to the curvature of ln T.
   const auto rates = log_spaced(0.1, 1000, 25);
   for (const std::string& yaml : {
-           std::string("model: herschel_bulkley\nconsistency: 0.4\nindex: 0.6\nyield_stress: 3.0\nregularization: 1.0e9\n"),
+           std::string(
+               "model: herschel_bulkley\nconsistency: 0.4\nindex: 0.6\nyield_stress: 3.0\nregularization: 1.0e9\n"),
            std::string("model: carreau_yasuda\nzero_shear_viscosity: 2.0\ninfinite_shear_viscosity: 0.01\n"
                        "time_constant: 0.8\na: 2\nn: 0.4\n"),
        }) {
@@ -193,9 +195,10 @@ TEST(ValidateAnalysis, PipelineFromNoisyTorqueRecoversHerschelBulkley) {
     torque.push_back(herschel_bulkley_torque(cd_plate, 0.4, 0.6, 3.0, r) * (1 + 0.01 * noise.normal()));
   const auto c = rim_stress_curve(cd_plate, rates, torque);
   const auto fit = fit_flow_curve("herschel_bulkley", c.rim_shear_rate, c.corrected_stress);
-  std::cout << fmt::format("pipeline HB: τ_y {:.4g} [{:.4g}, {:.4g}], k {:.4g} [{:.4g}, {:.4g}], n {:.4g} [{:.4g}, {:.4g}]\n",
-                           fit.params[0], fit.ci95[0].lower, fit.ci95[0].upper, fit.params[1], fit.ci95[1].lower,
-                           fit.ci95[1].upper, fit.params[2], fit.ci95[2].lower, fit.ci95[2].upper);
+  std::cout << fmt::format(
+      "pipeline HB: τ_y {:.4g} [{:.4g}, {:.4g}], k {:.4g} [{:.4g}, {:.4g}], n {:.4g} [{:.4g}, {:.4g}]\n", fit.params[0],
+      fit.ci95[0].lower, fit.ci95[0].upper, fit.params[1], fit.ci95[1].lower, fit.ci95[1].upper, fit.params[2],
+      fit.ci95[2].lower, fit.ci95[2].upper);
   EXPECT_TRUE(fit.ci95[0].contains(3.0));
   EXPECT_TRUE(fit.ci95[1].contains(0.4));
   EXPECT_TRUE(fit.ci95[2].contains(0.6));
@@ -218,7 +221,8 @@ TEST(ValidateAnalysis, YieldStressEstimatesAreKeptApart) {
     for (int s = 0; s < seeds; ++s) {
       Noise noise(9000 + static_cast<std::uint64_t>(s));
       std::vector<double> torque;
-      for (const double r : rates) torque.push_back(bingham_torque(cd_plate, 0.01, 2.0, r) * (1 + 0.01 * noise.normal()));
+      for (const double r : rates)
+        torque.push_back(bingham_torque(cd_plate, 0.01, 2.0, r) * (1 + 0.01 * noise.normal()));
       const auto e = estimate_yield_stress(cd_plate, rates, torque);
       if (s == 0) print("Bingham data", e);
       for (const auto& y : e.all()) {

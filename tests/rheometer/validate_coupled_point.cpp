@@ -39,10 +39,11 @@ particles: {diameter: 2.0e-4, density: 1000, hydrodynamics: {model: none}}
   ASSERT_TRUE(liquid.has_value());
   const rheometer::SweepPoint suspension_point{1, "fluid", 0.1, 100.0};
   const rheometer::PointResult direct = runners.suspension(suspension_point, {});
-  std::printf("coupled point: converged=%d torque=%.4e ± %.2e (fluid %.4e, contact %.4e), liquid %.4e, strain %.1f, "
-              "wall %.1f s %s\n",
-              direct.converged, direct.torque, direct.torque_std_error, direct.torque_fluid, direct.torque_contact,
-              liquid->torque, direct.strain, direct.wall_time, direct.failure.c_str());
+  std::printf(
+      "coupled point: converged=%d torque=%.4e ± %.2e (fluid %.4e, contact %.4e), liquid %.4e, strain %.1f, "
+      "wall %.1f s %s\n",
+      direct.converged, direct.torque, direct.torque_std_error, direct.torque_fluid, direct.torque_contact,
+      liquid->torque, direct.strain, direct.wall_time, direct.failure.c_str());
   ASSERT_TRUE(std::isfinite(direct.torque)) << direct.failure;
   EXPECT_NEAR(direct.torque, direct.torque_fluid + direct.torque_contact, 1e-9 * std::abs(direct.torque));
   EXPECT_GT(direct.strain, 0.0);

@@ -54,12 +54,10 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
   const double radius = 5e-3;
   const double gap = 5e-4;
   const double cell_length = 1.6e-3;
-  core::ParticleProperties particles{.volume_fraction = phi, .diameter = 2e-4, .density = density,
-                                     .youngs_modulus = 5e6};
-  const coupling::SteadyStateSettings steady{.strain_window = 2.0,
-                                             .relative_tolerance = 0.02,
-                                             .min_strain = 4.0,
-                                             .max_strain = 20.0};
+  core::ParticleProperties particles{
+      .volume_fraction = phi, .diameter = 2e-4, .density = density, .youngs_modulus = 5e6};
+  const coupling::SteadyStateSettings steady{
+      .strain_window = 2.0, .relative_tolerance = 0.02, .min_strain = 4.0, .max_strain = 20.0};
   const double dt = 0.3 * dem::rayleigh_time({1e-4, density, particles.youngs_modulus, particles.poisson_ratio});
   const int interval = std::max(1, static_cast<int>(1e-5 / dt));
   const int axial_cells = static_cast<int>(4);
@@ -95,11 +93,12 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
       c.run_directory = dir / fmt::format("cell_{}_{}", rate, seed);
       fs::create_directories(c.run_directory);
       const auto cell = coupling::run_shear_cell_point(c);
-      std::printf("cell  rate %g seed %llu: tau %.5g +- %.2g Pa (%.4f x mu rate; fluid %.5g, contact %.5g), N %lld, "
-                  "strain %.1f, converged %d, %.1f s\n",
-                  rate, static_cast<unsigned long long>(seed), cell.stress, cell.stress_error,
-                  cell.stress / (1e-3 * rate), cell.stress_fluid, cell.stress_contact,
-                  static_cast<long long>(cell.particles), cell.strain, cell.converged, cell.wall_time);
+      std::printf(
+          "cell  rate %g seed %llu: tau %.5g +- %.2g Pa (%.4f x mu rate; fluid %.5g, contact %.5g), N %lld, "
+          "strain %.1f, converged %d, %.1f s\n",
+          rate, static_cast<unsigned long long>(seed), cell.stress, cell.stress_error, cell.stress / (1e-3 * rate),
+          cell.stress_fluid, cell.stress_contact, static_cast<long long>(cell.particles), cell.strain, cell.converged,
+          cell.wall_time);
       cell_stress.push_back(cell.stress);
 
       d.geometry = {.radius = radius, .gap = gap};
@@ -120,11 +119,12 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
       d.run_directory = dir / fmt::format("disk_{}_{}", rate, seed);
       fs::create_directories(d.run_directory);
       const auto disk = coupling::run_point(d);
-      std::printf("disk  rate %g seed %llu: T %.5g +- %.2g N m (fluid %.5g, contact %.5g, bottom fluid %.5g), N %lld, "
-                  "strain %.1f, converged %d, %.1f s (dem %.1f)\n",
-                  rate, static_cast<unsigned long long>(seed), disk.torque, disk.torque_error, disk.torque_fluid,
-                  disk.torque_contact, disk.bottom_torque_fluid, static_cast<long long>(disk.particles), disk.strain,
-                  disk.converged, disk.wall_time, disk.cost.dem);
+      std::printf(
+          "disk  rate %g seed %llu: T %.5g +- %.2g N m (fluid %.5g, contact %.5g, bottom fluid %.5g), N %lld, "
+          "strain %.1f, converged %d, %.1f s (dem %.1f)\n",
+          rate, static_cast<unsigned long long>(seed), disk.torque, disk.torque_error, disk.torque_fluid,
+          disk.torque_contact, disk.bottom_torque_fluid, static_cast<long long>(disk.particles), disk.strain,
+          disk.converged, disk.wall_time, disk.cost.dem);
       disk_torques.push_back(disk.torque);
     }
     const auto [cell_mean, cell_se] = mean_and_error(cell_stress);
@@ -153,10 +153,11 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
     // liquid carries its inertia and grid), and as plain torques; means over the seeds.
     const double difference = (cell_torque / liquid) / (disk_torque[i] / disk_liquid[i]) - 1.0;
     const double error = std::hypot(cell_error[i], disk_error[i] / disk_torque[i]);
-    std::printf("rate %g: disk %.5g +- %.2g N m (%.4f +- %.4f x its liquid %.5g): ratio difference %+.2f +- %.2f %%, "
-                "plain cell/disk - 1 = %+.2f %%\n",
-                rates[i], disk_torque[i], disk_error[i], disk_torque[i] / disk_liquid[i], disk_error[i] / disk_liquid[i],
-                disk_liquid[i], 100.0 * difference, 100.0 * error, 100.0 * (cell_torque / disk_torque[i] - 1.0));
+    std::printf(
+        "rate %g: disk %.5g +- %.2g N m (%.4f +- %.4f x its liquid %.5g): ratio difference %+.2f +- %.2f %%, "
+        "plain cell/disk - 1 = %+.2f %%\n",
+        rates[i], disk_torque[i], disk_error[i], disk_torque[i] / disk_liquid[i], disk_error[i] / disk_liquid[i],
+        disk_liquid[i], 100.0 * difference, 100.0 * error, 100.0 * (cell_torque / disk_torque[i] - 1.0));
     EXPECT_LE(std::abs(difference), 0.03) << rates[i];
   }
   fs::remove_all(dir);

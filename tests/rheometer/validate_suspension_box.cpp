@@ -26,8 +26,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
@@ -65,13 +65,14 @@ const SuspensionBoxResult& box(double phi, double friction = 0.3, double stokes 
     s.max_strain = s.warmup_strain + min_averaging + 1.0;
   }
   const auto r = coupling::run_suspension_box(s);
-  std::printf("box φ %.3f μ_c %.2f St %.3g: η_r %.4f ± %.4f, N1/τ %.4f ± %.4f, N2/τ %.4f ± %.4f, Π/τ %.3f, "
-              "contacts/sphere %.2f, overlap max %.4f, strain %.1f, %.1f s\n",
-              phi, friction, stokes, r.relative_viscosity.mean, r.relative_viscosity.error,
-              r.n1.mean / r.relative_viscosity.mean, r.n1.error / r.relative_viscosity.mean,
-              r.n2.mean / r.relative_viscosity.mean, r.n2.error / r.relative_viscosity.mean,
-              r.particle_pressure.mean / r.relative_viscosity.mean, r.mean_contacts_per_particle, r.max_overlap,
-              r.strain, r.wall_time);
+  std::printf(
+      "box φ %.3f μ_c %.2f St %.3g: η_r %.4f ± %.4f, N1/τ %.4f ± %.4f, N2/τ %.4f ± %.4f, Π/τ %.3f, "
+      "contacts/sphere %.2f, overlap max %.4f, strain %.1f, %.1f s\n",
+      phi, friction, stokes, r.relative_viscosity.mean, r.relative_viscosity.error,
+      r.n1.mean / r.relative_viscosity.mean, r.n1.error / r.relative_viscosity.mean,
+      r.n2.mean / r.relative_viscosity.mean, r.n2.error / r.relative_viscosity.mean,
+      r.particle_pressure.mean / r.relative_viscosity.mean, r.mean_contacts_per_particle, r.max_overlap, r.strain,
+      r.wall_time);
   return runs.emplace(key, r).first->second;
 }
 
@@ -163,7 +164,8 @@ TEST(SuspensionBoxValidation, RateIndependentInTheStokesRegime) {
   // The CD §4 spheres (a = 100 µm, ρ_p = 1000, μ = 1e-3) at 10 and 100 1/s have St = 0.022 and
   // 0.22: their inertia leaves η_r within 5 % of the overdamped limit.
   const double overdamped = box(0.3).relative_viscosity.mean;
-  for (const double st : {0.02, 0.2}) EXPECT_NEAR(box(0.3, 0.3, st).relative_viscosity.mean, overdamped, 0.05 * overdamped);
+  for (const double st : {0.02, 0.2})
+    EXPECT_NEAR(box(0.3, 0.3, st).relative_viscosity.mean, overdamped, 0.05 * overdamped);
 }
 
 TEST(SuspensionBoxValidation, NormalStressDifferencesAgainstDai2013) {

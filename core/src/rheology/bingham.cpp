@@ -23,8 +23,7 @@ void check(std::string_view key, double value, const Range& range) {
 Bingham::Params Bingham::Params::from(const Section& section) {
   const Params defaults;
   Params p;
-  p.plastic_viscosity =
-      section.number({"plastic_viscosity", "plastic viscosity μ∞", "Pa·s"}, plastic_viscosity_range);
+  p.plastic_viscosity = section.number({"plastic_viscosity", "plastic viscosity μ∞", "Pa·s"}, plastic_viscosity_range);
   p.yield_stress = section.number({"yield_stress", "yield stress τ0", "Pa"}, yield_stress_range);
   p.regularization = section.number_or({"regularization", "Papanastasiou regularisation parameter m", "s"},
                                        defaults.regularization, regularization_range);

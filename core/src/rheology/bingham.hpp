@@ -41,8 +41,8 @@ namespace papanastasiou {
 // the x⁹ term (relative truncation error < 1e-16 at x = 0.1).
 [[nodiscard]] inline double factor_derivative(double x) {
   if (x < 0.1) {
-    constexpr double c[] = {-1.0 / 2,      1.0 / 3,      -1.0 / 8,        1.0 / 30,      -1.0 / 144,
-                            1.0 / 840,     -1.0 / 5760,  1.0 / 45360,     -1.0 / 403200, 1.0 / 3991680};
+    constexpr double c[] = {-1.0 / 2,  1.0 / 3,     -1.0 / 8,    1.0 / 30,      -1.0 / 144,
+                            1.0 / 840, -1.0 / 5760, 1.0 / 45360, -1.0 / 403200, 1.0 / 3991680};
     double sum = 0.0;
     for (int k = 9; k >= 0; --k) sum = sum * x + c[k];
     return sum;

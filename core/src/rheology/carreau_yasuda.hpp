@@ -38,11 +38,11 @@ class CarreauYasuda final : public RheologyBase<CarreauYasuda> {
   static constexpr double min_reduced_shear_rate = 1e-9;
 
   struct Params {
-    double zero_shear_viscosity = 1.0;        // μ0 [Pa·s], > 0
-    double infinite_shear_viscosity = 0.0;    // μ∞ [Pa·s], [0, μ0)
-    double time_constant = 1.0;               // λ [s], > 0
-    double a = 2.0;                           // [-], (0, 10]
-    double n = 0.5;                           // [-], (0, 2]
+    double zero_shear_viscosity = 1.0;      // μ0 [Pa·s], > 0
+    double infinite_shear_viscosity = 0.0;  // μ∞ [Pa·s], [0, μ0)
+    double time_constant = 1.0;             // λ [s], > 0
+    double a = 2.0;                         // [-], (0, 10]
+    double n = 0.5;                         // [-], (0, 2]
     static Params from(const Section& section);
   };
 
@@ -53,7 +53,7 @@ class CarreauYasuda final : public RheologyBase<CarreauYasuda> {
     return params_.infinite_shear_viscosity + viscosity_drop_ * std::pow(1.0 + reduced, exponent_);
   }
   [[nodiscard]] double dmu(double shear_rate) const {
-    if (!(shear_rate > min_shear_rate_)) return 0.0;  // μ is held below γ̇_min
+    if (!(shear_rate > min_shear_rate_)) return 0.0;                                 // μ is held below γ̇_min
     const double reduced = std::pow(params_.time_constant * shear_rate, params_.a);  // (λγ̇)^a
     const double base = 1.0 + reduced;
     // (λγ̇)^a / γ̇ = λ^a γ̇^(a−1)

@@ -46,12 +46,11 @@ class Cross final : public RheologyBase<Cross> {
   explicit Cross(Params params);
 
   [[nodiscard]] double mu(double shear_rate) const {
-    const double reduced =
-        std::pow(params_.time_constant * std::max(shear_rate, min_shear_rate_), params_.exponent);
+    const double reduced = std::pow(params_.time_constant * std::max(shear_rate, min_shear_rate_), params_.exponent);
     return params_.infinite_shear_viscosity + viscosity_drop_ / (1.0 + reduced);
   }
   [[nodiscard]] double dmu(double shear_rate) const {
-    if (!(shear_rate > min_shear_rate_)) return 0.0;  // μ is held below γ̇_min
+    if (!(shear_rate > min_shear_rate_)) return 0.0;                                        // μ is held below γ̇_min
     const double reduced = std::pow(params_.time_constant * shear_rate, params_.exponent);  // (λγ̇)^m
     const double base = 1.0 + reduced;
     // (λγ̇)^m / γ̇ = λ^m γ̇^(m−1)

@@ -13,7 +13,8 @@ namespace rheosim::core::detail {
 
 inline void check_parameter(std::string_view model, std::string_view key, double value, const Range& range) {
   if (!std::isfinite(value) || !range.contains(value))
-    throw std::invalid_argument(fmt::format("{}: {} = {} is out of range, expected {}", model, key, value, range.str()));
+    throw std::invalid_argument(
+        fmt::format("{}: {} = {} is out of range, expected {}", model, key, value, range.str()));
 }
 
 }  // namespace rheosim::core::detail

@@ -20,19 +20,19 @@ template <class Params>
 void read_plateaus(const Section& section, Params& p) {
   p.zero_shear_viscosity =
       section.number({"zero_shear_viscosity", "zero-shear viscosity μ0", "Pa·s"}, zero_shear_viscosity_range());
-  p.infinite_shear_viscosity = section.number(
-      {"infinite_shear_viscosity", "infinite-shear viscosity μ∞ < μ0", "Pa·s"}, infinite_shear_viscosity_range());
+  p.infinite_shear_viscosity = section.number({"infinite_shear_viscosity", "infinite-shear viscosity μ∞ < μ0", "Pa·s"},
+                                              infinite_shear_viscosity_range());
   p.time_constant = section.number({"time_constant", "time constant λ", "s"}, time_constant_range());
 }
 
 template <class Params>
 void check_plateau_order(const Section& section, const Params& p) {
   if (!(p.infinite_shear_viscosity < p.zero_shear_viscosity))
-    section.fail("infinite_shear_viscosity",
-                 fmt::format("{} is not below zero_shear_viscosity = {}", p.infinite_shear_viscosity,
-                             p.zero_shear_viscosity),
-                 fmt::format("infinite-shear viscosity μ∞ in [0, {}), Pa·s", p.zero_shear_viscosity),
-                 "μ∞ is the high-shear plateau and must lie below the zero-shear plateau μ0");
+    section.fail(
+        "infinite_shear_viscosity",
+        fmt::format("{} is not below zero_shear_viscosity = {}", p.infinite_shear_viscosity, p.zero_shear_viscosity),
+        fmt::format("infinite-shear viscosity μ∞ in [0, {}), Pa·s", p.zero_shear_viscosity),
+        "μ∞ is the high-shear plateau and must lie below the zero-shear plateau μ0");
 }
 
 template <class Params>

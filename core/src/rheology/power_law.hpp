@@ -31,9 +31,9 @@ class PowerLaw final : public RheologyBase<PowerLaw> {
   static constexpr std::string_view name = "power_law";
 
   struct Params {
-    double consistency = 1.0;       // k [Pa·s^n], > 0
-    double index = 1.0;             // n [-], (0, 2]
-    double min_shear_rate = 1e-6;   // γ̇_min [1/s], > 0: μ is held constant below it
+    double consistency = 1.0;      // k [Pa·s^n], > 0
+    double index = 1.0;            // n [-], (0, 2]
+    double min_shear_rate = 1e-6;  // γ̇_min [1/s], > 0: μ is held constant below it
     static Params from(const Section& section);
   };
 

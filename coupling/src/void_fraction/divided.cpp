@@ -41,8 +41,7 @@ std::array<Vector3, DividedVoidFraction::sub_points> DividedVoidFraction::unit_o
   return out;
 }
 
-void DividedVoidFraction::split(const CellLocator& locator, const ParticleView& particles,
-                                ParticleCellMap& out) const {
+void DividedVoidFraction::split(const CellLocator& locator, const ParticleView& particles, ParticleCellMap& out) const {
   out.clear();
   out.offsets.reserve(particles.size() + 1);
   out.shares.reserve(particles.size() * 4);

@@ -16,8 +16,8 @@ namespace rheosim::core {
 // ------------------------------------------------------------------ shared building blocks
 
 struct FluidProperties {
-  double density = 0;                          // ρ [kg/m³]
-  std::shared_ptr<const Rheology> rheology;    // μ(γ̇), never null
+  double density = 0;                        // ρ [kg/m³]
+  std::shared_ptr<const Rheology> rheology;  // μ(γ̇), never null
 };
 
 // ------------------------------------------------------------------------ rheometer cases
@@ -38,10 +38,10 @@ struct SizeDistribution {
   enum class Type { none, uniform, lognormal, discrete };  // none: monodisperse
   static constexpr int max_classes = 16;
   Type type = Type::none;
-  double min_diameter = 0;               // [m] uniform: lower bound; lognormal: truncation; discrete: first class
-  double max_diameter = 0;               // [m] uniform: upper bound; lognormal: truncation; discrete: last class
-  double geometric_std = 1;              // σ_g [-] of the volume-weighted lognormal, in [1, 3]
-  int classes = 0;                       // discrete: number of classes, [1, max_classes]
+  double min_diameter = 0;   // [m] uniform: lower bound; lognormal: truncation; discrete: first class
+  double max_diameter = 0;   // [m] uniform: upper bound; lognormal: truncation; discrete: last class
+  double geometric_std = 1;  // σ_g [-] of the volume-weighted lognormal, in [1, 3]
+  int classes = 0;           // discrete: number of classes, [1, max_classes]
   std::array<double, max_classes> diameters{};         // [m] discrete classes, increasing
   std::array<double, max_classes> volume_fractions{};  // [-] discrete: share of the solid volume per class, sum 1
 };
@@ -65,13 +65,13 @@ struct Hydrodynamics {
   // The block was given. Absent, a suspension point runs the predictive default (the
   // Lees–Edwards box's near field); `{model: none}` is the seed's drag-only CFD-DEM.
   bool specified = false;
-  bool lubrication = false;       // pair and plate lubrication
-  bool single_particle = false;   // torque and stresslet in the ambient flow
-  bool stokes_drag = false;       // Stokes drag on the imposed ambient flow (cells without a fluid solver)
-  bool repulsion = false;         // short-range repulsion F_R0 exp(−h/λ) (needs lubrication)
-  double roughness = 1.0e-3;      // δ/ā, in [1e-6, 0.1]
+  bool lubrication = false;         // pair and plate lubrication
+  bool single_particle = false;     // torque and stresslet in the ambient flow
+  bool stokes_drag = false;         // Stokes drag on the imposed ambient flow (cells without a fluid solver)
+  bool repulsion = false;           // short-range repulsion F_R0 exp(−h/λ) (needs lubrication)
+  double roughness = 1.0e-3;        // δ/ā, in [1e-6, 0.1]
   double lubrication_cutoff = 0.5;  // h_c/ā, in (roughness, 1]
-  double repulsion_force = 0.0;   // F_R0 [N], > 0 with repulsion
+  double repulsion_force = 0.0;     // F_R0 [N], > 0 with repulsion
   double repulsion_length = 0.05;   // λ/ā, in [1e-3, lubrication_cutoff/5]
   StressletViscosity stresslet_viscosity = StressletViscosity::homogenized;  // with the stresslet
   [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag || repulsion; }
@@ -89,7 +89,7 @@ enum class DragLaw { di_felice, schiller_naumann };
   return d == DragLaw::schiller_naumann ? "schiller_naumann" : "di_felice";
 }
 
-struct ParticleProperties {  // particles: (CD §4 defaults)
+struct ParticleProperties {       // particles: (CD §4 defaults)
   double volume_fraction = 0;     // φ [-], [0, 0.5]; a sweep sets it per point
   double diameter = 0;            // d [m], < gap; with a size distribution the representative
                                   // (volume-median) diameter used for H/d, Re_p and St
@@ -100,7 +100,7 @@ struct ParticleProperties {  // particles: (CD §4 defaults)
   double friction = 0.3;          // μ_c [-], Coulomb friction coefficient
   // Last, and not a std::optional (see SizeDistribution); type none (the default): monodisperse.
   SizeDistribution size_distribution{};
-  Hydrodynamics hydrodynamics{};  // after size_distribution, same reason
+  Hydrodynamics hydrodynamics{};      // after size_distribution, same reason
   DragLaw drag = DragLaw::di_felice;  // the case reader resolves `auto` (drag_automatic: it did)
   bool drag_automatic = false;
 };
@@ -112,24 +112,24 @@ struct NamedFluid {
 
 // solver: — numerical settings of the fluid solver (all optional).
 struct FluidSolverSettings {
-  int radial_cells = 40;         // N_r
-  int axial_cells = 8;           // N_z
-  double radial_grading = 1.0;   // last/first radial cell width (< 1 refines at the rim)
-  double axial_stretching = 0.0; // β of the tanh clustering of axial cells towards both plates (0: uniform)
-  bool inertia = true;           // false: creeping (Stokes) limit, where the closed forms hold
+  int radial_cells = 40;          // N_r
+  int axial_cells = 8;            // N_z
+  double radial_grading = 1.0;    // last/first radial cell width (< 1 refines at the rim)
+  double axial_stretching = 0.0;  // β of the tanh clustering of axial cells towards both plates (0: uniform)
+  bool inertia = true;            // false: creeping (Stokes) limit, where the closed forms hold
   // With inertia: solve each point on half the cells first and report the Richardson torque
   // T + (T − T_2h)/3 (second order in r and z); needs even cell counts >= 8.
   bool extrapolate = false;
-  double tolerance = 1e-10;      // relative change per Picard iteration
+  double tolerance = 1e-10;  // relative change per Picard iteration
   int max_iterations = 500;
 };
 
 struct RheometerCase {  // kind: rheometer
   PlateGeometry geometry;
-  FluidProperties fluid;                          // the first (or only) fluid
-  std::vector<NamedFluid> fluids;                 // every fluid; single phase may list several
-  std::vector<double> shear_rates;                // γ̇_R = ΩR/H [1/s], increasing
-  std::optional<ParticleProperties> particles;    // absent: single phase
+  FluidProperties fluid;                        // the first (or only) fluid
+  std::vector<NamedFluid> fluids;               // every fluid; single phase may list several
+  std::vector<double> shear_rates;              // γ̇_R = ΩR/H [1/s], increasing
+  std::optional<ParticleProperties> particles;  // absent: single phase
   FluidSolverSettings solver;
   // model: which scene computes a suspension point: the Lees–Edwards box (bulk stress of a
   // periodic box of spheres with lubrication and frictional contacts, the local flow curve
@@ -140,30 +140,30 @@ struct RheometerCase {  // kind: rheometer
   SuspensionModel suspension_model = SuspensionModel::automatic;
 };
 
-struct SweepCase {  // kind: sweep — every (φ, γ̇_R) of volume_fractions × shear_rates
-  RheometerCase rheometer;                        // particles hold everything but φ
-  std::vector<double> volume_fractions;           // φ [-], increasing; 0 is single phase
+struct SweepCase {                       // kind: sweep — every (φ, γ̇_R) of volume_fractions × shear_rates
+  RheometerCase rheometer;               // particles hold everything but φ
+  std::vector<double> volume_fractions;  // φ [-], increasing; 0 is single phase
 };
 
 // ------------------------------------------------------------------------------ LDD cases
 
-struct CavityScene {                 // cavity | skewed_cavity
-  std::array<double, 2> size{};      // width, height [m] (skewed: side length along the walls)
-  double lid_velocity = 0;           // [m/s]
-  double skew_angle = 0;             // [rad]; YAML gives degrees; 0 for a square cavity
+struct CavityScene {             // cavity | skewed_cavity
+  std::array<double, 2> size{};  // width, height [m] (skewed: side length along the walls)
+  double lid_velocity = 0;       // [m/s]
+  double skew_angle = 0;         // [rad]; YAML gives degrees; 0 for a square cavity
 };
 struct DamBreakScene {
   std::array<double, 2> reservoir{};  // length, height [m]
   double channel_length = 0;          // [m], from the reservoir's outer wall
 };
 struct SlumpScene {
-  double cone_height = 0;             // H₀ [m]
-  double cone_bottom_diameter = 0;    // D₀ [m]
-  double cone_top_diameter = 0;       // d₀ [m], < D₀
-  double lift_velocity = 0;           // mould lift speed [m/s]
+  double cone_height = 0;           // H₀ [m]
+  double cone_bottom_diameter = 0;  // D₀ [m]
+  double cone_top_diameter = 0;     // d₀ [m], < D₀
+  double lift_velocity = 0;         // mould lift speed [m/s]
 };
-struct ColumnScene {                  // a resting column (hydrostatics)
-  std::array<double, 2> size{};       // width, height [m]
+struct ColumnScene {             // a resting column (hydrostatics)
+  std::array<double, 2> size{};  // width, height [m]
 };
 using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScene>;
 
@@ -171,29 +171,30 @@ using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScen
 // through the registry in ldd/walls.hpp. Box, cylinder and STL are closed solids; the fluid is
 // inside them (a container) or outside (an obstacle).
 struct LddWall {
-  std::string type;                    // plane | box | cylinder | stl
-  bool fluid_inside = true;            // box, cylinder, stl
-  std::vector<double> point, normal;   // plane: a point on it [m], normal pointing into the fluid
-  std::vector<double> lower, upper;    // box: opposite corners [m]
-  std::vector<double> base, axis;      // cylinder: centre of the bottom cap [m], axis direction
-  double radius = 0, height = 0;       // cylinder [m]
-  std::string file;                    // stl: path, resolved against the case file's directory
-  double scale = 1;                    // stl: metres per file unit
+  std::string type;                   // plane | box | cylinder | stl
+  bool fluid_inside = true;           // box, cylinder, stl
+  std::vector<double> point, normal;  // plane: a point on it [m], normal pointing into the fluid
+  std::vector<double> lower, upper;   // box: opposite corners [m]
+  std::vector<double> base, axis;     // cylinder: centre of the bottom cap [m], axis direction
+  double radius = 0, height = 0;      // cylinder [m]
+  std::string file;                   // stl: path, resolved against the case file's directory
+  double scale = 1;                   // stl: metres per file unit
 };
 
 // solver: — numerical settings of the LDD solver (all optional; ldd/solver.hpp documents them).
 struct LddSolverSettings {
-  int threads = 0;                      // OpenMP threads; 0: OMP_NUM_THREADS or all cores
-  double pressure_tolerance = 1e-6;     // BiCGStab relative residual of the PPE (LDD eq. 17)
-  double velocity_tolerance = 1e-8;     // BiCGStab relative residual of LDD eq. 19
-  int max_iterations = 2000;            // per linear solve
-  std::string reordering = "lattice";   // lattice | density (experimental)
+  int threads = 0;                          // OpenMP threads; 0: OMP_NUM_THREADS or all cores
+  double pressure_tolerance = 1e-6;         // BiCGStab relative residual of the PPE (LDD eq. 17)
+  double velocity_tolerance = 1e-8;         // BiCGStab relative residual of LDD eq. 19
+  int max_iterations = 2000;                // per linear solve
+  std::string reordering = "lattice";       // lattice | density (experimental)
   std::string interpolation = "quadratic";  // lattice reordering: quadratic | shepard | gradient_corrected
-  double max_courant = 1.0;             // stop (diverged) when max|u|δt/Δ exceeds this
-  int pbd_sweeps = 3;                   // free-surface scenes: volume-keeping PBD sweeps per step
-  double moment_rcond = 0.03;           // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
-  double surface_moment_rcond = 0.01;   // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
-  std::string gradient = "auto";        // auto | centred | renormalised (auto: centred for free-surface scenes, eq. 14 for cavities)
+  double max_courant = 1.0;                 // stop (diverged) when max|u|δt/Δ exceeds this
+  int pbd_sweeps = 3;                       // free-surface scenes: volume-keeping PBD sweeps per step
+  double moment_rcond = 0.03;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
+  double surface_moment_rcond = 0.01;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
+  std::string gradient =
+      "auto";  // auto | centred | renormalised (auto: centred for free-surface scenes, eq. 14 for cavities)
   std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
   std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
   // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain
@@ -204,24 +205,24 @@ struct LddSolverSettings {
 
 // output: — what a run writes and how often (all optional).
 struct LddOutputSettings {
-  double frame_interval = 0;   // [s] between VTK frames; 0: end/20
-  double probe_interval = 0;   // [s] between centre-line samples (residual history); 0: end/200
+  double frame_interval = 0;  // [s] between VTK frames; 0: end/20
+  double probe_interval = 0;  // [s] between centre-line samples (residual history); 0: end/200
 };
 
 struct LddCase {  // kind: ldd
   int dimension = 2;
-  std::string scene_type;             // cavity | skewed_cavity | dam_break | slump | column
+  std::string scene_type;  // cavity | skewed_cavity | dam_break | slump | column
   LddScene scene;
   FluidProperties fluid;
-  std::vector<double> gravity;        // [m/s²], one entry per dimension
-  double spacing = 0;                 // Δ [m]
-  double smoothing_ratio = 1.6;       // h/Δ [-]
-  double time_step = 0;               // δt [s]
-  double end_time = 0;                // [s]
-  double steady_tolerance = 0;        // stop when the centre-line residual drops below; 0: never
+  std::vector<double> gravity;   // [m/s²], one entry per dimension
+  double spacing = 0;            // Δ [m]
+  double smoothing_ratio = 1.6;  // h/Δ [-]
+  double time_step = 0;          // δt [s]
+  double end_time = 0;           // [s]
+  double steady_tolerance = 0;   // stop when the centre-line residual drops below; 0: never
   LddSolverSettings solver;
   LddOutputSettings output;
-  std::vector<LddWall> walls;         // scene.walls (slump only so far)
+  std::vector<LddWall> walls;  // scene.walls (slump only so far)
 };
 
 // ---------------------------------------------------------------------------- the case

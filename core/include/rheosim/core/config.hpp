@@ -75,11 +75,10 @@ class Section {
                                       const std::vector<std::string>& choices) const;
 
   // Lists of numbers: every element in range, length within [min_size, max_size].
-  [[nodiscard]] std::vector<double> numbers(const KeyInfo& key, const Range& range,
-                                            std::size_t min_size = 1,
+  [[nodiscard]] std::vector<double> numbers(const KeyInfo& key, const Range& range, std::size_t min_size = 1,
                                             std::size_t max_size = std::numeric_limits<std::size_t>::max()) const;
-  [[nodiscard]] std::vector<double> numbers_or(const KeyInfo& key, std::vector<double> fallback,
-                                               const Range& range, std::size_t min_size = 1,
+  [[nodiscard]] std::vector<double> numbers_or(const KeyInfo& key, std::vector<double> fallback, const Range& range,
+                                               std::size_t min_size = 1,
                                                std::size_t max_size = std::numeric_limits<std::size_t>::max()) const;
 
   // Nested mappings.
@@ -89,13 +88,11 @@ class Section {
   [[nodiscard]] std::vector<Section> sections(const KeyInfo& key, std::size_t min_size = 1) const;
 
   // Raises a ConfigError located at `key` (or at this section when key is empty).
-  [[noreturn]] void fail(std::string_view key, std::string problem, std::string expected,
-                         std::string hint = {}) const;
+  [[noreturn]] void fail(std::string_view key, std::string problem, std::string expected, std::string hint = {}) const;
 
  private:
   friend class Document;
-  Section(std::shared_ptr<detail::DocumentState> doc, std::shared_ptr<const detail::NodeHandle> node,
-          std::string path);
+  Section(std::shared_ptr<detail::DocumentState> doc, std::shared_ptr<const detail::NodeHandle> node, std::string path);
 
   std::shared_ptr<detail::DocumentState> doc_;
   std::shared_ptr<const detail::NodeHandle> node_;
@@ -123,7 +120,6 @@ class Document {
 // Levenshtein distance, used for "did you mean" suggestions.
 [[nodiscard]] std::size_t edit_distance(std::string_view a, std::string_view b);
 // The closest candidate if it is close enough to be a plausible misspelling.
-[[nodiscard]] std::optional<std::string> nearest(std::string_view word,
-                                                 const std::vector<std::string>& candidates);
+[[nodiscard]] std::optional<std::string> nearest(std::string_view word, const std::vector<std::string>& candidates);
 
 }  // namespace rheosim::core

@@ -40,8 +40,7 @@ class ConfigError : public std::runtime_error {
 // an external engine that reported an error. Carries where in the code it was raised.
 class RunError : public std::runtime_error {
  public:
-  explicit RunError(const std::string& message,
-                    std::source_location origin = std::source_location::current());
+  explicit RunError(const std::string& message, std::source_location origin = std::source_location::current());
   [[nodiscard]] const std::source_location& origin() const { return origin_; }
 
  private:

@@ -30,8 +30,7 @@ namespace rheosim::core {
 // (".<name>.tmp-<pid>-<counter>"), which is flushed, fsync'ed and renamed onto `path`
 // (atomic on POSIX). Parent directories are created. If `write` throws, or the stream fails,
 // the temporary is removed, `path` keeps its previous content, and the exception propagates.
-void write_atomically(const std::filesystem::path& path,
-                      const std::function<void(std::ostream&)>& write);
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
 // The same for writers that need a file name rather than a stream (HDF5): `write` must create
 // the file `tmp`; it is then fsync'ed and renamed onto `path`.
@@ -70,8 +69,7 @@ class CsvTable {
   };
 
   CsvTable() = default;
-  explicit CsvTable(std::vector<Column> numeric_columns,
-                    std::optional<Column> text_column = std::nullopt);
+  explicit CsvTable(std::vector<Column> numeric_columns, std::optional<Column> text_column = std::nullopt);
 
   // Appends a row; values.size() must equal numeric_columns().size(). `text` is the text
   // column's cell and must be empty when the table has no text column.
@@ -101,8 +99,7 @@ class CsvTable {
 void write_csv(const std::filesystem::path& path, const CsvTable& table);
 // Reads a file written by write_csv. With `first_column_is_text` the first column becomes the
 // text column; every other cell must be a number.
-[[nodiscard]] CsvTable read_csv(const std::filesystem::path& path,
-                                bool first_column_is_text = false);
+[[nodiscard]] CsvTable read_csv(const std::filesystem::path& path, bool first_column_is_text = false);
 
 // ---------------------------------------------------------------------------------------------
 // HDF5
@@ -141,8 +138,7 @@ void write_hdf5(const std::filesystem::path& path, const Hdf5Content& content);
 
 // Reads one dataset back as doubles with its attributes; the "unit" attribute goes to `unit`,
 // the others come back in name order (HDF5's default index).
-[[nodiscard]] Hdf5Dataset read_hdf5_dataset(const std::filesystem::path& path,
-                                            std::string_view dataset_path);
+[[nodiscard]] Hdf5Dataset read_hdf5_dataset(const std::filesystem::path& path, std::string_view dataset_path);
 // Attributes of a group or dataset ("/" for the file attributes), in name order.
 [[nodiscard]] std::vector<Hdf5Attribute> read_hdf5_attributes(const std::filesystem::path& path,
                                                               std::string_view object_path = "/");
@@ -163,16 +159,14 @@ struct VtkField {
 // dimension * N coordinates (dimension 2 pads z = 0).
 void write_vtk_points(const std::filesystem::path& path, std::span<const double> positions,
                       const std::vector<VtkField>& point_data = {}, int dimension = 3);
-void write_vtk_points(const std::filesystem::path& path,
-                      std::span<const std::array<double, 3>> positions,
+void write_vtk_points(const std::filesystem::path& path, std::span<const std::array<double, 3>> positions,
                       const std::vector<VtkField>& point_data = {});
 
 // A curvilinear grid (STRUCTURED_GRID) with dims = {nx, ny, nz} points, x varying fastest.
 // `points` holds dimension * nx*ny*nz coordinates. Cell data has one value per cell,
 // max(nx-1,1) * max(ny-1,1) * max(nz-1,1) cells.
-void write_vtk_structured_grid(const std::filesystem::path& path,
-                               std::array<std::size_t, 3> dims, std::span<const double> points,
-                               const std::vector<VtkField>& point_data = {},
+void write_vtk_structured_grid(const std::filesystem::path& path, std::array<std::size_t, 3> dims,
+                               std::span<const double> points, const std::vector<VtkField>& point_data = {},
                                const std::vector<VtkField>& cell_data = {}, int dimension = 3);
 
 // One frame of a time series: `file` relative to the index file's directory.

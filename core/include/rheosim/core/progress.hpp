@@ -31,8 +31,8 @@ class Progress {
   using Clock = std::function<double()>;  // monotonic time in seconds
 
   // `out` must outlive the Progress. `is_terminal` selects redrawn line vs plain lines.
-  Progress(std::string label, std::size_t total, std::ostream& out, bool is_terminal,
-           Clock clock = steady_seconds(), ProgressOptions options = {});
+  Progress(std::string label, std::size_t total, std::ostream& out, bool is_terminal, Clock clock = steady_seconds(),
+           ProgressOptions options = {});
   // Writes to stderr; terminal mode and line width are detected (isatty, TIOCGWINSZ).
   [[nodiscard]] static Progress for_stderr(std::string label, std::size_t total, ProgressOptions options = {});
 

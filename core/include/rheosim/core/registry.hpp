@@ -19,8 +19,7 @@ class Registry {
   using Maker = std::function<std::unique_ptr<Base>(const Section&)>;
 
   void add(std::string name, Maker make) {
-    if (!makers_.try_emplace(name, std::move(make)).second)
-      throw std::logic_error("model registered twice: " + name);
+    if (!makers_.try_emplace(name, std::move(make)).second) throw std::logic_error("model registered twice: " + name);
   }
 
   // Builds the model named by the section's `model` key from that section.

@@ -39,9 +39,9 @@
 namespace rheosim::coupling {
 
 struct CouplerSettings {
-  int coupling_interval = 100;         // N DEM steps per fluid step, >= 1
-  double fluid_time_step = 0.0;        // Δt_CFD [s] > 0, must equal N × DEM δt
-  double time_step_tolerance = 1e-6;   // relative mismatch allowed in that check
+  int coupling_interval = 100;                            // N DEM steps per fluid step, >= 1
+  double fluid_time_step = 0.0;                           // Δt_CFD [s] > 0, must equal N × DEM δt
+  double time_step_tolerance = 1e-6;                      // relative mismatch allowed in that check
   std::string void_fraction = "divided";                  // centre | divided
   double void_fraction_floor = 0.3;                       // ε_min in (0, 1)
   std::vector<std::string> forces = seed_force_models();  // force model names (forces.hpp)
@@ -56,7 +56,7 @@ struct CouplerSettings {
 struct CostSplit {
   double dem = 0.0;
   double void_fraction = 0.0;
-  double forces = 0.0;   // interpolation, force models, exchange, handing forces to LIGGGHTS
+  double forces = 0.0;  // interpolation, force models, exchange, handing forces to LIGGGHTS
   double fluid = 0.0;
   double near_field = 0.0;  // near-field models inside the DEM steps (issue 9), not counted in dem
   std::int64_t steps = 0;

@@ -34,12 +34,12 @@
 namespace rheosim::coupling {
 
 struct ExchangeBalance {
-  Vector3 drag_on_particles{};        // Σ_p β_p(u_f − u_p) [N]
-  Vector3 drag_to_fluid{};            // Σ_c (f_c − K_c ũ_c) V_c from the solver arrays [N]
-  Vector3 pressure_on_particles{};    // Σ_p −V_p∇p [N] (reaction carried by ε, form A)
-  Vector3 viscous_on_particles{};     // Σ_p V_p∇·τ [N] (reaction carried by ε, form A)
-  double relative_error = 0.0;        // |on + to| / Σ_p |f_d,p| (components compared: x, y, z or z only)
-  bool axial_only = false;            // N_θ = 1
+  Vector3 drag_on_particles{};      // Σ_p β_p(u_f − u_p) [N]
+  Vector3 drag_to_fluid{};          // Σ_c (f_c − K_c ũ_c) V_c from the solver arrays [N]
+  Vector3 pressure_on_particles{};  // Σ_p −V_p∇p [N] (reaction carried by ε, form A)
+  Vector3 viscous_on_particles{};   // Σ_p V_p∇·τ [N] (reaction carried by ε, form A)
+  double relative_error = 0.0;      // |on + to| / Σ_p |f_d,p| (components compared: x, y, z or z only)
+  bool axial_only = false;          // N_θ = 1
 };
 
 class MomentumExchange {
@@ -49,14 +49,14 @@ class MomentumExchange {
   // Rebuilds f and K from this step's forces (same particle order as the map and samples).
   // cell_velocity: the fluid's cell-centre velocity (FluidCellFields::velocity) for per-cell
   // consistency (header comment); nullptr: the plain split f_c = Σ β u_p.
-  void build(const ParticleCellMap& map, std::span<const ParticleSample> samples,
-             std::span<const ParticleForce> forces, const CellVectorField* cell_velocity = nullptr);
+  void build(const ParticleCellMap& map, std::span<const ParticleSample> samples, std::span<const ParticleForce> forces,
+             const CellVectorField* cell_velocity = nullptr);
 
   // View of the arrays for TransientSolver::set_momentum_source (valid until the next build()).
   [[nodiscard]] fluid::MomentumSource source() const;
-  [[nodiscard]] std::span<const double> radial() const { return radial_; }        // f_r [N/m³]
-  [[nodiscard]] std::span<const double> azimuthal() const { return azimuthal_; }  // f_θ [N/m³]
-  [[nodiscard]] std::span<const double> axial() const { return axial_; }          // f_z [N/m³]
+  [[nodiscard]] std::span<const double> radial() const { return radial_; }                      // f_r [N/m³]
+  [[nodiscard]] std::span<const double> azimuthal() const { return azimuthal_; }                // f_θ [N/m³]
+  [[nodiscard]] std::span<const double> axial() const { return axial_; }                        // f_z [N/m³]
   [[nodiscard]] std::span<const double> drag_coefficient() const { return drag_coefficient_; }  // K [kg/(m³·s)]
 
   // The action–reaction ledger of the last build().

@@ -53,10 +53,10 @@ class FluidCellFields {
   // Throws std::invalid_argument unless τ is finite and >= 0.
   void set_pressure_gradient_filter(double time_constant);
 
-  [[nodiscard]] const CellVectorField& velocity() const { return velocity_; }            // [m/s]
+  [[nodiscard]] const CellVectorField& velocity() const { return velocity_; }                    // [m/s]
   [[nodiscard]] const CellVectorField& pressure_gradient() const { return pressure_gradient_; }  // [Pa/m]
   [[nodiscard]] const CellVectorField& stress_divergence() const { return stress_divergence_; }  // [N/m³]
-  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }          // [Pa·s]
+  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }                 // [Pa·s]
 
   // Building blocks, public for tests: cell-centred gradient (∂_r f, (1/r)∂_θ f, ∂_z f) of a cell
   // scalar, and the cylindrical vector Laplacian of a cell-centred velocity field with plate

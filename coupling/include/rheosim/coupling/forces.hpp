@@ -78,8 +78,8 @@ struct ParticleForce {
   Vector3 explicit_force{};       // [N]
   double drag_coefficient = 0.0;  // β [kg/s]
   Vector3 drag{};                 // β (u_f − u_p) [N], filled by the drag model
-  Vector3 pressure_gradient{};     // −V∇p (+ ρV a_c, creeping fluid) [N]
-  Vector3 viscous{};               // V∇·τ [N]
+  Vector3 pressure_gradient{};    // −V∇p (+ ρV a_c, creeping fluid) [N]
+  Vector3 viscous{};              // V∇·τ [N]
 
   [[nodiscard]] Vector3 total(const ParticleSample& at) const {
     return {explicit_force[0] + drag_coefficient * (at.fluid_velocity[0] - at.velocity[0]),

@@ -53,7 +53,7 @@ struct ParticleSnapshot {
   std::span<const double> masses{};         // [kg], n (solid spheres: I = (2/5) m a²)
   std::span<const double> other_forces{};   // [N], 3n: every other force on this step (contact, drag, gravity)
   std::span<const double> other_torques{};  // [N·m], 3n
-  double time_step = 0.0;                 // DEM δt [s]; > 0: implicit update, 0: explicit forces
+  double time_step = 0.0;                   // DEM δt [s]; > 0: implicit update, 0: explicit forces
   [[nodiscard]] std::size_t size() const { return radii.size(); }
 };
 
@@ -97,7 +97,7 @@ struct NearFieldResult {
   // A plate's momentum balance needs this one ([2] = force x, lever z in the shear cell); the
   // symmetric part differs from it by the lubrication torques.
   std::array<double, 9> lubrication_virial_full{};
-  SymmetricTensor plate_virial{};        // the plates' part of lubrication_virial
+  SymmetricTensor plate_virial{};  // the plates' part of lubrication_virial
   SymmetricTensor stresslet_sum{};
   // Σ_p (x_p S_yz − y_p S_xz) [N·m²]: the stresslets' r σ_θz about the z axis. The fluid solvers
   // do not receive the stresslet (it is a force dipole, no force on the particle), so a disk adds
@@ -116,10 +116,10 @@ struct NearFieldResult {
   std::vector<Vector3> plate_forces;
   std::vector<Vector3> plate_moments;
   // Diagnostics of this evaluation.
-  std::size_t lubricated_pairs = 0;   // particle pairs within the lubrication cutoff
-  std::size_t lubricated_walls = 0;   // particle–plate gaps within the cutoff
-  double smallest_gap_ratio = 0.0;    // min h/ā over those gaps (h < 0: overlap); 0 when none
-  int solver_iterations = 0;          // conjugate-gradient iterations of the implicit update
+  std::size_t lubricated_pairs = 0;  // particle pairs within the lubrication cutoff
+  std::size_t lubricated_walls = 0;  // particle–plate gaps within the cutoff
+  double smallest_gap_ratio = 0.0;   // min h/ā over those gaps (h < 0: overlap); 0 when none
+  int solver_iterations = 0;         // conjugate-gradient iterations of the implicit update
   void reset(std::size_t particles, std::size_t plates);
 };
 
@@ -150,14 +150,14 @@ struct NearFieldSettings {
   //                   apart below the stress scale F_R0/(6πa²) (the frictionless branch) and
   //                   needs `lubrication` (it uses its gap list).
   std::vector<std::string> models;
-  double roughness = 1.0e-3;          // δ/ā: the gap is regularised to max(h, 0) + δ, ā = (a_i + a_j)/2, in [1e-6, 0.1]
-  double lubrication_cutoff = 0.5;    // h_c/ā: lubrication acts for h < h_c, in (roughness, 1]
-  double repulsion_force = 0.0;       // F_R0 [N], > 0 with `repulsion`
-  double repulsion_length = 0.05;     // λ/ā, in [1e-3, lubrication_cutoff/5] (the force is cut with the gap list)
+  double roughness = 1.0e-3;  // δ/ā: the gap is regularised to max(h, 0) + δ, ā = (a_i + a_j)/2, in [1e-6, 0.1]
+  double lubrication_cutoff = 0.5;  // h_c/ā: lubrication acts for h < h_c, in (roughness, 1]
+  double repulsion_force = 0.0;     // F_R0 [N], > 0 with `repulsion`
+  double repulsion_length = 0.05;   // λ/ā, in [1e-3, lubrication_cutoff/5] (the force is cut with the gap list)
   // The matrix viscosity μ_S in the stresslet (20/3)πμ_S a³E∞ (core::StressletViscosity):
   // homogenized μ_S = μ + 0.7 γ̇ dμ/dγ̇ (0.3 secant + 0.7 tangent), secant μ_S = μ(γ̇).
   core::StressletViscosity stresslet_viscosity = core::StressletViscosity::homogenized;
-  double solver_tolerance = 1.0e-7;   // residual / |right-hand side| of the implicit solve, in (0, 1e-3]
+  double solver_tolerance = 1.0e-7;  // residual / |right-hand side| of the implicit solve, in (0, 1e-3]
   int max_solver_iterations = 500;
 };
 
@@ -171,8 +171,8 @@ struct NearFieldSettings {
 // Builds the combined model (one implicit solve over all enabled terms); matrix is the liquid's
 // μ(γ̇). Throws std::invalid_argument for an unknown name (listing the valid ones) or settings
 // out of range. With no term (or "none") the model adds nothing.
-[[nodiscard]] std::unique_ptr<const NearFieldModel> make_near_field_model(
-    const NearFieldSettings& settings, std::shared_ptr<const core::Rheology> matrix);
+[[nodiscard]] std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSettings& settings,
+                                                                          std::shared_ptr<const core::Rheology> matrix);
 
 // Runs a model on every DEM step of a dem::Engine (through Engine::set_step_force_callback,
 // implicit update with the engine's δt, masses and known forces) and keeps step means of its
@@ -181,20 +181,20 @@ struct NearFieldSettings {
 class NearFieldStepHook {
  public:
   struct Means {
-    std::int64_t steps = 0;              // DEM steps averaged
-    SymmetricTensor particle_stress{};   // step means of NearFieldResult's sums [N·m]
+    std::int64_t steps = 0;             // DEM steps averaged
+    SymmetricTensor particle_stress{};  // step means of NearFieldResult's sums [N·m]
     SymmetricTensor lubrication_virial{};
     std::array<double, 9> lubrication_virial_full{};
     SymmetricTensor plate_virial{};
     SymmetricTensor stresslet_sum{};
-    double stresslet_axial_moment = 0.0;  // [N·m²]
-    Vector3 rotation_torque_sum{};         // [N·m]
+    double stresslet_axial_moment = 0.0;         // [N·m²]
+    Vector3 rotation_torque_sum{};               // [N·m]
     double rotation_torque_radial_moment = 0.0;  // [N·m²]
-    std::vector<Vector3> plate_forces;   // [N]
-    std::vector<Vector3> plate_moments;  // [N·m]
+    std::vector<Vector3> plate_forces;           // [N]
+    std::vector<Vector3> plate_moments;          // [N·m]
     double mean_lubricated_pairs = 0.0;
     int max_solver_iterations = 0;
-    double seconds = 0.0;                // wall time spent in the model
+    double seconds = 0.0;  // wall time spent in the model
   };
   NearFieldStepHook(dem::Engine& engine, std::shared_ptr<const NearFieldModel> model, NearFieldScene scene,
                     AmbientFlow ambient);
@@ -225,12 +225,12 @@ class NearFieldStepHook {
 // in the normalisation F = 6πμa1 X^A ..., F(Ω) = 4πμa1² Y^B ..., T = 8πμa1³ Y^C ...; for a
 // plate (λ → ∞) ξ = h/a1. Leading singular terms only (the O(1) parts are not included).
 struct NearContactResistance {
-  double squeeze = 0.0;             // X^A_11 = g1/ξ + g2 ℓ
-  double shear = 0.0;               // Y^A_11 = g4 ℓ
+  double squeeze = 0.0;                  // X^A_11 = g1/ξ + g2 ℓ
+  double shear = 0.0;                    // Y^A_11 = g4 ℓ
   double rotation_coupling_self = 0.0;   // −Y^B_11 = λ(4+λ)/(5(1+λ)²) ℓ
   double rotation_coupling_other = 0.0;  // the same for the other sphere's rotation, in units of 4πμa1²
-  double rotation_self = 0.0;       // Y^C_11 = (2/5) λ/(1+λ) ℓ
-  double rotation_other = 0.0;      // Y^C_12 in units of 8πμa1³
+  double rotation_self = 0.0;            // Y^C_11 = (2/5) λ/(1+λ) ℓ
+  double rotation_other = 0.0;           // Y^C_12 in units of 8πμa1³
 };
 [[nodiscard]] NearContactResistance sphere_sphere_resistance(double size_ratio, double xi);
 [[nodiscard]] NearContactResistance sphere_plate_resistance(double xi);

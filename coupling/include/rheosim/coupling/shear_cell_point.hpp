@@ -77,11 +77,11 @@ struct ShearCellPointSettings {
   int axial_cells = 2;                   // N_z fluid layers, >= 1
   bool gravity = true;                   // standard gravity along −z (reduced by buoyancy)
   std::optional<double> dem_time_step = std::nullopt;
-  double time_step_fraction = 0.3;       // δt / t_R
-  int coupling_interval = 100;           // DEM steps per fluid step
+  double time_step_fraction = 0.3;        // δt / t_R
+  int coupling_interval = 100;            // DEM steps per fluid step
   std::string void_fraction = "divided";  // centre | divided
   double void_fraction_floor = 0.3;
-  bool viscous_force = true;             // CD eq. 35
+  bool viscous_force = true;  // CD eq. 35
   SteadyStateSettings steady{};
   std::uint64_t seed = 1;
   std::filesystem::path run_directory{};
@@ -95,45 +95,45 @@ struct ShearCellPointSettings {
 // imposed_cell_definition() is what the imposed-flow cell calls its bulk stress (symmetric pair
 // virials, no plates, no couple, no drag offsets).
 struct ShearCellBulkParts {
-  double fluid = 0.0;                           // (1/H) ∫ μ ∂u_x/∂z dz
+  double fluid = 0.0;  // (1/H) ∫ μ ∂u_x/∂z dz
   double stresslet = 0.0, couple = 0.0;
   double pair_lubrication = 0.0;                // symmetric pair virial of lubrication + repulsion
   double pair_lubrication_antisymmetric = 0.0;  // force x lever z minus the symmetric part
   double plate_lubrication = 0.0;               // plate gaps, force x lever z
   double pair_contact = 0.0, plate_contact = 0.0;
-  double drag = 0.0;                            // Σ −(z_p − z_layer) F_x / V
+  double drag = 0.0;  // Σ −(z_p − z_layer) F_x / V
   [[nodiscard]] double imposed_cell_definition() const { return fluid + stresslet + pair_lubrication + pair_contact; }
 };
 
 struct ShearCellStepRecord {
-  double time = 0.0;             // after the fluid step [s]
-  double fluid_top = 0.0;        // fluid shear stress on the top plate [Pa]
-  double contact_top = 0.0;      // contact shear stress on the top plate (mean over the step) [Pa]
-  double fluid_bottom = 0.0;     // on the bottom plate [Pa]
+  double time = 0.0;          // after the fluid step [s]
+  double fluid_top = 0.0;     // fluid shear stress on the top plate [Pa]
+  double contact_top = 0.0;   // contact shear stress on the top plate (mean over the step) [Pa]
+  double fluid_bottom = 0.0;  // on the bottom plate [Pa]
   double contact_bottom = 0.0;
-  double lubrication_top = 0.0;     // plate lubrication on the top plate [Pa] (near field)
+  double lubrication_top = 0.0;  // plate lubrication on the top plate [Pa] (near field)
   double lubrication_bottom = 0.0;
-  double stresslet = 0.0;           // Σ S_xz / V [Pa] (near field)
-  double couple = 0.0;              // ½ Σ T_y / V of the rotation torques [Pa] (near field)
-  double bulk = 0.0;                // bulk stress from the virial [Pa] (see the header)
-  ShearCellBulkParts parts;         // bulk's parts
+  double stresslet = 0.0;    // Σ S_xz / V [Pa] (near field)
+  double couple = 0.0;       // ½ Σ T_y / V of the rotation torques [Pa] (near field)
+  double bulk = 0.0;         // bulk stress from the virial [Pa] (see the header)
+  ShearCellBulkParts parts;  // bulk's parts
   [[nodiscard]] double total_top() const { return fluid_top + contact_top + lubrication_top + stresslet + couple; }
 };
 
 struct ShearCellPoint {
-  double shear_rate = 0.0;       // γ̇ [1/s]
+  double shear_rate = 0.0;  // γ̇ [1/s]
   // Top-plate total shear stress [Pa]: mean over the detector's last window when steady, else
   // over the second half of the run (5 batch means give the error); the parts use the same span.
   double stress = 0.0;
-  double stress_error = 0.0;     // its standard error [Pa]
-  double stress_fluid = 0.0;     // fluid part [Pa]
-  double stress_contact = 0.0;   // contact part [Pa]
+  double stress_error = 0.0;        // its standard error [Pa]
+  double stress_fluid = 0.0;        // fluid part [Pa]
+  double stress_contact = 0.0;      // contact part [Pa]
   double stress_lubrication = 0.0;  // plate lubrication part [Pa]
   double stress_stresslet = 0.0;    // stresslet part [Pa]
   double stress_couple = 0.0;       // rotation-couple part [Pa]
-  double bottom_stress = 0.0;    // bottom plate total, same window [Pa]
-  double bulk_stress = 0.0;      // bulk stress from the particle virial, same window [Pa]
-  ShearCellBulkParts bulk_parts;  // its parts, same window
+  double bottom_stress = 0.0;       // bottom plate total, same window [Pa]
+  double bulk_stress = 0.0;         // bulk stress from the particle virial, same window [Pa]
+  ShearCellBulkParts bulk_parts;    // its parts, same window
   int max_near_field_iterations = 0;
   bool converged = false;
   double strain = 0.0;

@@ -51,28 +51,28 @@ struct SuspensionBoxSettings {
   // {1}, {1}: monodisperse.
   std::vector<double> radii{1.0};
   std::vector<double> volume_shares{1.0};
-  double friction = 0.3;            // μ_c, Coulomb coefficient of the contacts, >= 0
-  double stokes_number = 0.0;       // St = m γ̇/(6πμa) = (2/9)ρ_p a² γ̇/μ of the reference sphere; 0: overdamped
-  double roughness = 1.0e-3;        // δ/ā, regularises the lubrication gap
+  double friction = 0.3;       // μ_c, Coulomb coefficient of the contacts, >= 0
+  double stokes_number = 0.0;  // St = m γ̇/(6πμa) = (2/9)ρ_p a² γ̇/μ of the reference sphere; 0: overdamped
+  double roughness = 1.0e-3;   // δ/ā, regularises the lubrication gap
   // h_c/ā: beyond about 0.25ā the leading singular terms overestimate the pair resistance
   // (their O(1) remainder is negative there); 0.5 raises η_r by 2 % at φ = 0.1 and 11–17 % at 0.3–0.4.
   double lubrication_cutoff = 0.25;
-  double contact_stiffness = 0.0;   // k_n/(6πμaγ̇); 0: default_contact_stiffness(φ)
+  double contact_stiffness = 0.0;                 // k_n/(6πμaγ̇); 0: default_contact_stiffness(φ)
   double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t/k_n
-  double repulsion_force = 0.0;     // F_R0/(6πμa²γ̇); 0: no repulsion
-  double repulsion_length = 0.05;   // λ/ā
-  double stresslet_viscosity_ratio = 1.0;  // μ_S/μ(γ̇) in the stresslet
+  double repulsion_force = 0.0;                   // F_R0/(6πμa²γ̇); 0: no repulsion
+  double repulsion_length = 0.05;                 // λ/ā
+  double stresslet_viscosity_ratio = 1.0;         // μ_S/μ(γ̇) in the stresslet
   // μ(s γ̇)/μ(γ̇) at the local rate s γ̇ of a lubricated gap (s = γ̇_gap/γ̇), for a
   // generalized-Newtonian matrix; empty: Newtonian (ratio 1).
   std::function<double(double)> viscosity_ratio;
-  double strain_step = 0.0;         // Δγ; 0: from the contact stiffness and St (default_strain_step)
+  double strain_step = 0.0;  // Δγ; 0: from the contact stiffness and St (default_strain_step)
   // Left out of the averages: the random placement relaxes over a few strain units (η_r at
   // φ = 0.3 falls by 1–2 % from the window after strain 3 to the one after 10).
   double warmup_strain = 5.0;
   double min_averaging_strain = 10.0;
-  double max_strain = 40.0;         // total, warm-up included
+  double max_strain = 40.0;          // total, warm-up included
   double relative_tolerance = 0.02;  // stop once the standard error of η_r is below this (relative)
-  double block_strain = 1.0;        // averaging block length (strain) for the error bar
+  double block_strain = 1.0;         // averaging block length (strain) for the error bar
   double solver_tolerance = 1.0e-4;  // residual / |rhs| of the implicit solve (η_r moves by 3e-4 against 1e-6)
   int max_solver_iterations = 400;
   std::uint64_t seed = 1;
@@ -108,8 +108,8 @@ struct SuspensionBoxResult {
   double volume_fraction = 0.0;  // as placed
   // Stresses in units of μ(γ̇)γ̇ (η_r = σ_xz/(μγ̇)).
   BoxMean relative_viscosity;
-  BoxMean n1, n2;                // N1 = σ_xx − σ_zz, N2 = σ_zz − σ_yy
-  BoxMean particle_pressure;     // Π = −tr σ_p/3
+  BoxMean n1, n2;             // N1 = σ_xx − σ_zz, N2 = σ_zz − σ_yy
+  BoxMean particle_pressure;  // Π = −tr σ_p/3
   // Parts of σ_xz: liquid (1), stresslets, lubrication, contacts, repulsion.
   double part_fluid = 1.0, part_stresslet = 0.0, part_lubrication = 0.0, part_contact = 0.0, part_repulsion = 0.0;
   // σ_xz over the first and second halves of the averaging window (steady-state check).
@@ -118,10 +118,10 @@ struct SuspensionBoxResult {
   double contact_stiffness = 0.0;
   long steps = 0;
   double mean_solver_iterations = 0.0;
-  long solves_at_iteration_cap = 0;   // implicit solves that stopped at max_solver_iterations
+  long solves_at_iteration_cap = 0;    // implicit solves that stopped at max_solver_iterations
   double worst_solver_residual = 0.0;  // largest relative residual accepted
   double mean_contacts_per_particle = 0.0;
-  double sliding_fraction = 0.0;      // share of contacts at the Coulomb limit
+  double sliding_fraction = 0.0;                 // share of contacts at the Coulomb limit
   double mean_overlap = 0.0, max_overlap = 0.0;  // over contacts, in units of ā
   // Walled box: how far the spheres whose centres lie within 2ā of a plate lag the affine flow
   // towards that plate's velocity, mean of (u∞(z_i) − U_i,x)·(±1) [āγ̇] (0: they follow u∞).

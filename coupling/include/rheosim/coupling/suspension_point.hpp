@@ -88,18 +88,18 @@ struct SuspensionPointSettings {
 };
 
 struct SuspensionPoint {
-  double shear_rate = 0.0;        // γ̇_R [1/s]
-  double torque = 0.0;            // fluid + contact, mean over the last window [N·m]
-  double torque_error = 0.0;      // its standard error [N·m]
-  double torque_fluid = 0.0;      // mean fluid part [N·m]
-  double torque_contact = 0.0;    // mean contact part [N·m]
-  double torque_lubrication = 0.0;  // mean plate lubrication part [N·m] (near field)
-  double torque_stresslet = 0.0;    // mean stresslet part [N·m] (near field)
-  double torque_couple = 0.0;       // mean rotation-couple part [N·m] (near field)
+  double shear_rate = 0.0;            // γ̇_R [1/s]
+  double torque = 0.0;                // fluid + contact, mean over the last window [N·m]
+  double torque_error = 0.0;          // its standard error [N·m]
+  double torque_fluid = 0.0;          // mean fluid part [N·m]
+  double torque_contact = 0.0;        // mean contact part [N·m]
+  double torque_lubrication = 0.0;    // mean plate lubrication part [N·m] (near field)
+  double torque_stresslet = 0.0;      // mean stresslet part [N·m] (near field)
+  double torque_couple = 0.0;         // mean rotation-couple part [N·m] (near field)
   int max_near_field_iterations = 0;  // conjugate-gradient iterations of the implicit near field
-  double bottom_torque_fluid = 0.0;  // mean fluid torque on the bottom plate [N·m]
+  double bottom_torque_fluid = 0.0;   // mean fluid torque on the bottom plate [N·m]
   bool converged = false;
-  double strain = 0.0;            // γ̇_R t at the end
+  double strain = 0.0;  // γ̇_R t at the end
   std::int64_t particles = 0;
   double fluid_time_step = 0.0, dem_time_step = 0.0;
   std::vector<CouplingStepRecord> series;  // per coupling step

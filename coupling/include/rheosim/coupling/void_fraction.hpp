@@ -81,7 +81,7 @@ class CellLocator {
 
   const fluid::CylindricalGrid* grid_;
   std::size_t azimuthal_cells_, axial_cells_;
-  double axial_width_, radial_width_;  // uniform Δz; Δr when the radial grid is uniform, else 0
+  double axial_width_, radial_width_;        // uniform Δz; Δr when the radial grid is uniform, else 0
   std::vector<double> face_cos_, face_sin_;  // unit vectors of the θ faces
 };
 
@@ -138,16 +138,16 @@ void add_builtin_void_fraction_schemes(VoidFractionRegistry& registry);  // cent
 [[nodiscard]] std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(std::string_view name);
 
 struct VoidFractionReport {
-  double particle_volume = 0.0;       // Σ_p V_p [m³]
-  double grid_volume = 0.0;           // Σ_c solid volume carried by the grid after the floor [m³]
-  double relative_error = 0.0;        // |grid − particle| / particle (0 without particles)
-  double min_void_fraction_raw = 1.0; // smallest ε before the floor
-  double min_void_fraction = 1.0;     // smallest ε handed to the fluid
-  std::size_t capped_cells = 0;       // cells that hit the floor and gave volume away
-  double redistributed_volume = 0.0;  // volume moved by the floor [m³]
-  double unplaced_volume = 0.0;       // excess the passes could not place (left below the floor) [m³]
-  std::size_t mapped_points = 0;      // points mapped back into the domain
-  std::size_t merged_rings = 0;       // rings averaged azimuthally (see "Rings near the axis")
+  double particle_volume = 0.0;        // Σ_p V_p [m³]
+  double grid_volume = 0.0;            // Σ_c solid volume carried by the grid after the floor [m³]
+  double relative_error = 0.0;         // |grid − particle| / particle (0 without particles)
+  double min_void_fraction_raw = 1.0;  // smallest ε before the floor
+  double min_void_fraction = 1.0;      // smallest ε handed to the fluid
+  std::size_t capped_cells = 0;        // cells that hit the floor and gave volume away
+  double redistributed_volume = 0.0;   // volume moved by the floor [m³]
+  double unplaced_volume = 0.0;        // excess the passes could not place (left below the floor) [m³]
+  std::size_t mapped_points = 0;       // points mapped back into the domain
+  std::size_t merged_rings = 0;        // rings averaged azimuthally (see "Rings near the axis")
 };
 
 // ε per cell, recomputed from the particles by update().

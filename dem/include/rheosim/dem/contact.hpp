@@ -41,8 +41,8 @@ struct ElasticSphere {
 // Throws std::invalid_argument naming the field and its valid range.
 void check(const ElasticSphere& sphere);
 
-[[nodiscard]] double mass(const ElasticSphere& sphere);                              // m = ρ π d³/6 [kg]
-[[nodiscard]] double shear_modulus(double youngs_modulus, double poisson_ratio);     // G [Pa]
+[[nodiscard]] double mass(const ElasticSphere& sphere);                                  // m = ρ π d³/6 [kg]
+[[nodiscard]] double shear_modulus(double youngs_modulus, double poisson_ratio);         // G [Pa]
 [[nodiscard]] double effective_modulus(const ElasticSphere& a, const ElasticSphere& b);  // E* [Pa]
 [[nodiscard]] double effective_radius(const ElasticSphere& a, const ElasticSphere& b);   // r* [m]
 [[nodiscard]] double effective_mass(const ElasticSphere& a, const ElasticSphere& b);     // m* [kg]

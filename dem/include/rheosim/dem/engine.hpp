@@ -96,10 +96,10 @@ using ParticleId = int;
 class EngineError : public core::RunError {
  public:
   struct Details {
-    std::string command;          // the LIGGGHTS command that failed (or "lammps_open ...")
+    std::string command;           // the LIGGGHTS command that failed (or "lammps_open ...")
     std::string liggghts_message;  // LIGGGHTS' own error text
     std::string liggghts_source;   // where in LIGGGHTS it was raised, e.g. "modify.cpp:850" (may be empty)
-    bool collective = true;       // raised on every rank (Error::all) or on this rank only (Error::one)
+    bool collective = true;        // raised on every rank (Error::all) or on this rank only (Error::one)
   };
   EngineError(std::string message, Details details, std::source_location origin = std::source_location::current());
   [[nodiscard]] const Details& details() const { return details_; }
@@ -114,17 +114,17 @@ class EngineError : public core::RunError {
 // What the per-step callback sees (views into LIGGGHTS' arrays, valid during the call only;
 // this rank's particles in LIGGGHTS' local order, interleaved xyz, SI).
 struct StepState {
-  std::int64_t step = 0;                          // LIGGGHTS step number
-  double time = 0.0;                              // simulated time [s]
-  double time_step = 0.0;                         // δt [s]
-  std::span<const double> positions;              // x^(n+1) [m], 3n
-  std::span<const double> velocities;             // v^(n+1/2) [m/s], 3n (full-step v during a run's setup)
-  std::span<const double> angular_velocities;     // [rad/s], 3n
-  std::span<const double> radii;                  // [m], n
-  std::span<const double> masses;                 // [kg], n
-  std::span<const ParticleId> ids;                // n
-  std::span<const double> forces;                 // known force on this step [N], 3n (see above)
-  std::span<const double> torques;                // known torque on this step [N·m], 3n
+  std::int64_t step = 0;                       // LIGGGHTS step number
+  double time = 0.0;                           // simulated time [s]
+  double time_step = 0.0;                      // δt [s]
+  std::span<const double> positions;           // x^(n+1) [m], 3n
+  std::span<const double> velocities;          // v^(n+1/2) [m/s], 3n (full-step v during a run's setup)
+  std::span<const double> angular_velocities;  // [rad/s], 3n
+  std::span<const double> radii;               // [m], n
+  std::span<const double> masses;              // [kg], n
+  std::span<const ParticleId> ids;             // n
+  std::span<const double> forces;              // known force on this step [N], 3n (see above)
+  std::span<const double> torques;             // known torque on this step [N·m], 3n
   [[nodiscard]] std::size_t size() const { return radii.size(); }
 };
 // forces/torques: 3n each, zero on entry; what the callback adds on this step.

@@ -1,7 +1,7 @@
 #pragma once
 // Initial particle positions for the parallel-plate gap: monodisperse spheres of diameter d (or
-// spheres of given diameters, see "Polydisperse") at a target volume fraction φ, with no overlaps (DESIGN §4 dem/, issue 4 item 2). Pure geometry, no
-// LIGGGHTS: dem::RheometerScene hands the result to LIGGGHTS as a data file.
+// spheres of given diameters, see "Polydisperse") at a target volume fraction φ, with no overlaps (DESIGN §4 dem/,
+// issue 4 item 2). Pure geometry, no LIGGGHTS: dem::RheometerScene hands the result to LIGGGHTS as a data file.
 //
 // What φ means
 //   φ is the particle volume over the whole gap volume V = π R² H (the volume the fluid solver
@@ -84,20 +84,20 @@ struct PlacementParams {
 };
 
 struct Placement {
-  std::vector<double> centres;       // [x0 y0 z0 x1 y1 z1 ...] [m], axis at x = y = 0, bottom plate z = 0
-  std::vector<double> diameters;     // [d0 d1 ...] [m], one per particle
-  std::size_t count = 0;             // N = round(6 φ R² H / d³), or the number of given diameters
-  double volume_fraction = 0.0;      // achieved: Σ π d_i³/6 / (π R² H)
+  std::vector<double> centres;    // [x0 y0 z0 x1 y1 z1 ...] [m], axis at x = y = 0, bottom plate z = 0
+  std::vector<double> diameters;  // [d0 d1 ...] [m], one per particle
+  std::size_t count = 0;          // N = round(6 φ R² H / d³), or the number of given diameters
+  double volume_fraction = 0.0;   // achieved: Σ π d_i³/6 / (π R² H)
   // The lattice of step 1.
-  std::string lattice;               // "hexagonal" or "square"
-  int layers = 0;                    // L
-  double layer_spacing = 0.0;        // s [m] (0 for one layer)
+  std::string lattice;                    // "hexagonal" or "square"
+  int layers = 0;                         // L
+  double layer_spacing = 0.0;             // s [m] (0 for one layer)
   double capacity_volume_fraction = 0.0;  // densest lattice: sites π d³/6 / (π R² H)
-  double lattice_spacing = 0.0;      // a [m] after stretching (step 2)
-  std::size_t lattice_sites = 0;     // sites of the stretched lattice (>= count)
+  double lattice_spacing = 0.0;           // a [m] after stretching (step 2)
+  std::size_t lattice_sites = 0;          // sites of the stretched lattice (>= count)
   // The shaking of step 3.
-  double shake_acceptance = 0.0;     // accepted / proposed moves over all sweeps
-  double shake_step = 0.0;           // final δ [m]
+  double shake_acceptance = 0.0;  // accepted / proposed moves over all sweeps
+  double shake_step = 0.0;        // final δ [m]
 };
 
 // N = round(φ · π R² H / (π d³/6)). Throws std::invalid_argument for values out of range.

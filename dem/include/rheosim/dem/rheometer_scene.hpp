@@ -34,9 +34,8 @@
 //     dem::place_particles (placement.hpp: layered lattice, random subset, hard-sphere Monte
 //     Carlo; φ is of the whole gap volume π R² H; no overlaps; within 1 % of the target), or
 //     at explicit positions (tests, restarts; monodisperse only). Under MPI the placement runs
-//     once, on rank 0, and is broadcast, so every rank's placement() is the same. They enter LIGGGHTS through a data file that the scene
-//     writes, <run_directory>/particles.data (read_data), with optional random initial
-//     velocities.
+//     once, on rank 0, and is broadcast, so every rank's placement() is the same. They enter LIGGGHTS through a data
+//     file that the scene writes, <run_directory>/particles.data (read_data), with optional random initial velocities.
 //   - Gravity optional (fix gravity), along any direction.
 //   - Time step: δt = time_step_fraction · t_R, with the Rayleigh time t_R of the (smallest)
 //     particles (contact.hpp), unless time_step overrides it. Default fraction 0.3: the CD §4 particles
@@ -96,10 +95,10 @@ struct TorqueSample {
 class RheometerScene {
  public:
   struct Params {
-    core::PlateGeometry geometry{};        // R, H [m]: R > 0, 0 < H < R
-    core::ParticleProperties particles{};  // φ in [0, 0.5], d in (0, H), ρ_p, E, ν, e, μ_c
-    double rim_shear_rate = 0.0;           // γ̇_R [1/s] at the start (finite; < 0 turns backwards)
-    double time_step_fraction = 0.3;       // δt / t_R, in (0, 1]
+    core::PlateGeometry geometry{};                  // R, H [m]: R > 0, 0 < H < R
+    core::ParticleProperties particles{};            // φ in [0, 0.5], d in (0, H), ρ_p, E, ν, e, μ_c
+    double rim_shear_rate = 0.0;                     // γ̇_R [1/s] at the start (finite; < 0 turns backwards)
+    double time_step_fraction = 0.3;                 // δt / t_R, in (0, 1]
     std::optional<double> time_step = std::nullopt;  // δt [s] > 0; overrides time_step_fraction
     // Gravitational acceleration [m/s²]; std::nullopt: no gravity.
     std::optional<std::array<double, 3>> gravity = std::array<double, 3>{0.0, 0.0, -core::units::standard_gravity};
@@ -108,10 +107,10 @@ class RheometerScene {
     // Particle centres [x0 y0 z0 x1 y1 z1 ...] [m] instead of the placement at φ; each must lie
     // inside the gap (centre at least d/2 from the plates and the rim), overlaps are not checked.
     std::optional<std::vector<double>> positions = std::nullopt;
-    double initial_speed = 0.0;      // [m/s] >= 0: random isotropic initial velocity of this magnitude
-    int placement_sweeps = 50;       // Monte Carlo sweeps of the placement (placement.hpp), >= 0
+    double initial_speed = 0.0;                 // [m/s] >= 0: random isotropic initial velocity of this magnitude
+    int placement_sweeps = 50;                  // Monte Carlo sweeps of the placement (placement.hpp), >= 0
     std::int64_t torque_sample_interval = 100;  // N: steps per TorqueSample, >= 1
-    int top_plate_rings = 0;         // rings of the disk mesh (disk_mesh.hpp), >= 0; 0: max(1, ⌈R/(10 d)⌉)
+    int top_plate_rings = 0;               // rings of the disk mesh (disk_mesh.hpp), >= 0; 0: max(1, ⌈R/(10 d)⌉)
     double neighbor_skin_fraction = 0.25;  // LIGGGHTS neighbour skin / d, in (0, 1]
     // Fortran handle of the communicator (see Engine::Params); empty: MPI_COMM_WORLD.
     std::optional<int> communicator_fortran_handle = std::nullopt;

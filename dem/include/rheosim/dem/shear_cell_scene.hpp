@@ -65,12 +65,12 @@
 namespace rheosim::dem {
 
 struct WallStressSample {
-  std::int64_t step = 0;        // LIGGGHTS step at the end of the block
-  double time = 0.0;            // simulated time at the end of the block [s]
-  double top_shear = 0.0;       // −F_x / A on the top plate, block mean [Pa]
-  double top_normal = 0.0;      // F_z / A on the top plate (particles push it up: > 0) [Pa]
-  double bottom_shear = 0.0;    // +F_x / A on the bottom plate [Pa]
-  double bottom_normal = 0.0;   // −F_z / A on the bottom plate (pushed down: > 0) [Pa]
+  std::int64_t step = 0;       // LIGGGHTS step at the end of the block
+  double time = 0.0;           // simulated time at the end of the block [s]
+  double top_shear = 0.0;      // −F_x / A on the top plate, block mean [Pa]
+  double top_normal = 0.0;     // F_z / A on the top plate (particles push it up: > 0) [Pa]
+  double bottom_shear = 0.0;   // +F_x / A on the bottom plate [Pa]
+  double bottom_normal = 0.0;  // −F_z / A on the bottom plate (pushed down: > 0) [Pa]
 };
 
 class ShearCellScene {
@@ -79,13 +79,13 @@ class ShearCellScene {
     double gap = 0.0;          // H [m] > d
     double cell_length = 0.0;  // L_x [m] (shear direction), >= 2 d (periodic images must not touch themselves)
     double cell_width = 0.0;   // L_y [m] (vorticity direction), >= 2 d
-    core::ParticleProperties particles{};  // φ in [0, 0.45], d, ρ_p, E, ν, e, μ_c; monodisperse
-    double shear_rate = 0.0;               // γ̇ [1/s], finite: top plate at U = γ̇ H along +x
-    double time_step_fraction = 0.3;       // δt / t_R, in (0, 1]
-    std::optional<double> time_step = std::nullopt;          // δt [s] > 0, overrides the fraction
+    core::ParticleProperties particles{};            // φ in [0, 0.45], d, ρ_p, E, ν, e, μ_c; monodisperse
+    double shear_rate = 0.0;                         // γ̇ [1/s], finite: top plate at U = γ̇ H along +x
+    double time_step_fraction = 0.3;                 // δt / t_R, in (0, 1]
+    std::optional<double> time_step = std::nullopt;  // δt [s] > 0, overrides the fraction
     std::optional<std::array<double, 3>> gravity = std::nullopt;  // [m/s²]; nullopt: none
-    std::uint64_t seed = 1;                 // placement jitter, subset, initial velocities
-    std::filesystem::path run_directory{};  // required; no whitespace or quotes
+    std::uint64_t seed = 1;                                       // placement jitter, subset, initial velocities
+    std::filesystem::path run_directory{};                        // required; no whitespace or quotes
     // Start velocities: the undisturbed shear profile u_x = γ̇ z (true) or rest (false), plus
     // a random isotropic part of magnitude initial_speed [m/s] >= 0.
     bool start_in_shear_profile = true;
@@ -115,11 +115,11 @@ class ShearCellScene {
   // 0 before the first sample.
   [[nodiscard]] double mean_top_shear_stress(std::size_t samples) const;
 
-  [[nodiscard]] double shear_rate() const;       // γ̇ [1/s]
-  [[nodiscard]] double plate_velocity() const;   // U = γ̇ H [m/s]
-  [[nodiscard]] double plate_area() const;       // A = L_x L_y [m²]
-  [[nodiscard]] double time_step() const;        // δt [s]
-  [[nodiscard]] double rayleigh_time() const;    // t_R [s]
+  [[nodiscard]] double shear_rate() const;      // γ̇ [1/s]
+  [[nodiscard]] double plate_velocity() const;  // U = γ̇ H [m/s]
+  [[nodiscard]] double plate_area() const;      // A = L_x L_y [m²]
+  [[nodiscard]] double time_step() const;       // δt [s]
+  [[nodiscard]] double rayleigh_time() const;   // t_R [s]
   [[nodiscard]] std::int64_t total_particle_count() const;
   // Achieved φ = N V_p / (L_x L_y H).
   [[nodiscard]] double volume_fraction() const;
@@ -138,7 +138,7 @@ class ShearCellScene {
 };
 
 // Particles a shear cell of this size holds at φ: round(φ L_x L_y H / V_p).
-[[nodiscard]] std::size_t shear_cell_particle_count(double gap, double cell_length, double cell_width,
-                                                    double diameter, double volume_fraction);
+[[nodiscard]] std::size_t shear_cell_particle_count(double gap, double cell_length, double cell_width, double diameter,
+                                                    double volume_fraction);
 
 }  // namespace rheosim::dem

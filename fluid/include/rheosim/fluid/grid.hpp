@@ -46,12 +46,12 @@ namespace rheosim::fluid {
 class CylindricalGrid {
  public:
   struct Params {
-    double radius = 0.0;          // R [m], > 0
-    double gap = 0.0;             // H [m], > 0
-    int radial_cells = 1;         // N_r, >= 1
-    int azimuthal_cells = 1;      // N_θ, >= 1; 1 = axisymmetric
-    int axial_cells = 1;          // N_z, >= 1
-    double radial_grading = 1.0;  // Δr_last/Δr_first, > 0; 1 = uniform
+    double radius = 0.0;            // R [m], > 0
+    double gap = 0.0;               // H [m], > 0
+    int radial_cells = 1;           // N_r, >= 1
+    int azimuthal_cells = 1;        // N_θ, >= 1; 1 = axisymmetric
+    int axial_cells = 1;            // N_z, >= 1
+    double radial_grading = 1.0;    // Δr_last/Δr_first, > 0; 1 = uniform
     double axial_stretching = 0.0;  // β of the tanh clustering towards both plates, >= 0; 0 = uniform
   };
 
@@ -70,7 +70,7 @@ class CylindricalGrid {
   [[nodiscard]] std::span<const double> radial_centres() const { return radial_centres_; }    // [m]
   [[nodiscard]] std::span<const double> azimuthal_faces() const { return azimuthal_faces_; }  // θ_j [rad]
   [[nodiscard]] std::span<const double> azimuthal_centres() const { return azimuthal_centres_; }
-  [[nodiscard]] std::span<const double> axial_faces() const { return axial_faces_; }          // z_k [m]
+  [[nodiscard]] std::span<const double> axial_faces() const { return axial_faces_; }  // z_k [m]
   [[nodiscard]] std::span<const double> axial_centres() const { return axial_centres_; }
 
   [[nodiscard]] double radial_width(std::size_t i) const { return radial_faces_[i + 1] - radial_faces_[i]; }

@@ -44,20 +44,20 @@
 namespace rheosim::fluid {
 
 struct SwirlParams {
-  CylindricalGrid::Params grid;                   // azimuthal_cells must be 1
-  double density = 0;                             // ρ [kg/m³], > 0
+  CylindricalGrid::Params grid;                    // azimuthal_cells must be 1
+  double density = 0;                              // ρ [kg/m³], > 0
   std::shared_ptr<const core::Rheology> rheology;  // μ(γ̇), not null
-  bool inertia = true;                            // false: creeping (Stokes) limit
-  double tolerance = 1e-10;                       // relative change of ω, u and torque per iteration
-  int max_iterations = 500;                       // Picard iterations
-  double viscosity_relaxation = 1.0;              // (0, 1]: μ ← μ_old + α(μ_new − μ_old)
-  double velocity_relaxation = 1.0;               // (0, 1]: the iterate moves by β of each Picard step
-  int anderson_depth = 5;                         // Anderson acceleration history; 0 = plain Picard
-  double pseudo_time_step = 0;                    // first pseudo-time step [rad of plate rotation]; 0 = off
-  bool newton_krylov = true;                      // inertia: Newton steps by GMRES on the full Jacobian
-  bool grid_sequencing = true;                    // inertia: start from the solution on half the cells
-  bool one_sided_plate_gradients = true;          // inertia: second-order plate fluxes (false: half-cell,
-                                                  // as the transient solver's)
+  bool inertia = true;                             // false: creeping (Stokes) limit
+  double tolerance = 1e-10;                        // relative change of ω, u and torque per iteration
+  int max_iterations = 500;                        // Picard iterations
+  double viscosity_relaxation = 1.0;               // (0, 1]: μ ← μ_old + α(μ_new − μ_old)
+  double velocity_relaxation = 1.0;                // (0, 1]: the iterate moves by β of each Picard step
+  int anderson_depth = 5;                          // Anderson acceleration history; 0 = plain Picard
+  double pseudo_time_step = 0;                     // first pseudo-time step [rad of plate rotation]; 0 = off
+  bool newton_krylov = true;                       // inertia: Newton steps by GMRES on the full Jacobian
+  bool grid_sequencing = true;                     // inertia: start from the solution on half the cells
+  bool one_sided_plate_gradients = true;           // inertia: second-order plate fluxes (false: half-cell,
+                                                   // as the transient solver's)
 };
 
 // Fields of one converged (or last) iterate. Index cell (i, k) as i * N_z + k.
@@ -72,16 +72,16 @@ struct SwirlState {
 
 struct SwirlResult {
   SwirlState state;
-  double torque = 0;          // on the top plate [N·m], resisting the rotation (> 0)
-  double bottom_torque = 0;   // transmitted to the bottom plate [N·m]; equals torque when steady
+  double torque = 0;         // on the top plate [N·m], resisting the rotation (> 0)
+  double bottom_torque = 0;  // transmitted to the bottom plate [N·m]; equals torque when steady
   int iterations = 0;
   bool converged = false;
-  std::string failure;        // why it did not converge (empty when converged)
+  std::string failure;                   // why it did not converge (empty when converged)
   std::vector<double> residual_history;  // relative change per iteration
   // Converged at the iteration's floor rather than at the tolerance: the largest relative change
   // of the last iterations, which stopped gaining (0 when the tolerance itself was met).
   double accepted_change = 0;
-  double wall_time = 0;       // [s]
+  double wall_time = 0;  // [s]
   // Grid sequencing only (else 0): the torque on the grid with half the cells in r and z, and
   // the Richardson extrapolation of the pair assuming second order, T + (T − T_2h)/3, with
   // its estimated relative error |T − T_2h|/(3 T_ext).
@@ -92,8 +92,8 @@ struct SwirlResult {
 
 // External fields for the volume-averaged (CD eq. 27) form; both optional (empty = single phase).
 struct SwirlCoupling {
-  std::span<const double> void_fraction;  // ε [-] per cell, in (0, 1]
-  std::span<const double> torque_density; // particle → fluid azimuthal force × r per volume [N/m²]
+  std::span<const double> void_fraction;   // ε [-] per cell, in (0, 1]
+  std::span<const double> torque_density;  // particle → fluid azimuthal force × r per volume [N/m²]
 };
 
 class SwirlSolver {

@@ -169,16 +169,16 @@ struct MomentumSource {
 };
 
 struct StepReport {
-  double time = 0;              // t after the step [s]
-  double time_step = 0;         // Δt [s]
-  double courant = 0;           // convective Courant number of the new state at this Δt
-  int pressure_iterations = 0;  // PCG iterations
-  int viscous_iterations = 0;   // largest CG iteration count of the three predictor systems (0: direct)
-  double pressure_residual = 0; // final PCG residual relative to the norm of the face-flux magnitudes
-  double max_divergence = 0;    // max |∇·(εu) + ∂ε/∂t| over cells [1/s] after the projection
-  double torque = 0;            // on the top plate [N·m], resisting rotation (> 0 for Ω > 0)
-  double bottom_torque = 0;     // transmitted to the bottom plate [N·m]
-  double wall_time = 0;         // [s]
+  double time = 0;               // t after the step [s]
+  double time_step = 0;          // Δt [s]
+  double courant = 0;            // convective Courant number of the new state at this Δt
+  int pressure_iterations = 0;   // PCG iterations
+  int viscous_iterations = 0;    // largest CG iteration count of the three predictor systems (0: direct)
+  double pressure_residual = 0;  // final PCG residual relative to the norm of the face-flux magnitudes
+  double max_divergence = 0;     // max |∇·(εu) + ∂ε/∂t| over cells [1/s] after the projection
+  double torque = 0;             // on the top plate [N·m], resisting rotation (> 0 for Ω > 0)
+  double bottom_torque = 0;      // transmitted to the bottom plate [N·m]
+  double wall_time = 0;          // [s]
 };
 
 enum class StepFailure {
@@ -228,8 +228,7 @@ class TransientSolver {
   // Replaces the velocity (sizes as the accessors below; the axis, rim and wall values are
   // imposed) and restarts the time history (the next step is BDF1). The field is used as given:
   // call project_velocity() to make an arbitrary initial field divergence-free.
-  void set_velocity(std::span<const double> radial, std::span<const double> azimuthal,
-                    std::span<const double> axial);
+  void set_velocity(std::span<const double> radial, std::span<const double> azimuthal, std::span<const double> axial);
   // Replaces the pressure [Pa] (cell centres), e.g. on a restart; the predictor of the next step
   // starts from it. Its volume mean is removed.
   void set_pressure(std::span<const double> pressure);
@@ -240,11 +239,11 @@ class TransientSolver {
   // Fields of the current state (index formulas: cell (i·N_θ + j)·N_z + k).
   [[nodiscard]] std::span<const double> radial_velocity() const;     // u_r [m/s], (N_r+1)·N_θ·N_z, i = 0 axis value
   [[nodiscard]] std::span<const double> azimuthal_velocity() const;  // u_θ [m/s], N_r·N_θ·N_z, at (r_c,i, θ_j, z_c,k)
-  [[nodiscard]] std::span<const double> axial_velocity() const;      // u_z [m/s], N_r·N_θ·(N_z+1): (i·N_θ+j)·(N_z+1)+k
-  [[nodiscard]] std::span<const double> pressure() const;            // p [Pa], cell centres, volume mean 0
-  [[nodiscard]] std::span<const double> viscosity() const;           // μ [Pa·s], cell centres
-  [[nodiscard]] std::span<const double> shear_rate() const;          // γ̇ [1/s], cell centres
-  [[nodiscard]] std::span<const double> void_fraction() const;       // ε [-], cell centres (current)
+  [[nodiscard]] std::span<const double> axial_velocity() const;  // u_z [m/s], N_r·N_θ·(N_z+1): (i·N_θ+j)·(N_z+1)+k
+  [[nodiscard]] std::span<const double> pressure() const;        // p [Pa], cell centres, volume mean 0
+  [[nodiscard]] std::span<const double> viscosity() const;       // μ [Pa·s], cell centres
+  [[nodiscard]] std::span<const double> shear_rate() const;      // γ̇ [1/s], cell centres
+  [[nodiscard]] std::span<const double> void_fraction() const;   // ε [-], cell centres (current)
   // ∇·(εu) per cell [1/s] of the current state (equals −∂ε/∂t of the last step).
   [[nodiscard]] std::vector<double> divergence() const;
   // Velocity interpolated (trilinear on each staggered component, walls/axis/rim included).

@@ -42,8 +42,8 @@ struct AmgSettings {
   int post_sweeps = 1;               // backward sweeps after it
   std::size_t coarsest_size = 500;   // rows at or below which a level is solved directly
   int max_levels = 15;
-  int reuse_steps = 50;              // prepare(): full set-up at least every this many calls ...
-  double reuse_growth = 1.5;         // ... or when a solve took more than this × the first solve's iterations
+  int reuse_steps = 50;       // prepare(): full set-up at least every this many calls ...
+  double reuse_growth = 1.5;  // ... or when a solve took more than this × the first solve's iterations
 
   void check() const;  // throws std::invalid_argument naming the field and its range
 };

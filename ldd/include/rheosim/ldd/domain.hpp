@@ -32,8 +32,8 @@ struct Wall {
 struct NodeCloud {
   std::vector<double> positions;
   std::vector<NodeKind> kinds;
-  std::vector<double> normals;         // inward unit normal per node (0 for fluid nodes; corners: bisector)
-  std::vector<double> wall_velocities; // per node [m/s] (0 for fluid nodes)
+  std::vector<double> normals;          // inward unit normal per node (0 for fluid nodes; corners: bisector)
+  std::vector<double> wall_velocities;  // per node [m/s] (0 for fluid nodes)
   [[nodiscard]] std::size_t size() const { return kinds.size(); }
 };
 

@@ -142,25 +142,25 @@ struct FreeSurfaceParams {
   double pressure_tolerance = 1e-6;                // BiCGStab relative residual, PPE
   double velocity_tolerance = 1e-6;                // BiCGStab relative residual, eq. 19
   int max_iterations = 2000;
-  double surface_offset = 0.3;                     // |c_i|/Δ above which a node is on the surface
-  double surface_count = 0.7;                      // n_i/n₀ below which a node is on the surface
-  double surface_cone_angle = 35;                  // [°] half-angle of the empty-cone test
-  double min_moment_rcond = 0.03;                  // λ_min/λ_max of eq. 13's moment matrix below which it is
-                                                   // pseudo-inverted (weak directions dropped)
-  double surface_moment_rcond = 0.01;              // λ_min/λ_max below which the node counts as surface
-  bool centred_gradient = true;                    // operators.hpp: no self-coupling of ⟨∇p⟩ and ⟨∇·u⟩ (docs/ldd.md)
-  double surface_fluid_weight = 0.1;               // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
-  double neighbour_skin = 0.3;                     // search radius = h + skin·Δ (also the detection radius)
+  double surface_offset = 0.3;         // |c_i|/Δ above which a node is on the surface
+  double surface_count = 0.7;          // n_i/n₀ below which a node is on the surface
+  double surface_cone_angle = 35;      // [°] half-angle of the empty-cone test
+  double min_moment_rcond = 0.03;      // λ_min/λ_max of eq. 13's moment matrix below which it is
+                                       // pseudo-inverted (weak directions dropped)
+  double surface_moment_rcond = 0.01;  // λ_min/λ_max below which the node counts as surface
+  bool centred_gradient = true;        // operators.hpp: no self-coupling of ⟨∇p⟩ and ⟨∇·u⟩ (docs/ldd.md)
+  double surface_fluid_weight = 0.1;   // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
+  double neighbour_skin = 0.3;         // search radius = h + skin·Δ (also the detection radius)
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
   // this, and each step keeps those now within the search radius (the same list a fresh search
   // gives) until some node has moved half of it. 0: a fresh search every step.
   double neighbour_reuse_skin = 0.3;
-  int pbd_iterations = 3;                          // PBD sweeps per step (0: none)
-  double pbd_stiffness = 0.5;                      // fraction of the PBD correction applied per sweep
-  double pbd_max_shift = 0.05;                     // per sweep, units of Δ
-  double wall_clearance = 0.5;                     // fluid nodes stay this far (units of Δ) off boundaries
-  double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
-  bool hydrostatic_start = true;                   // initial p = ρ|g|·depth below the top fluid node
+  int pbd_iterations = 3;         // PBD sweeps per step (0: none)
+  double pbd_stiffness = 0.5;     // fraction of the PBD correction applied per sweep
+  double pbd_max_shift = 0.05;    // per sweep, units of Δ
+  double wall_clearance = 0.5;    // fluid nodes stay this far (units of Δ) off boundaries
+  double max_courant = 1.0;       // stop when max|u| δt/Δ exceeds this
+  bool hydrostatic_start = true;  // initial p = ρ|g|·depth below the top fluid node
   // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
   // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg (amg.hpp),
   // or jacobi. Case files: `auto` is amg, with a fresh hierarchy every step in 2D and a reused one
@@ -173,7 +173,7 @@ struct FreeSurfaceParams {
   // advection or the no-tension clip — and reports the growth per step in
   // FreeSurfaceStats::step_map_growth (≤ 1: perturbations do not grow). Costs ~3 solves each.
   int stability_probe_iterations = 0;
-  bool transpose_stress = false;                   // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)
+  bool transpose_stress = false;  // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)
 
   void check() const;  // throws std::invalid_argument naming the field and its range
 };
@@ -186,7 +186,7 @@ struct FreeSurfaceStats {
   double max_speed = 0, courant = 0;
   std::size_t surface_nodes = 0, splash_nodes = 0;
   std::size_t positivity_guarded = 0;  // nodes whose Laplacian dropped the offset correction
-  double max_pbd_shift = 0;  // units of Δ
+  double max_pbd_shift = 0;            // units of Δ
   // Solves that failed and were repeated: with a fresh AMG hierarchy when the kept one was built
   // for an older cloud, and in 2D a pressure solve with the matrix's sparse LU as preconditioner
   // (the failed iterations are counted in the totals above).
@@ -285,7 +285,7 @@ class FreeSurfaceSolver {
   std::size_t steps_ = 0, laplacian_guarded_ = 0;
   bool first_step_ = true;
   NeighbourList neighbours_;
-  NeighbourList candidates_;                // Verlet list (neighbour_reuse_skin); empty after a plain search
+  NeighbourList candidates_;                 // Verlet list (neighbour_reuse_skin); empty after a plain search
   std::vector<double> candidate_positions_;  // where the nodes were at the last search
   std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
   Operators operators_;

@@ -36,9 +36,9 @@ struct StencilMatrix {
 // surface) reaches through the matrix's couplings, in either direction: each is a Neumann block,
 // singular up to the offset terms. A diagnosis for a failed pressure solve.
 struct FloatingGroups {
-  std::size_t groups = 0, nodes = 0;     // how many, and their nodes in all
-  std::size_t largest = 0;               // nodes in the largest
-  std::size_t largest_member = 0;        // one node of the largest
+  std::size_t groups = 0, nodes = 0;  // how many, and their nodes in all
+  std::size_t largest = 0;            // nodes in the largest
+  std::size_t largest_member = 0;     // one node of the largest
 };
 [[nodiscard]] FloatingGroups floating_groups(const StencilMatrix& a);
 
@@ -49,8 +49,8 @@ enum class Preconditioner { jacobi, sparse_lu, amg };
 [[nodiscard]] Preconditioner preconditioner_named(std::string_view name, Preconditioner fallback);
 
 struct KrylovSettings {
-  double relative_tolerance = 1e-8;   // stop when ‖b − A x‖₂ <= tol · ‖b‖₂ ...
-  double absolute_tolerance = 1e-300; // ... or <= this
+  double relative_tolerance = 1e-8;    // stop when ‖b − A x‖₂ <= tol · ‖b‖₂ ...
+  double absolute_tolerance = 1e-300;  // ... or <= this
   int max_iterations = 1000;
   // Right preconditioner z = M⁻¹ r; empty: Jacobi (1/diagonal).
   std::function<void(std::span<const double> r, std::span<double> z)> preconditioner;
@@ -82,7 +82,7 @@ KrylovResult bicgstab(const StencilMatrix& a, std::span<const double> b, std::sp
 // the other continues. settings.preconditioner must be empty.
 struct PairKrylovWorkspace {
   std::vector<double> r, r_hat, p, v, s, t, p_hat, s_hat;  // interleaved, 2 values per node
-  std::vector<std::uint32_t> offsets, columns;              // the matrix pattern, 32-bit
+  std::vector<std::uint32_t> offsets, columns;             // the matrix pattern, 32-bit
 };
 std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
                                                  const KrylovSettings& settings, PairKrylovWorkspace& work);

@@ -47,7 +47,8 @@ class QuadraticFit {
   [[nodiscard]] bool empty() const { return coefficients_.empty(); }
   // D_i for component `component` of a field with `stride` values per node.
   [[nodiscard]] std::array<double, terms> derivatives(const NeighbourList& neighbours, std::span<const double> field,
-                                                      std::size_t stride, std::size_t component, std::size_t node) const;
+                                                      std::size_t stride, std::size_t component,
+                                                      std::size_t node) const;
   [[nodiscard]] std::size_t linear_only_count() const;  // nodes that fell back to a linear fit (or to none)
   [[nodiscard]] double support_radius() const { return support_radius_; }  // h [m]
 
@@ -64,8 +65,8 @@ class QuadraticFit {
 // lattice after the momentum step; advection: a of eq. 20 on every node (walls: their own
 // velocity); both interleaved x, y. Non-fluid nodes copy their velocity. `limit` = false skips the
 // clamp (for tests and the comparison in docs/ldd.md). out is resized to velocity.size().
-void return_to_lattice(std::span<const double> positions, std::span<const NodeKind> kinds, const NeighbourList& neighbours,
-                       const QuadraticFit& fit, std::span<const double> velocity, std::span<const double> advection,
-                       double time_step, bool limit, std::vector<double>& out);
+void return_to_lattice(std::span<const double> positions, std::span<const NodeKind> kinds,
+                       const NeighbourList& neighbours, const QuadraticFit& fit, std::span<const double> velocity,
+                       std::span<const double> advection, double time_step, bool limit, std::vector<double>& out);
 
 }  // namespace rheosim::ldd

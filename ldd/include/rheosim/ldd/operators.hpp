@@ -51,8 +51,8 @@ namespace rheosim::ldd {
 }
 
 struct OperatorSettings {
-  double support_radius = 0;         // h [m], > 0; pairs farther apart than h get W = 0
-  double min_moment_rcond = 1e-3;    // guard threshold on λ_min/λ_max of Σ W x xᵀ
+  double support_radius = 0;       // h [m], > 0; pairs farther apart than h get W = 0
+  double min_moment_rcond = 1e-3;  // guard threshold on λ_min/λ_max of Σ W x xᵀ
   // Gradient about the neighbours' weighted centroid c_i = o_i / Σ W_ij instead of x_i (see
   // above): coefficients W_ij (Σ W (x_ij − c_i)(x_ij − c_i)ᵀ)⁻¹ (x_ij − c_i), still exact for
   // linear fields, identical to eq. 14 where o_i = 0, and summing to zero, so f_i itself does not
@@ -65,12 +65,12 @@ struct OperatorSettings {
 // Per-pair coefficients aligned with a NeighbourList (pair k = neighbour offsets[i] + m of i).
 struct Operators {
   int dimension = 2;
-  std::vector<double> weights;       // W_ij per pair
-  std::vector<double> gradient;      // per pair, dimension values: W_ij B_i x_ij   (eq. 14)
-  std::vector<double> laplacian;     // per pair: coefficient a_ij of f_ij         (eq. 15)
-  std::vector<double> offset;        // per node, dimension values: o_i            (eq. 16)
-  std::vector<std::uint8_t> guarded; // per node: bit 0 moment-matrix guard, bit 1 Laplacian guard
-  std::vector<double> conditioning;  // per node: λ_min/λ_max of the moment matrix (0 without neighbours)
+  std::vector<double> weights;        // W_ij per pair
+  std::vector<double> gradient;       // per pair, dimension values: W_ij B_i x_ij   (eq. 14)
+  std::vector<double> laplacian;      // per pair: coefficient a_ij of f_ij         (eq. 15)
+  std::vector<double> offset;         // per node, dimension values: o_i            (eq. 16)
+  std::vector<std::uint8_t> guarded;  // per node: bit 0 moment-matrix guard, bit 1 Laplacian guard
+  std::vector<double> conditioning;   // per node: λ_min/λ_max of the moment matrix (0 without neighbours)
 
   [[nodiscard]] std::size_t node_count() const { return guarded.size(); }
   [[nodiscard]] std::size_t guarded_count() const;
@@ -89,7 +89,8 @@ void build_operators(std::span<const double> positions, int dimension, const Nei
 // ⟨∇f⟩ for every node (eq. 14): out has dimension values per node.
 void gradient(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
 // ⟨∇·v⟩ for a vector field v (dimension values per node), from eq. 14 per component.
-void divergence(const NeighbourList& neighbours, const Operators& ops, std::span<const double> v, std::span<double> out);
+void divergence(const NeighbourList& neighbours, const Operators& ops, std::span<const double> v,
+                std::span<double> out);
 // ⟨∇²f⟩ for every node (eq. 15).
 void laplacian(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
 

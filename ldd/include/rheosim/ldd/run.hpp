@@ -34,9 +34,9 @@
 namespace rheosim::ldd {
 
 struct RunOutcome {
-  std::string status;              // "steady" | "end_time" | "diverged" | "settled" | "interrupted"
-  std::string message;             // why a diverged run stopped
-  std::filesystem::path summary;   // summary.json
+  std::string status;             // "steady" | "end_time" | "diverged" | "settled" | "interrupted"
+  std::string message;            // why a diverged run stopped
+  std::filesystem::path summary;  // summary.json
   std::size_t steps = 0;
   double ms_per_step = 0;
 };
@@ -46,7 +46,7 @@ struct RunOutcome {
 // writes its checkpoint and returns status "interrupted" (0: no limit).
 struct RunControl {
   std::size_t step_limit = 0;
-  double wall_time_limit = 0;     // [s]
+  double wall_time_limit = 0;        // [s]
   double checkpoint_interval = 600;  // [s] of wall time between checkpoints (also at every frame)
 };
 
@@ -108,9 +108,9 @@ struct DamBreakResult {
   double ms_per_step = 0, volume_drift = 0;  // drift: max |V/V₀ − 1| over the run
   bool diverged = false;
   std::string message;
-  std::vector<double> times, front;      // every step [s], [m]
-  std::vector<double> kinetic_energy;    // every step [J/m]
-  std::vector<double> front_at_table1;   // interpolated at DamBreakReference::times
+  std::vector<double> times, front;     // every step [s], [m]
+  std::vector<double> kinetic_energy;   // every step [J/m]
+  std::vector<double> front_at_table1;  // interpolated at DamBreakReference::times
   PhaseTimes phases;
 };
 // A dam-break run without files (tests, benchmarks), to end_time.

@@ -74,8 +74,8 @@ class BoxBoundary final : public SolidBoundary {
 // Capped cylinder (3D): bottom-cap centre `base`, unit axis, radius, height along the axis.
 class CylinderBoundary final : public SolidBoundary {
  public:
-  CylinderBoundary(std::array<double, 3> base, std::array<double, 3> axis, double radius, double height, bool fluid_inside,
-                   double layer_offset);
+  CylinderBoundary(std::array<double, 3> base, std::array<double, 3> axis, double radius, double height,
+                   bool fluid_inside, double layer_offset);
   double signed_distance(std::span<const double> x, std::span<double> outward) const override;
   [[nodiscard]] std::vector<WallNode> wall_nodes(double spacing) const override;
 

@@ -62,14 +62,14 @@ struct LocalSlopes {
                                            const LocalSlopeOptions& options = {});
 
 struct RimStressCurve {
-  std::vector<double> rim_shear_rate;      // γ̇_R [1/s], as given
-  std::vector<double> torque;              // T [N·m], as given
-  std::vector<double> log_slope;           // n′ = d ln T / d ln γ̇_R
-  std::vector<double> log_slope_std_error; // of n′ (NaN when the window has no spare points)
-  std::vector<double> apparent_stress;     // τ_app = 2T/(πR³) [Pa]
-  std::vector<double> corrected_stress;    // τ_R = T/(2πR³)(3 + n′) [Pa]
-  std::vector<double> apparent_viscosity;  // τ_app/γ̇_R [Pa·s]
-  std::vector<double> corrected_viscosity; // τ_R/γ̇_R [Pa·s]
+  std::vector<double> rim_shear_rate;       // γ̇_R [1/s], as given
+  std::vector<double> torque;               // T [N·m], as given
+  std::vector<double> log_slope;            // n′ = d ln T / d ln γ̇_R
+  std::vector<double> log_slope_std_error;  // of n′ (NaN when the window has no spare points)
+  std::vector<double> apparent_stress;      // τ_app = 2T/(πR³) [Pa]
+  std::vector<double> corrected_stress;     // τ_R = T/(2πR³)(3 + n′) [Pa]
+  std::vector<double> apparent_viscosity;   // τ_app/γ̇_R [Pa·s]
+  std::vector<double> corrected_viscosity;  // τ_R/γ̇_R [Pa·s]
 };
 
 // Needs >= 2 points with positive, distinct rates and positive torques (std::invalid_argument
@@ -83,12 +83,12 @@ struct RimStressCurve {
 // 2. Flow-curve fits
 
 enum class FitWarningKind {
-  not_converged,            // the solver stopped without meeting a convergence test
-  no_degrees_of_freedom,    // n − p < 1: no residual variance, no standard errors
-  singular_jacobian,        // parameters not separately identifiable at the optimum
-  high_correlation,         // |ρ_ij| > FitOptions::correlation_limit
-  large_relative_error,     // se/|p| > FitOptions::relative_error_limit
-  at_bound,                 // a bounded parameter sits on its bound (e.g. τ_y = 0)
+  not_converged,                 // the solver stopped without meeting a convergence test
+  no_degrees_of_freedom,         // n − p < 1: no residual variance, no standard errors
+  singular_jacobian,             // parameters not separately identifiable at the optimum
+  high_correlation,              // |ρ_ij| > FitOptions::correlation_limit
+  large_relative_error,          // se/|p| > FitOptions::relative_error_limit
+  at_bound,                      // a bounded parameter sits on its bound (e.g. τ_y = 0)
   yield_stress_not_significant,  // the yield stress interval includes 0
 };
 [[nodiscard]] std::string_view to_string(FitWarningKind kind);
@@ -100,10 +100,10 @@ struct FitWarning {
 };
 
 struct FitOptions {
-  LeastSquaresOptions solver;        // tolerances of the Levenberg–Marquardt solver
-  double confidence = 0.95;          // of the intervals, in (0, 1)
-  double correlation_limit = 0.99;   // |ρ| above this warns
-  double relative_error_limit = 1.0; // se/|p| above this warns (100 %)
+  LeastSquaresOptions solver;         // tolerances of the Levenberg–Marquardt solver
+  double confidence = 0.95;           // of the intervals, in (0, 1)
+  double correlation_limit = 0.99;    // |ρ| above this warns
+  double relative_error_limit = 1.0;  // se/|p| above this warns (100 %)
 };
 
 // One fitted flow curve. Standard errors, covariance and intervals come from the Jacobian at the
@@ -128,9 +128,9 @@ struct FitResult {
   std::vector<double> residuals;   // relative: (τ_model − τ)/τ, in data order
   std::vector<double> shear_rate;  // the data fitted
   std::vector<double> stress;
-  int points = 0;                  // n
-  int degrees_of_freedom = 0;      // n − p
-  double sum_of_squares = 0;       // Σ r²
+  int points = 0;                                                  // n
+  int degrees_of_freedom = 0;                                      // n − p
+  double sum_of_squares = 0;                                       // Σ r²
   double residual_std = std::numeric_limits<double>::quiet_NaN();  // s = √(Σr²/(n − p)): relative scatter
   double aic = std::numeric_limits<double>::quiet_NaN();
   double aicc = std::numeric_limits<double>::quiet_NaN();
@@ -155,8 +155,8 @@ struct FitResult {
                                        std::span<const double> stress, const FitOptions& options = {});
 // Every named model (all built-in models when `model_names` is empty).
 [[nodiscard]] std::vector<FitResult> fit_flow_curves(std::span<const std::string> model_names,
-                                                     std::span<const double> shear_rate,
-                                                     std::span<const double> stress, const FitOptions& options = {});
+                                                     std::span<const double> shear_rate, std::span<const double> stress,
+                                                     const FitOptions& options = {});
 
 // Model comparison by AICc, best first, with Akaike weights. A model whose AICc is infinite (too
 // few points: n − k − 1 <= 0) ranks last with Δ = ∞ and weight 0. When fewer than two models
@@ -176,7 +176,7 @@ struct ModelRanking {
 // range [min_shear_rate, max_shear_rate]; then `warning` says so.
 struct FlowPrediction {
   double shear_rate = 0;
-  double stress = 0;     // [Pa]
+  double stress = 0;  // [Pa]
   double stress_std_error = std::numeric_limits<double>::quiet_NaN();
   Interval stress_ci95;  // at the fit's confidence
   double viscosity = 0;  // τ/γ̇ [Pa·s]
@@ -257,8 +257,8 @@ struct RelativeViscosityPoint {
                                                         const FlowPrediction& fluid);
 
 // Correlations (φ < φ_m for the last two).
-[[nodiscard]] double einstein_relative_viscosity(double phi);                  // 1 + 2.5φ
-[[nodiscard]] double batchelor_relative_viscosity(double phi);                 // 1 + 2.5φ + 6.2φ²
+[[nodiscard]] double einstein_relative_viscosity(double phi);   // 1 + 2.5φ
+[[nodiscard]] double batchelor_relative_viscosity(double phi);  // 1 + 2.5φ + 6.2φ²
 [[nodiscard]] double krieger_dougherty_relative_viscosity(double phi, double max_packing,
                                                           double intrinsic_viscosity = 2.5);  // (1 − φ/φ_m)^(−[η]φ_m)
 [[nodiscard]] double maron_pierce_relative_viscosity(double phi, double max_packing = 0.63);  // (1 − φ/φ_m)^(−2)
@@ -320,13 +320,13 @@ struct ValidityLimits {
 };
 
 struct PointConditions {
-  double rim_shear_rate = 0;        // γ̇_R [1/s]
-  double density = 0;               // of the sample (suspension) ρ [kg/m³]
-  double viscosity = 0;             // of the sample at γ̇_R, e.g. τ_R/γ̇_R [Pa·s]
-  double fluid_density = 0;         // of the suspending liquid ρ_f; 0: use `density`
-  double fluid_viscosity = 0;       // of the suspending liquid at γ̇_R η_f; 0: use `viscosity`
-  double particle_diameter = 0;     // d [m]; 0: single phase (particle checks pass)
-  double particle_density = 0;      // ρ_p [kg/m³]
+  double rim_shear_rate = 0;     // γ̇_R [1/s]
+  double density = 0;            // of the sample (suspension) ρ [kg/m³]
+  double viscosity = 0;          // of the sample at γ̇_R, e.g. τ_R/γ̇_R [Pa·s]
+  double fluid_density = 0;      // of the suspending liquid ρ_f; 0: use `density`
+  double fluid_viscosity = 0;    // of the suspending liquid at γ̇_R η_f; 0: use `viscosity`
+  double particle_diameter = 0;  // d [m]; 0: single phase (particle checks pass)
+  double particle_density = 0;   // ρ_p [kg/m³]
 };
 
 // Definitions (Ω = γ̇_R H/R):

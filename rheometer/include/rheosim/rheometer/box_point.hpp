@@ -46,8 +46,8 @@ inline constexpr double walled_box_gap_limit = 10.0;
 
 // Plate normal force [N] of a local normal-stress curve: n12[k] = (N1 − N2) at rates[k] (increasing),
 // linear in each interval and ∝ s below the first rate, constant ratio to s beyond the last.
-[[nodiscard]] double plate_normal_force(const std::vector<double>& rates, const std::vector<double>& n12,
-                                        double radius, double rim_shear_rate);
+[[nodiscard]] double plate_normal_force(const std::vector<double>& rates, const std::vector<double>& n12, double radius,
+                                        double rim_shear_rate);
 
 // φ > 0 by the box. The first point of each φ runs the boxes it needs (one, or one per rate)
 // and is charged with their wall time; every point of that φ gets T, F, N1, N2 from them.

@@ -45,8 +45,7 @@ class FlowModel {
   [[nodiscard]] virtual double stress(double shear_rate, std::span<const double> values) const = 0;
   // ∂τ/∂θ_j at γ̇: the derivative with respect to each parameter's fit coordinate
   // (ParameterScale; e.g. ∂τ/∂ln k), written out per model so it stays finite on the bounds.
-  virtual void stress_gradient(double shear_rate, std::span<const double> values,
-                               std::span<double> gradient) const = 0;
+  virtual void stress_gradient(double shear_rate, std::span<const double> values, std::span<double> gradient) const = 0;
   // Starting points for the solver, in physical values, best first; built from the data by
   // closed-form or profiled linear least squares (each model documents how).
   [[nodiscard]] virtual std::vector<std::vector<double>> initial_guesses(std::span<const double> shear_rate,

@@ -71,8 +71,8 @@ struct LeastSquaresSolution {
   double sum_of_squares = 0;        // Σ r²
   std::vector<bool> at_bound;       // θ_j on its lower bound
   bool converged = false;
-  int iterations = 0;               // trial steps taken
-  std::string stop_reason;          // which test stopped the solver
+  int iterations = 0;       // trial steps taken
+  std::string stop_reason;  // which test stopped the solver
 };
 
 // Minimises Σ r_i(θ)² from `start` with θ_j ≥ lower_bounds[j] (−∞ for none; an empty span means
@@ -89,21 +89,22 @@ struct LeastSquaresSolution {
 
 // Statistics of a least-squares optimum in the fit coordinates θ.
 struct ParameterStatistics {
-  int degrees_of_freedom = 0;          // m − n
+  int degrees_of_freedom = 0;                                           // m − n
   double residual_variance = std::numeric_limits<double>::quiet_NaN();  // s² = Σr²/(m − n); NaN when m ≤ n
-  int rank = 0;                        // numerical rank of the column-scaled Jacobian
-  bool is_singular = false;            // rank < n (then the covariance is NaN)
-  Eigen::MatrixXd covariance;          // s² (JᵀJ)⁻¹
-  std::vector<double> std_errors;      // √diag
-  Eigen::MatrixXd correlation;         // cov_ij / (se_i se_j)
-  double t_quantile = std::numeric_limits<double>::quiet_NaN();  // t_{(1+c)/2, m−n}
-  std::vector<Interval> intervals;     // θ_j ± t se_j
+  int rank = 0;                                                         // numerical rank of the column-scaled Jacobian
+  bool is_singular = false;                                             // rank < n (then the covariance is NaN)
+  Eigen::MatrixXd covariance;                                           // s² (JᵀJ)⁻¹
+  std::vector<double> std_errors;                                       // √diag
+  Eigen::MatrixXd correlation;                                          // cov_ij / (se_i se_j)
+  double t_quantile = std::numeric_limits<double>::quiet_NaN();         // t_{(1+c)/2, m−n}
+  std::vector<Interval> intervals;                                      // θ_j ± t se_j
 };
 
 // Covariance from the Jacobian at the optimum, scaled by the residual variance; Student t
 // intervals at `confidence` with m − n degrees of freedom. The rank is found from the SVD of J
 // with unit-norm columns (relative singular-value threshold `rank_tolerance`).
-[[nodiscard]] ParameterStatistics parameter_statistics(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residuals,
+[[nodiscard]] ParameterStatistics parameter_statistics(const Eigen::MatrixXd& jacobian,
+                                                       const Eigen::VectorXd& residuals,
                                                        std::span<const double> coordinates, double confidence = 0.95,
                                                        double rank_tolerance = 1e-10);
 

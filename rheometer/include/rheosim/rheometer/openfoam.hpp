@@ -80,18 +80,18 @@ enum class OpenFoamRim { shear_free, slip };
 struct OpenFoamExportOptions {
   OpenFoamMesh mesh = OpenFoamMesh::m2();
   OpenFoamRim rim = OpenFoamRim::shear_free;
-  std::string fluid;            // which of the case's `fluids:` (by name); empty: the first
-  double core_fraction = 0.5;   // half-width of the core square / R, in (0.2, 0.65)
-  int max_iterations = 10000;   // SIMPLE iterations at most (controlDict endTime, deltaT 1)
+  std::string fluid;           // which of the case's `fluids:` (by name); empty: the first
+  double core_fraction = 0.5;  // half-width of the core square / R, in (0.2, 0.65)
+  int max_iterations = 10000;  // SIMPLE iterations at most (controlDict endTime, deltaT 1)
   // residualControl for p and U: simpleFoam stops when both initial residuals fall below it.
   double residual_tolerance = 1e-7;
 };
 
 // The transport model OpenFOAM gets for a rheology law, in kinematic units.
 struct OpenFoamTransport {
-  std::string model;                                  // transportModel, e.g. "powerLaw"
-  std::vector<std::pair<std::string, double>> coeffs; // <model>Coeffs entries, SI kinematic
-  std::string note;                                   // how it differs from rheosim's law ("" if exact)
+  std::string model;                                   // transportModel, e.g. "powerLaw"
+  std::vector<std::pair<std::string, double>> coeffs;  // <model>Coeffs entries, SI kinematic
+  std::string note;                                    // how it differs from rheosim's law ("" if exact)
 };
 
 // Maps the fluid to OpenFOAM v1912's incompressible viscosity models (ρ = fluid.density):
@@ -112,8 +112,8 @@ struct OpenFoamTransport {
 
 // system/blockMeshDict for the plate gap (16 vertices, 5 hex blocks, 8 arc edges; patches top,
 // bottom, rim). Throws ConfigError for cell counts < 1 or a core_fraction out of range.
-[[nodiscard]] std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry,
-                                                   const OpenFoamMesh& mesh, double core_fraction = 0.5);
+[[nodiscard]] std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const OpenFoamMesh& mesh,
+                                                   double core_fraction = 0.5);
 
 // What export_openfoam wrote and the numbers a comparison needs.
 struct OpenFoamExport {

@@ -45,7 +45,7 @@ struct ParallelPlate {
 
 // T = 2π ∫₀ᴿ τ(γ̇_R r/R) r² dr of the law exactly as implemented (regularisation included),
 // by composite Gauss–Legendre quadrature to a relative tolerance.
-[[nodiscard]] double creeping_torque(const ParallelPlate& plate, const core::Rheology& rheology,
-                                     double rim_shear_rate, double relative_tolerance = 1e-12);
+[[nodiscard]] double creeping_torque(const ParallelPlate& plate, const core::Rheology& rheology, double rim_shear_rate,
+                                     double relative_tolerance = 1e-12);
 
 }  // namespace rheosim::rheometer

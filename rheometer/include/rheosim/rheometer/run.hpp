@@ -17,7 +17,7 @@ namespace rheosim::rheometer {
 struct RunOutcome {
   std::filesystem::path summary;  // summary.json
   int points = 0;
-  int failed_points = 0;          // points whose solve did not converge (state saved, reported)
+  int failed_points = 0;  // points whose solve did not converge (state saved, reported)
 };
 
 // Single-phase rheometry (no `particles:`). Throws core::RunError for failures that stop the

@@ -30,8 +30,8 @@ namespace rheosim::rheometer {
 
 struct RunAnalysisInputs {
   ParallelPlate plate;
-  std::vector<core::NamedFluid> fluids;              // every liquid named by the points
-  std::optional<core::ParticleProperties> particles; // for the particle validity numbers (φ > 0)
+  std::vector<core::NamedFluid> fluids;               // every liquid named by the points
+  std::optional<core::ParticleProperties> particles;  // for the particle validity numbers (φ > 0)
 };
 
 // `summary["points"]` holds objects with fluid (default: the first fluid), volume_fraction

@@ -54,9 +54,9 @@ struct DimensionlessGroups {
 
 // The local flow curve measured by the cell (rates increasing).
 struct LocalFlowCurve {
-  std::vector<double> shear_rate;  // [1/s]
-  std::vector<double> stress;      // [Pa]
-  bool linear = false;             // τ = η γ̇ (Stokes shortcut)
+  std::vector<double> shear_rate;                               // [1/s]
+  std::vector<double> stress;                                   // [Pa]
+  bool linear = false;                                          // τ = η γ̇ (Stokes shortcut)
   double viscosity = std::numeric_limits<double>::quiet_NaN();  // η [Pa·s] when linear
   [[nodiscard]] double stress_at(double shear_rate) const;
 };
@@ -82,13 +82,13 @@ struct ModelChoice {
                                                   double budget_seconds);
 
 struct ShearCellOptions {
-  double tolerance = 0.03;         // stress change allowed by each check (relative)
-  int softening_decades = 4;       // try E·10⁻ᵏ for k = this … 1
-  int max_cell_doublings = 2;      // L₀, 2 L₀, 4 L₀ at most
-  int axial_cells = 2;             // fluid layers (the disk's default N_z)
-  double fluid_time_step = 1e-5;   // target Δt_CFD [s] (CD §4); the coupling interval follows
-  coupling::SteadyStateSettings steady{.strain_window = 2.0, .relative_tolerance = 0.02, .min_strain = 4.0,
-                                       .max_strain = 20.0};
+  double tolerance = 0.03;        // stress change allowed by each check (relative)
+  int softening_decades = 4;      // try E·10⁻ᵏ for k = this … 1
+  int max_cell_doublings = 2;     // L₀, 2 L₀, 4 L₀ at most
+  int axial_cells = 2;            // fluid layers (the disk's default N_z)
+  double fluid_time_step = 1e-5;  // target Δt_CFD [s] (CD §4); the coupling interval follows
+  coupling::SteadyStateSettings steady{
+      .strain_window = 2.0, .relative_tolerance = 0.02, .min_strain = 4.0, .max_strain = 20.0};
 };
 
 // φ > 0 by the shear cell. The first point of each φ measures its local flow curve (stiffness,

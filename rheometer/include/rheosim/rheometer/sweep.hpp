@@ -54,7 +54,7 @@ struct SweepPoint {
 
 // What a transient point reports while it runs (a steady solve reports nothing).
 struct PointProgress {
-  double strain = 0;  // accumulated rim strain γ̇_R t [-]
+  double strain = 0;                                                // accumulated rim strain γ̇_R t [-]
   double target_strain = std::numeric_limits<double>::quiet_NaN();  // expected at the end, NaN if unknown
 };
 using PointProgressCallback = std::function<void(const PointProgress&)>;
@@ -64,9 +64,9 @@ struct PointResult {
   bool converged = false;
   std::string failure;  // why the point has no result (empty when converged)
   std::string method;   // how it was computed, e.g. "steady axisymmetric swirl solve"
-  double torque = std::numeric_limits<double>::quiet_NaN();            // on the top plate [N·m]
-  double torque_fluid = std::numeric_limits<double>::quiet_NaN();      // fluid part [N·m]
-  double torque_contact = std::numeric_limits<double>::quiet_NaN();    // particle contacts [N·m]
+  double torque = std::numeric_limits<double>::quiet_NaN();          // on the top plate [N·m]
+  double torque_fluid = std::numeric_limits<double>::quiet_NaN();    // fluid part [N·m]
+  double torque_contact = std::numeric_limits<double>::quiet_NaN();  // particle contacts [N·m]
   // Near-field parts (issue 9): plate lubrication, and the torque the stresslets and the
   // particles' rotation couples transmit through the liquid [N·m].
   double torque_lubrication = std::numeric_limits<double>::quiet_NaN();
@@ -82,8 +82,8 @@ struct PointResult {
   double cost_forces = std::numeric_limits<double>::quiet_NaN();
   double cost_fluid = std::numeric_limits<double>::quiet_NaN();
   double cost_near_field = std::numeric_limits<double>::quiet_NaN();
-  int iterations = 0;   // nonlinear iterations or time steps
-  double wall_time = 0; // [s]
+  int iterations = 0;    // nonlinear iterations or time steps
+  double wall_time = 0;  // [s]
   // Which scene computed it (issue 10): "swirl", "full_disk" or "shear_cell", why, and the
   // model's estimated relative error of `torque` (NaN when not estimated).
   std::string model;
@@ -170,10 +170,10 @@ class PointStore {
 
 struct SweepOutcome {
   std::filesystem::path summary;  // summary.json
-  int points = 0;           // in the sweep
-  int reused_points = 0;    // read from points/ (finished by an earlier run)
-  int computed_points = 0;  // run now (including failures)
-  int failed_points = 0;    // no result: the sweep exits non-zero
+  int points = 0;                 // in the sweep
+  int reused_points = 0;          // read from points/ (finished by an earlier run)
+  int computed_points = 0;        // run now (including failures)
+  int failed_points = 0;          // no result: the sweep exits non-zero
 };
 
 // Runs (or resumes) a `kind: sweep` case into out_dir and writes summary.json, the CSV tables,
