@@ -457,6 +457,27 @@ class Box {
     return v;
   }
 
+  // A contact's Cundall–Strack tangential spring this step: carried over (its normal part dropped
+  // as the pair rotates: it lives in the tangent plane) and held to the Coulomb limit μ_c k_n δ.
+  struct TangentialContact {
+    Vector3 spring{}, force{};
+    bool slides = false;
+  };
+  [[nodiscard]] TangentialContact tangential_contact(const Vector3& carried, const Vector3& nrm, double overlap) const {
+    TangentialContact c;
+    c.spring = carried - dot(carried, nrm) * nrm;
+    c.force = (-tangential_) * c.spring;
+    const double limit = s_.friction * stiffness_ * overlap;
+    const double magnitude = norm(c.force);
+    if (magnitude > limit) {
+      const double scale = magnitude > 0.0 ? limit / magnitude : 0.0;
+      c.spring = scale * c.spring;
+      c.force = scale * c.force;
+      c.slides = true;
+    }
+    return c;
+  }
+
   // Which pair (or sphere and plate) a gap of the implicit system belongs to, and for a contact
   // its explicit force.
   struct GapSource {
@@ -524,18 +545,8 @@ class Box {
         if (h < 0.0) {  // contact, as between spheres (Cundall & Strack) with the plate as partner
           const double overlap = -h;
           const Vector3 normal_force = (-stiffness_ * overlap) * nrm;
-          Vector3 spring = wall_contact_[slot] ? wall_spring_[slot] : Vector3{};
-          spring = spring - dot(spring, nrm) * nrm;
-          Vector3 tangential_force = (-tangential_) * spring;
-          const double limit = s_.friction * stiffness_ * overlap;
-          const double magnitude = norm(tangential_force);
-          bool slides = false;
-          if (magnitude > limit) {
-            const double scale = magnitude > 0.0 ? limit / magnitude : 0.0;
-            spring = scale * spring;
-            tangential_force = scale * tangential_force;
-            slides = true;
-          }
+          const auto [spring, tangential_force, slides] =
+              tangential_contact(wall_contact_[slot] ? wall_spring_[slot] : Vector3{}, nrm, overlap);
           wall_spring_[slot] = spring;
           wall_contact_[slot] = true;
           const Vector3 force = normal_force + tangential_force;
@@ -605,19 +616,8 @@ class Box {
       if (h < 0.0) {  // contact
         const double overlap = -h;
         const Vector3 normal_force = (-stiffness_ * overlap) * nrm;  // on i, away from j
-        // The spring lives in the tangent plane: drop its normal part as the pair rotates.
-        Vector3 spring = p.in_contact ? p.spring : Vector3{};
-        spring = spring - dot(spring, nrm) * nrm;
-        Vector3 tangential_force = (-tangential_) * spring;
-        const double limit = s_.friction * stiffness_ * overlap;
-        const double magnitude = norm(tangential_force);
-        bool slides = false;
-        if (magnitude > limit) {
-          const double scale = magnitude > 0.0 ? limit / magnitude : 0.0;
-          spring = scale * spring;
-          tangential_force = scale * tangential_force;
-          slides = true;
-        }
+        const auto [spring, tangential_force, slides] =
+            tangential_contact(p.in_contact ? p.spring : Vector3{}, nrm, overlap);
         p.spring = spring;
         p.in_contact = true;
         force_i = normal_force + tangential_force;

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/dem/engine.hpp"
@@ -22,6 +23,14 @@ inline std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
   const auto doc =
       core::Document::from_string(fmt::format("model: newtonian\nviscosity: {:.17g}\n", viscosity), "rheology");
   return core::make_rheology(doc.root());
+}
+
+// The near field of the predictive model: pair lubrication and the isolated-sphere terms.
+inline core::Hydrodynamics lubrication_and_stresslet() {
+  core::Hydrodynamics h;
+  h.lubrication = true;
+  h.single_particle = true;
+  return h;
 }
 
 // A run folder per test, removed afterwards unless the test failed (then it is kept, with

@@ -25,6 +25,7 @@
 
 #include <fmt/format.h>
 
+#include "coupling_test_support.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/coupling/near_field.hpp"
@@ -39,17 +40,8 @@ namespace fs = std::filesystem;
 constexpr double mu = 1e-3;
 constexpr double rate = 100.0;
 
-std::shared_ptr<const core::Rheology> newtonian() {
-  const auto doc = core::Document::from_string("model: newtonian\nviscosity: 1.0e-3\n", "rheology");
-  return core::make_rheology(doc.root());
-}
-
-core::Hydrodynamics lubrication_and_stresslet() {
-  core::Hydrodynamics h;
-  h.lubrication = true;
-  h.single_particle = true;
-  return h;
-}
+std::shared_ptr<const core::Rheology> newtonian() { return testing::newtonian(mu); }
+using testing::lubrication_and_stresslet;
 
 ShearCellPoint run_cell(const core::Hydrodynamics& hydrodynamics, const char* label) {
   ShearCellPointSettings s;

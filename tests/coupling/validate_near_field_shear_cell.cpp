@@ -242,17 +242,8 @@ TEST(ValidateNearFieldShearCell, BookkeepingAddsUpAndTheNearFieldLiftsTheStress)
 
 constexpr double mu = 1e-3;  // water [Pa·s], the seed's liquid
 
-std::shared_ptr<const core::Rheology> newtonian() {
-  const auto doc = core::Document::from_string("model: newtonian\nviscosity: 1.0e-3\n", "rheology");
-  return core::make_rheology(doc.root());
-}
-
-core::Hydrodynamics lubrication_and_stresslet() {
-  core::Hydrodynamics h;
-  h.lubrication = true;
-  h.single_particle = true;
-  return h;
-}
+std::shared_ptr<const core::Rheology> newtonian() { return testing::newtonian(mu); }
+using testing::lubrication_and_stresslet;
 
 // The seed's particles (d = 200 µm, ρ_p = 1000, E/softening) in water at γ̇ in a coupled shear cell
 // with lubrication + stresslet (+ repulsion F_R0 = repulsion_ratio × 6πμa²γ̇, Mari et al.'s stress
