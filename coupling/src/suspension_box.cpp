@@ -478,6 +478,27 @@ class Box {
     return c;
   }
 
+  // The springs' change over the step is implicit: Δt K has the structure of a lubrication gap
+  // (normal: squeeze; tangential, on the relative surface velocity ΔU + (a_iΩ_i + a_jΩ_j)×n:
+  // shear, rolling couplings a_i, a_j and a_i², a_i a_j, a_j²); a plate is a_j = 0.
+  [[nodiscard]] lubrication::Gap spring_gap(const Vector3& nrm, const Vector3& r, double ai, double aj,
+                                            bool slides) const {
+    lubrication::Gap g;
+    g.n = nrm;
+    g.separation = r;
+    g.k_squeeze = dt_ * stiffness_;
+    if (!slides) {
+      const double kt = dt_ * tangential_;
+      g.k_shear = kt;
+      g.b_i = kt * ai;
+      g.b_j = kt * aj;
+      g.c_ii = kt * ai * ai;
+      g.c_ij = kt * ai * aj;
+      g.c_jj = kt * aj * aj;
+    }
+    return g;
+  }
+
   // Which pair (or sphere and plate) a gap of the implicit system belongs to, and for a contact
   // its explicit force.
   struct GapSource {
@@ -551,18 +572,9 @@ class Box {
           wall_contact_[slot] = true;
           const Vector3 force = normal_force + tangential_force;
           const Vector3 torque = cross(a * nrm, tangential_force);
-          lubrication::Gap g;
+          lubrication::Gap g = spring_gap(nrm, r, a, 0.0, slides);
           g.i = i;
           g.plate = static_cast<std::size_t>(plate);
-          g.n = nrm;
-          g.separation = r;
-          g.k_squeeze = dt_ * stiffness_;
-          if (!slides) {
-            const double kt = dt_ * tangential_;
-            g.k_shear = kt;
-            g.b_i = kt * a;
-            g.c_ii = kt * a * a;
-          }
           add_plate_gap(g, plate, rhs, true, force);
           for (std::size_t c = 0; c < 3; ++c) {
             rhs[6 * i + c] += force[c];
@@ -623,24 +635,9 @@ class Box {
         force_i = normal_force + tangential_force;
         torque_i = cross(ai * nrm, tangential_force);
         torque_j = cross(aj * nrm, tangential_force);  // −a_j n × (−F_t)
-        // The springs' change over the step is implicit: Δt K has the structure of a
-        // lubrication gap (normal: squeeze; tangential, on the relative surface velocity
-        // ΔU + (a_iΩ_i + a_jΩ_j)×n: shear, rolling couplings a_i, a_j and a_i², a_i a_j, a_j²).
-        lubrication::Gap g;
+        lubrication::Gap g = spring_gap(nrm, r, ai, aj, slides);
         g.i = p.i;
         g.j = p.j;
-        g.n = nrm;
-        g.separation = r;
-        g.k_squeeze = dt_ * stiffness_;
-        if (!slides) {
-          const double kt = dt_ * tangential_;
-          g.k_shear = kt;
-          g.b_i = kt * ai;
-          g.b_j = kt * aj;
-          g.c_ii = kt * ai * ai;
-          g.c_ij = kt * ai * aj;
-          g.c_jj = kt * aj * aj;
-        }
         add_gap(g, k, r, rhs, true, force_i);
         ++loads.contacts;
         loads.sliding += slides ? 1 : 0;
