@@ -44,6 +44,29 @@ std::pair<double, double> spread(const FreeSurfaceSolver& s) {
   return {2 * radius + s.params().spacing, top + 0.5 * s.params().spacing};
 }
 
+// The end state's yield test: the share of fluid nodes whose stress μ(γ̇)γ̇ reaches the yield
+// stress τ₀. None: every node sits on the regularised law's rigid branch, the material has
+// stopped by the yield criterion (not only slowed down).
+double yielded_fraction(const FreeSurfaceSolver& s, double yield_stress) {
+  std::size_t fluid = 0, yielded = 0;
+  for (std::size_t i = 0; i < s.node_count(); ++i)
+    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface) {
+      ++fluid;
+      if (s.viscosity()[i] * s.shear_rate()[i] >= yield_stress) ++yielded;
+    }
+  return fluid > 0 ? static_cast<double>(yielded) / static_cast<double>(fluid) : 0.0;
+}
+
+// Height of the fluid's top node plus half a cell (the dam break's; the slump's is spread()'s).
+double top_height(const FreeSurfaceSolver& s) {
+  const auto dim = static_cast<std::size_t>(s.dimension());
+  double top = 0;
+  for (std::size_t i = 0; i < s.node_count(); ++i)
+    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface)
+      top = std::max(top, s.positions()[dim * i + dim - 1]);
+  return top + 0.5 * s.params().spacing;
+}
+
 double interpolate(const std::vector<double>& t, const std::vector<double>& v, double at) {
   if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
   if (at <= t.front()) return v.front();
@@ -586,6 +609,26 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     log.info("{}", text);
   }
   if (slump) summary["spread"] = probes;
+  if (dam_break || slump) {
+    // The final shape, and whether the material has stopped by the yield criterion.
+    const double yield_stress = l.fluid.rheology->yield_stress();
+    if (dam_break) {
+      summary["final_spread"] = mass_front(solver);
+      summary["final_height"] = top_height(solver);
+    } else {
+      const auto [diameter, height] = spread(solver);
+      summary["final_spread"] = diameter;
+      summary["final_height"] = height;
+    }
+    if (yield_stress > 0) {
+      const double share = yielded_fraction(solver, yield_stress);
+      summary["yielded_fraction"] = share;
+      summary["arrested"] = outcome.status != "diverged" && share == 0.0;
+    } else {
+      summary["yielded_fraction"] = nullptr;
+      summary["arrested"] = false;  // no yield stress: a liquid does not arrest
+    }
+  }
   core::write_json(out_dir / "summary.json", summary);
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,

@@ -347,7 +347,39 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   EXPECT_GT(summary["front"].back()["x"].get<double>(), 0.0);  // the front left the gate
   EXPECT_LT(summary["volume_drift"].get<double>(), 0.01);
   EXPECT_EQ(summary["table1"]["rows"].size(), 6U);
+  // The final shape, and the yield test: still flowing at 0.1 s, so not arrested.
+  EXPECT_DOUBLE_EQ(summary["final_spread"].get<double>(), summary["front"].back()["x"].get<double>());
+  EXPECT_GT(summary["final_height"].get<double>(), 0.0);
+  EXPECT_LE(summary["final_height"].get<double>(), 0.08 + 0.02);
+  EXPECT_GT(summary["yielded_fraction"].get<double>(), 0.0);
+  EXPECT_FALSE(summary["arrested"].get<bool>());
   std::filesystem::remove_all(dir);
+}
+
+TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
+  // τ₀ = 10 kPa against a weight of ρgH ≈ 940 Pa: no node reaches the yield stress, so the run
+  // reports the material arrested by the yield criterion; a Newtonian liquid never is.
+  const std::string base =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+      "gravity: [0, -9.81]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.05}\n";
+  const auto run = [&](const std::string& fluid, const char* name) {
+    const core::Case c = core::parse_case(base + fluid, std::string(name) + ".yaml");
+    const auto dir = std::filesystem::temp_directory_path() / (std::string("rheosim_ldd_") + name);
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(run_case(c, dir, core::Log::null()).status, "end_time");
+    auto summary = core::read_json(dir / "summary.json");
+    std::filesystem::remove_all(dir);
+    return summary;
+  };
+  const auto stiff =
+      run("fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: "
+          "1.0e4, regularization: 1000}}\n",
+          "never_yields");
+  EXPECT_EQ(stiff["yielded_fraction"].get<double>(), 0.0);
+  EXPECT_TRUE(stiff["arrested"].get<bool>());
+  const auto liquid = run("fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0}}\n", "newtonian_liquid");
+  EXPECT_TRUE(liquid["yielded_fraction"].is_null());
+  EXPECT_FALSE(liquid["arrested"].get<bool>());
 }
 
 // Runs `text` once straight through and once stopped after `stop_at` steps and run again into
