@@ -22,7 +22,8 @@
 //      whole velocity where it moves away from the wall — a wall pushes but never pulls), splash
 //      nodes ballistic (u* = u + δt g, no coupling);
 //   4. PPE (eq. 17) for the increment φ = p_n − p_{n−1}: interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, wall
-//      nodes n·⟨∇φ⟩ = ρ n·g − n·⟨∇p_{n−1}⟩, corner wall nodes Shepard (eq. 12), free-surface and
+//      and corner nodes the pressure extrapolated from the fluid (eq. 12 with the hydrostatic
+//      offset, which gives n·∇p = ρ n·g at rest; p = 0 where they see only surface nodes), free-surface and
 //      splash nodes φ = −p_{n−1} (so p_n = 0; φ = 0 after step 3's update), wall nodes without fluid
 //      neighbours φ = −p_{n−1};
 //      then u_n = u* − δt/ρ ⟨∇φ⟩ on interior and surface nodes;
@@ -163,8 +164,9 @@ struct FreeSurfaceParams {
   bool hydrostatic_start = true;  // initial p = ρ|g|·depth below the top fluid node
   // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
   // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg (amg.hpp),
-  // or jacobi. Case files: `auto` is amg, with a fresh hierarchy every step in 2D and a reused one
-  // (and unit-diagonal PPE rows) in 3D (run_free_surface.cpp, docs/performance.md).
+  // or jacobi. Case files: `auto` is amg; in 2D the velocity hierarchy is rebuilt every step and
+  // the PPE's kept for 4 steps, in 3D both are reused (and the PPE rows unit-diagonal)
+  // (free_surface_params in run_free_surface.cpp, docs/performance.md).
   Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
   Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
   AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
