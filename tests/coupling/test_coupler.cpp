@@ -21,6 +21,14 @@ class CouplerTest : public ::testing::Test {
   testing::RunFolder folder_;
 };
 
+// Coupling every 100 DEM steps of the test scene (1e-6 s), so the CFD step is 1e-4 s.
+CouplerSettings matching_settings() {
+  CouplerSettings settings;
+  settings.coupling_interval = 100;
+  settings.fluid_time_step = 1e-4;
+  return settings;
+}
+
 fluid::TransientParams gap_fluid(double gravity) {
   fluid::TransientParams fp;
   fp.grid = {.radius = 0.002, .gap = 0.0005, .radial_cells = 4, .azimuthal_cells = 8, .axial_cells = 2};
@@ -74,9 +82,7 @@ dem::RheometerScene::Params scene_params(const std::filesystem::path& dir) {
 TEST_F(CouplerTest, GravityMustMatchBetweenDemAndFluid) {
   dem::RheometerScene scene(scene_params(folder_.path()));
   fluid::TransientSolver fluid(gap_fluid(0.0));  // the scene has standard gravity
-  CouplerSettings settings;
-  settings.coupling_interval = 100;
-  settings.fluid_time_step = 1e-4;
+  CouplerSettings settings = matching_settings();
   try {
     Coupler coupler(settings, scene, fluid);
     FAIL() << "expected std::invalid_argument";
@@ -88,9 +94,7 @@ TEST_F(CouplerTest, GravityMustMatchBetweenDemAndFluid) {
 TEST_F(CouplerTest, RunsOnARheometerSceneAndReportsTorquesAndCost) {
   dem::RheometerScene scene(scene_params(folder_.path()));
   fluid::TransientSolver fluid(gap_fluid(-core::units::standard_gravity));
-  CouplerSettings settings;
-  settings.coupling_interval = 100;
-  settings.fluid_time_step = 1e-4;
+  CouplerSettings settings = matching_settings();
   Coupler coupler(settings, scene, fluid);
   EXPECT_DOUBLE_EQ(fluid.params().top_angular_velocity, scene.angular_velocity());
   for (int s = 0; s < 5; ++s) {
@@ -123,9 +127,7 @@ TEST_F(CouplerTest, VoidFractionFloorIsCountedWhenItActs) {
   // moves volume on every step, and the cost split counts those steps and the raw ε reached.
   dem::RheometerScene scene(scene_params(folder_.path()));
   fluid::TransientSolver fluid(gap_fluid(-core::units::standard_gravity));
-  CouplerSettings settings;
-  settings.coupling_interval = 100;
-  settings.fluid_time_step = 1e-4;
+  CouplerSettings settings = matching_settings();
   settings.void_fraction_floor = 0.99;
   Coupler coupler(settings, scene, fluid);
   for (int s = 0; s < 3; ++s) coupler.step();
@@ -142,9 +144,7 @@ TEST_F(CouplerTest, AFluidStepOverItsCourantLimitIsSplitAndCounted) {
   fluid::TransientParams fp = gap_fluid(-core::units::standard_gravity);
   fp.max_courant = 2e-4;
   fluid::TransientSolver fluid(fp);
-  CouplerSettings settings;
-  settings.coupling_interval = 100;
-  settings.fluid_time_step = 1e-4;
+  CouplerSettings settings = matching_settings();
   Coupler coupler(settings, scene, fluid);
   for (int s = 0; s < 5; ++s) EXPECT_NO_THROW(coupler.step());
   EXPECT_NEAR(coupler.time(), 5e-4, 1e-12);
