@@ -462,13 +462,20 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
         {"surface_moment_rcond", "free surface: moment-matrix conditioning below which a node is surface", "-"},
         v.surface_moment_rcond, Range::open(0.0, 1.0));
     v.gradient = s->choice_or(
-        {"gradient", "gradient operator (centred: about the neighbours' centroid; renormalised: LDD eq. 14)", "-"},
-        v.gradient, {"auto", "centred", "renormalised"});
-    if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") && v.gradient == "centred")
+        {"gradient",
+         "gradient operator (centred: about the neighbours' centroid; renormalised: LDD eq. 14; surface_anchored: "
+         "centred, eq. 14 on free-surface nodes)",
+         "-"},
+        v.gradient, {"auto", "centred", "renormalised", "surface_anchored"});
+    if ((out.scene_type == "cavity" || out.scene_type == "skewed_cavity") &&
+        (v.gradient == "centred" || v.gradient == "surface_anchored"))
       s->fail("gradient",
               "a cavity's wall rows impose n·∇p through the wall node's own gradient, which the centred gradient "
               "leaves out",
               "auto or renormalised");
+    v.pbd_velocity = s->choice_or(
+        {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
+        v.pbd_velocity, {"taylor", "none"});
     v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},
@@ -478,7 +485,7 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
                      v.pressure_amg, {"smoothed", "plain"});
     const bool cavity = out.scene_type == "cavity" || out.scene_type == "skewed_cavity";
     // Keys only the free-surface solver reads: refused for a cavity rather than ignored.
-    for (const char* key : {"pressure_amg", "pbd_sweeps", "moment_rcond", "surface_moment_rcond"})
+    for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "moment_rcond", "surface_moment_rcond"})
       if (cavity && s->has(key))
         s->fail(key,
                 fmt::format("a {} scene does not read it (free-surface scenes only: dam_break, slump, column)",

@@ -137,10 +137,12 @@ std::string describe(const Case& c) {
       out += fmt::format("  lattice interpolation: {}\n", l.solver.interpolation);
     if (!cavity)
       out += fmt::format(
-          "  free surface: {} PBD sweeps per step, moment-matrix rcond {} (pseudo-inverse), {} (surface), {} "
-          "gradient\n",
-          l.solver.pbd_sweeps, l.solver.moment_rcond, l.solver.surface_moment_rcond,
-          l.solver.gradient == "renormalised" ? "renormalised (eq. 14)" : "centred");
+          "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "
+          "(surface), {} gradient\n",
+          l.solver.pbd_sweeps, l.solver.pbd_velocity, l.solver.moment_rcond, l.solver.surface_moment_rcond,
+          l.solver.gradient == "renormalised"       ? "renormalised (eq. 14)"
+          : l.solver.gradient == "surface_anchored" ? "centred, eq. 14 on free-surface nodes,"
+                                                    : "centred");
   }
   return out;
 }

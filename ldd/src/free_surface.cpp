@@ -562,6 +562,15 @@ double FreeSurfaceSolver::kinetic_energy() const {
   return 0.5 * params_.density * sum * std::pow(params_.spacing, dim_);
 }
 
+double FreeSurfaceSolver::potential_energy() const {
+  const auto dim = static_cast<std::size_t>(dim_);
+  double sum = 0;
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (is_fluid(i))
+      for (std::size_t d = 0; d < dim; ++d) sum -= params_.gravity[d] * positions_[dim * i + d];
+  return params_.density * sum * std::pow(params_.spacing, dim_);
+}
+
 // Positivity guard: on one-sided neighbourhoods (free surface, a flow's toe) the offset factor
 // 1 − x_ij·B_i o_i of eq. 15 turns some coefficients negative, the PPE and momentum rows lose
 // diagonal dominance and a lone node's pressure runs away (seen at the dam-break toe). Such nodes
@@ -794,6 +803,15 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   const Operators& ops = operators_;
   last_kinds_ = kinds_;
   classify();
+  if (params_.anchored_surface_gradient) {
+    // A surface node knows its own pressure (p = p_atm): its gradient is eq. 14 about the node,
+    // not the centred fit through its one-sided neighbours that leaves that value out.
+    anchored_nodes_.clear();
+    for (std::size_t i = 0; i < n; ++i)
+      if (kinds_[i] == FreeNode::surface) anchored_nodes_.push_back(i);
+    anchor_gradients(positions_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, false},
+                     anchored_nodes_, operators_);
+  }
   stats.positivity_guarded = laplacian_guarded_;
   for (std::size_t i = 0; i < n; ++i) {
     stats.surface_nodes += kinds_[i] == FreeNode::surface ? 1 : 0;
@@ -1248,6 +1266,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
     }
   }
   // Velocities follow the shift to first order (LDD §3.2: interpolation after reordering).
+  if (!params_.pbd_velocity_correction) return;
   const std::size_t dd = dim * dim;
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {

@@ -113,6 +113,24 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
   ops.conditioning[i] = moment_inverse.conditioning;  // of eq. 13's moment (free-surface detection reads it)
 }
 
+template <int D>
+void anchor_node(std::size_t i, std::span<const double> x, const NeighbourList& nb, const OperatorSettings& settings,
+                 Operators& ops) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+  const Vec xi = Eigen::Map<const Vec>(&x[i * D]);
+  Mat moment = Mat::Zero();
+  for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+    const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
+    moment.noalias() += ops.weights[k] * xij * xij.transpose();  // eq. 13
+  }
+  const Mat b = guarded_inverse<D>(moment, settings.min_moment_rcond).inverse;
+  for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+    const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
+    Eigen::Map<Vec>(&ops.gradient[k * D]) = ops.weights[k] * (b * xij);  // eq. 14
+  }
+}
+
 void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
                  std::size_t out_size, std::size_t out_stride, const char* what) {
   const std::size_t n = nb.node_count();
@@ -159,6 +177,21 @@ void build_operators(std::span<const double> positions, int dimension, const Nei
       build_node<2>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
     else
       build_node<3>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
+  }
+}
+
+void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+                      const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops) {
+  const auto dim = static_cast<std::size_t>(ops.dimension);
+  check_sizes(neighbours, ops, positions.size(), dim, positions.size(), dim, "anchor_gradients");
+  const auto count = static_cast<std::ptrdiff_t>(nodes.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const std::size_t i = nodes[static_cast<std::size_t>(s)];
+    if (dim == 2)
+      anchor_node<2>(i, positions, neighbours, settings, ops);
+    else
+      anchor_node<3>(i, positions, neighbours, settings, ops);
   }
 }
 

@@ -160,6 +160,38 @@ TEST(Gradient, CentredGradientIsExactForLinearFieldsAndIgnoresTheNodesOwnValue) 
   }
 }
 
+// anchor_gradients turns the listed nodes of a centred set into eq. 14 about the node (the free
+// surface's own, Dirichlet, value enters) and leaves the others centred.
+TEST(Gradient, AnchoredNodesTakeEq14AndTheRestStayCentred) {
+  const Cloud c = square_cloud(20, 0.35);
+  const double h = 1.6 * c.spacing;
+  const NeighbourList nb = find_neighbours(c.x, 2, h);
+  Operators mixed = build_operators(c.x, 2, nb, OperatorSettings{h, 1e-3, true});
+  const Operators centred = mixed;
+  const Operators plain = build_operators(c.x, 2, nb, OperatorSettings{h});
+  std::vector<std::size_t> edge;  // the one-sided stencils, where the two differ
+  for (std::size_t i = 0; i < c.boundary.size(); ++i)
+    if (c.boundary[i]) edge.push_back(i);
+  anchor_gradients(c.x, nb, OperatorSettings{h, 1e-3, true}, edge, mixed);
+  double largest_change = 0;
+  for (std::size_t i = 0; i < c.boundary.size(); ++i)
+    for (std::size_t k = 2 * nb.offsets[i]; k < 2 * nb.offsets[i + 1]; ++k) {
+      const Operators& expected = c.boundary[i] ? plain : centred;
+      EXPECT_NEAR(mixed.gradient[k], expected.gradient[k], 1e-12 / c.spacing) << "node " << i;
+      if (c.boundary[i]) largest_change = std::max(largest_change, std::abs(mixed.gradient[k] - centred.gradient[k]));
+    }
+  EXPECT_GT(largest_change * c.spacing, 0.1);  // the edge rows did change
+  // Still exact for a linear field, which the edge node's own value now helps fix.
+  std::vector<double> f(c.boundary.size()), g(2 * c.boundary.size());
+  for (std::size_t i = 0; i < f.size(); ++i) f[i] = 1.0 + 4.0 * c.x[2 * i] - 3.0 * c.x[2 * i + 1];
+  gradient(nb, mixed, f, g);
+  for (std::size_t i : edge) {
+    if ((plain.guarded[i] & 1U) != 0) continue;  // corners: pseudo-inverted
+    EXPECT_NEAR(g[2 * i], 4.0, 1e-9) << "node " << i;
+    EXPECT_NEAR(g[2 * i + 1], -3.0, 1e-9) << "node " << i;
+  }
+}
+
 TEST(Gradient, ExactForLinearFieldsOnJitteredCloud3D) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.3, 0.3);

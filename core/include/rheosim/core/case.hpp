@@ -193,8 +193,11 @@ struct LddSolverSettings {
   int pbd_sweeps = 3;                       // free-surface scenes: volume-keeping PBD sweeps per step
   double moment_rcond = 0.03;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
   double surface_moment_rcond = 0.01;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
-  std::string gradient =
-      "auto";  // auto | centred | renormalised (auto: centred for free-surface scenes, eq. 14 for cavities)
+  // auto | centred | renormalised | surface_anchored (auto: centred for free-surface scenes, eq. 14
+  // for cavities; surface_anchored: centred in the interior, eq. 14 on free-surface nodes)
+  std::string gradient = "auto";
+  // Free-surface scenes: taylor (a PBD shift δx changes the velocity by ⟨∇u⟩·δx) | none
+  std::string pbd_velocity = "taylor";
   std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
   std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
   // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain

@@ -33,7 +33,7 @@
 //      constraint C_i = ρ_i/ρ₀ − 1 (ρ_i = W(0) + Σ_j W_ij over fluid and wall neighbours) —
 //      two-sided for interior nodes, one-sided (only C_i > 0, i.e. push apart) for surface nodes
 //      whose kernel sum is truncated by the void — with each shift capped; velocities follow the
-//      shift to first order, u += ⟨∇u⟩·δx.
+//      shift to first order, u += ⟨∇u⟩·δx (pbd_velocity_correction; off: they keep their velocity).
 //
 // Free-surface criterion (documented in docs/ldd.md, tested in tests/ldd/test_free_surface.cpp):
 // over the neighbours within the search radius R = (h/Δ + skin)·Δ, a fluid node is on the surface
@@ -150,6 +150,9 @@ struct FreeSurfaceParams {
                                        // pseudo-inverted (weak directions dropped)
   double surface_moment_rcond = 0.01;  // λ_min/λ_max below which the node counts as surface
   bool centred_gradient = true;        // operators.hpp: no self-coupling of ⟨∇p⟩ and ⟨∇·u⟩ (docs/ldd.md)
+  // Free-surface nodes use eq. 14 about the node (their own value, p = p_atm, enters) instead of
+  // the centred gradient; interior nodes keep centred_gradient. Case key gradient: surface_anchored.
+  bool anchored_surface_gradient = false;
   double surface_fluid_weight = 0.1;   // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   double neighbour_skin = 0.3;         // search radius = h + skin·Δ (also the detection radius)
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
@@ -157,6 +160,9 @@ struct FreeSurfaceParams {
   // gives) until some node has moved half of it. 0: a fresh search every step.
   double neighbour_reuse_skin = 0.3;
   int pbd_iterations = 3;         // PBD sweeps per step (0: none)
+  // A PBD shift δx carries the velocity along to first order, u += ⟨∇u⟩·δx (true), or the node
+  // keeps its velocity (false; LDD §3.2 interpolates only after large reorderings).
+  bool pbd_velocity_correction = true;
   double pbd_stiffness = 0.5;     // fraction of the PBD correction applied per sweep
   double pbd_max_shift = 0.05;    // per sweep, units of Δ
   double wall_clearance = 0.5;    // fluid nodes stay this far (units of Δ) off boundaries
@@ -256,6 +262,10 @@ class FreeSurfaceSolver {
   [[nodiscard]] double fluid_volume() const;
   // Kinetic energy Σ ½ ρ |u|² Δ^d over fluid nodes [J, or J/m in 2D].
   [[nodiscard]] double kinetic_energy() const;
+  // Potential energy −Σ ρ g·x Δ^d over fluid nodes [J, or J/m in 2D], with the same node volume
+  // as kinetic_energy(): their sum may only fall (gravity's work goes to kinetic energy and
+  // viscous dissipation).
+  [[nodiscard]] double potential_energy() const;
   // ρ₀ (kernel sum of a full neighbourhood) and n₀ (neighbour count within the search radius).
   [[nodiscard]] double rest_density() const { return rest_density_; }
   [[nodiscard]] double rest_count() const { return rest_count_; }
@@ -300,6 +310,7 @@ class FreeSurfaceSolver {
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
   std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
   std::vector<double> pair_dw_;  // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
+  std::vector<std::size_t> anchored_nodes_;  // this step's surface nodes (anchored_surface_gradient)
 };
 
 }  // namespace rheosim::ldd

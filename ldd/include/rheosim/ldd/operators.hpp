@@ -86,6 +86,12 @@ struct Operators {
 void build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
                      const OperatorSettings& settings, Operators& out);
 
+// Rewrites the gradient coefficients of the listed nodes as eq. 14 about the node (W_ij B_i x_ij,
+// B_i guarded as above), leaving every other coefficient as it is: a centred operator set whose
+// free-surface nodes use their own (Dirichlet) value. settings.centred_gradient is ignored.
+void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+                      const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops);
+
 // ⟨∇f⟩ for every node (eq. 14): out has dimension values per node.
 void gradient(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
 // ⟨∇·v⟩ for a vector field v (dimension values per node), from eq. 14 per component.

@@ -89,6 +89,12 @@ struct CavityResult {
 // stops early when, after the mould has cleared the fluid, the kinetic energy has decayed to
 // slump_energy_decay × its peak.
 inline constexpr double slump_energy_decay = 1e-3;
+// Free-surface runs compare their kinetic energy with the potential energy released: an excess
+// above this fraction of the released energy (summary.json `energy_gain`) is a warning.
+inline constexpr double energy_gain_tolerance = 0.01;
+// A free-surface run whose fluid volume drifts by more than this fraction warns (summary.json
+// `volume_drift` is the largest drift).
+inline constexpr double volume_drift_tolerance = 0.01;
 
 // LDD Table 1 (seed §4.3): mass front [m] at six times, experiment (Komatina & Jovanović 1997)
 // and LDD for Δ = 1 mm / 2 mm and δt = 1e-3 / 1e-4 s.
