@@ -16,8 +16,10 @@
 //                                       # threads (the floor of the free-surface step)
 //   build-ldd/bin/bench_ldd floor       # the linear solves' floor of the dam-break and slump steps:
 //                                       # product, V-cycle and AMG set-up times on the runs' initial clouds
-//   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR   # one LDD case through ldd::run_case (the same
-//                                       # code path as `rheosim run`, without the other modules)
+//   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR [--stability-probe N]
+//                                       # one LDD case through ldd::run_case (the same code path as
+//                                       # `rheosim run`, without the other modules); with N > 0 the
+//                                       # probe file gains the step map's growth (RunControl)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
 //                          [--dt S] [--end S] [--threads N] CELLS...
 //                                       # Newtonian cavity at each resolution to steady state: max
@@ -428,10 +430,12 @@ int main(int argc, char** argv) {
     krylov_floor();
     return 0;
   }
-  if (argc == 4 && std::string(argv[1]) == "run") {
+  if ((argc == 4 || (argc == 6 && std::string(argv[4]) == "--stability-probe")) && std::string(argv[1]) == "run") {
     const core::Case c = core::load_case(argv[2]);
     const auto log = core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
-    const auto outcome = ldd::run_case(c, argv[3], log);
+    ldd::RunControl control;
+    if (argc == 6) control.stability_probe_iterations = std::stoi(argv[5]);
+    const auto outcome = ldd::run_case(c, argv[3], log, control);
     return outcome.status == "diverged" ? 1 : 0;
   }
   if (argc >= 2 && std::string(argv[1]) == "accuracy") {
@@ -492,7 +496,8 @@ int main(int argc, char** argv) {
       std::fprintf(
           stderr,
           "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] "
-          "[--amg-levels N] [--amg-plain] [--amg-unit-diagonal] [--steps N] [--dump DIR] | run CASE OUT\n");
+          "[--amg-levels N] [--amg-plain] [--amg-unit-diagonal] [--steps N] [--dump DIR] | run CASE OUT "
+          "[--stability-probe N]\n");
       return 2;
     }
   }

@@ -396,6 +396,9 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     require_dimension(2);  // the column scene builds a 2D box
     ColumnScene c;
     c.size = read_pair(scene, {"size", "column width and height", "m"});
+    c.wave_amplitude = scene.number_or(
+        {"wave_amplitude", "initial surface H + A cos(πx/W), the first sloshing mode (0: flat)", "m"},
+        c.wave_amplitude, Range::closed(0.0, 0.5 * c.size[1]));
     out.scene = c;
   }
   out.fluid = read_fluid(root);

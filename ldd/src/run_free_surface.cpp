@@ -57,6 +57,16 @@ double yielded_fraction(const FreeSurfaceSolver& s, double yield_stress) {
   return fluid > 0 ? static_cast<double>(yielded) / static_cast<double>(fluid) : 0.0;
 }
 
+// Column: the surface height at the left wall, the top of the fluid nodes within the first cell
+// off it (x < Δ) plus half a cell; splash nodes excluded.
+double left_wall_height(const FreeSurfaceSolver& s) {
+  double top = 0;
+  for (std::size_t i = 0; i < s.node_count(); ++i)
+    if (s.is_fluid(i) && s.kinds()[i] != FreeNode::splash && s.positions()[2 * i] < s.params().spacing)
+      top = std::max(top, s.positions()[2 * i + 1]);
+  return top + 0.5 * s.params().spacing;
+}
+
 // Height of the fluid's top node plus half a cell (the dam break's; the slump's is spread()'s).
 double top_height(const FreeSurfaceSolver& s) {
   const auto dim = static_cast<std::size_t>(s.dimension());
@@ -403,6 +413,13 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
     columns.push_back({"diameter", "m"});
     columns.push_back({"height", "m"});
   }
+  const bool column = !dam_break && !slump;
+  if (column) columns.push_back({"left_wall_height", "m"});
+  const bool probe_stability = control.stability_probe_iterations > 0;
+  if (probe_stability)
+    for (core::CsvTable::Column col : std::vector<core::CsvTable::Column>{
+             {"step_map_growth", ""}, {"step_map_node_x", "m"}, {"step_map_node_y", "m"}})
+      columns.push_back(col);
   for (core::CsvTable::Column col :
        std::vector<core::CsvTable::Column>{{"kinetic_energy", l.dimension == 2 ? "J/m" : "J"},
                                            {"potential_energy_released", l.dimension == 2 ? "J/m" : "J"},
@@ -431,6 +448,13 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
       const auto [diameter, height] = spread(solver);
       row.push_back(diameter);
       row.push_back(height);
+    }
+    if (column) row.push_back(left_wall_height(solver));
+    if (probe_stability) {
+      const std::size_t at = st.step_map_node * static_cast<std::size_t>(solver.dimension());
+      row.push_back(st.step_map_growth);
+      row.push_back(st.step_map_growth > 0 ? solver.positions()[at] : 0.0);
+      row.push_back(st.step_map_growth > 0 ? solver.positions()[at + 1] : 0.0);
     }
     for (double v : {energy, released, drift, static_cast<double>(st.surface_nodes), static_cast<double>(st.splash_nodes),
                      static_cast<double>(st.pressure_iterations), static_cast<double>(st.velocity_iterations),
@@ -486,6 +510,9 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
       outcome.status = "interrupted";
       break;
     }
+    // The step map is probed only on the steps that are recorded (it costs ~3 solves an iteration).
+    if (probe_stability)
+      solver.set_stability_probe(k % probe_every == 0 || k == total_steps ? control.stability_probe_iterations : 0);
     if (!detail::timed_step(solver, stats, outcome, run.step_seconds)) break;
     ++steps_now;
     run.pressure_iterations += stats.pressure_iterations;

@@ -52,7 +52,22 @@ FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, 
 FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing) {
   const int nx = cells_along(scene.size[0], spacing, "column width");
   const int ny = cells_along(scene.size[1], spacing, "column height");
-  return box_2d(0.0, nx, ny + 4, 0, nx, ny, spacing);
+  const double amplitude = scene.wave_amplitude;
+  const int crest_rows = static_cast<int>(std::ceil(amplitude / spacing));
+  FreeSurfaceScene s = box_2d(0.0, nx, ny + crest_rows + 4, 0, nx, amplitude > 0 ? 0 : ny, spacing);
+  if (amplitude > 0) {
+    // Each column of cells up to the surface H + A cos(πx/W) over its centre (cells whose centre
+    // lies below it), W and H the width and height of the flat column's cells.
+    const double width = nx * spacing, height = ny * spacing;
+    const std::vector<double> none{0.0, 0.0};
+    for (int j = 0; j < ny + crest_rows; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const double x = (i + 0.5) * spacing, y = (j + 0.5) * spacing;
+        if (y < height + amplitude * std::cos(std::numbers::pi * x / width))
+          s.cloud.add(std::vector<double>{x, y}, false, false, none, -1);
+      }
+  }
+  return s;
 }
 
 FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacing) {

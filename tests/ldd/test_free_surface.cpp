@@ -326,6 +326,32 @@ TEST(SlumpScene, FillsTheConeVolume) {
   EXPECT_NEAR(static_cast<double>(fluid) * dx * dx * dx / cone_volume, 1.0, 0.03);
 }
 
+// The sloshing column: surface H + A cos(πx/W), so the left wall stands A above H, the right A
+// below, and the volume is the flat column's (the cosine integrates to zero over the width).
+TEST(ColumnScene, WaveAmplitudeShapesTheFirstSloshingMode) {
+  core::ColumnScene scene;
+  scene.size = {0.1, 0.05};
+  scene.wave_amplitude = 0.005;
+  const double dx = 0.001;
+  const FreeSurfaceScene s = column_scene(scene, dx);
+  std::size_t fluid = 0;
+  double left = 0, right = 0;
+  for (std::size_t i = 0; i < s.cloud.size(); ++i) {
+    if (s.cloud.is_wall[i]) continue;
+    ++fluid;
+    const double x = s.cloud.positions[2 * i], y = s.cloud.positions[2 * i + 1] + 0.5 * dx;
+    if (x < dx) left = std::max(left, y);
+    if (x > 0.1 - dx) right = std::max(right, y);
+  }
+  EXPECT_NEAR(static_cast<double>(fluid) * dx * dx / (0.1 * 0.05), 1.0, 0.01);
+  EXPECT_NEAR(left, 0.05 + 0.005, dx);
+  EXPECT_NEAR(right, 0.05 - 0.005, dx);
+  double wall_top = 0;  // the side walls rise above the crest
+  for (std::size_t i = 0; i < s.cloud.size(); ++i)
+    if (s.cloud.is_wall[i]) wall_top = std::max(wall_top, s.cloud.positions[2 * i + 1]);
+  EXPECT_GT(wall_top, 0.055 + 3 * dx);
+}
+
 // A dam-break case end to end through run_case (the `rheosim run` path): files and summary keys.
 TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   const std::string text =

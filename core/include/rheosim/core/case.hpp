@@ -162,8 +162,10 @@ struct SlumpScene {
   double cone_top_diameter = 0;     // d₀ [m], < D₀
   double lift_velocity = 0;         // mould lift speed [m/s]
 };
-struct ColumnScene {             // a resting column (hydrostatics)
-  std::array<double, 2> size{};  // width, height [m]
+struct ColumnScene {             // a resting column (hydrostatics), or a sloshing one
+  std::array<double, 2> size{};  // width W, mean height H [m]
+  // Initial surface y = H + wave_amplitude·cos(πx/W) (the first sloshing mode) [m]; 0: flat.
+  double wave_amplitude = 0;
 };
 using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScene>;
 

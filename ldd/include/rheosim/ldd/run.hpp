@@ -48,6 +48,10 @@ struct RunControl {
   std::size_t step_limit = 0;
   double wall_time_limit = 0;        // [s]
   double checkpoint_interval = 600;  // [s] of wall time between checkpoints (also at every frame)
+  // Free-surface runs: when > 0, each probe step also runs this many power iterations of the
+  // linearised step map on the current cloud (FreeSurfaceParams::stability_probe_iterations) and
+  // the probe file gains `step_map_growth` and its node's position (bench_ldd run --stability-probe).
+  int stability_probe_iterations = 0;
 };
 
 // Throws core::RunError for a scene in a dimension it is not built for (dam_break and column are
