@@ -479,6 +479,9 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
     v.pbd_velocity = s->choice_or(
         {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
         v.pbd_velocity, {"taylor", "none"});
+    v.dry_walls = s->choice_or(
+        {"dry_walls", "free surface: wall nodes above the surface (no interior fluid within h) in fluid gradients", "-"},
+        v.dry_walls, {"include", "exclude"});
     v.pressure_preconditioner = s->choice_or({"pressure_preconditioner", "preconditioner of the pressure solve", "-"},
                                              v.pressure_preconditioner, {"auto", "jacobi", "lu", "amg"});
     v.velocity_preconditioner = s->choice_or({"velocity_preconditioner", "preconditioner of the velocity solve", "-"},
@@ -488,7 +491,7 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
                      v.pressure_amg, {"smoothed", "plain"});
     const bool cavity = out.scene_type == "cavity" || out.scene_type == "skewed_cavity";
     // Keys only the free-surface solver reads: refused for a cavity rather than ignored.
-    for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "moment_rcond", "surface_moment_rcond"})
+    for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "dry_walls", "moment_rcond", "surface_moment_rcond"})
       if (cavity && s->has(key))
         s->fail(key,
                 fmt::format("a {} scene does not read it (free-surface scenes only: dam_break, slump, column)",

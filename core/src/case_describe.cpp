@@ -138,8 +138,9 @@ std::string describe(const Case& c) {
     if (!cavity)
       out += fmt::format(
           "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "
-          "(surface), {} gradient\n",
+          "(surface), dry walls {}, {} gradient\n",
           l.solver.pbd_sweeps, l.solver.pbd_velocity, l.solver.moment_rcond, l.solver.surface_moment_rcond,
+          l.solver.dry_walls == "exclude" ? "excluded from gradients" : "in gradients",
           l.solver.gradient == "renormalised"       ? "renormalised (eq. 14)"
           : l.solver.gradient == "surface_anchored" ? "centred, eq. 14 on free-surface nodes,"
                                                     : "centred");

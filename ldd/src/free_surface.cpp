@@ -615,6 +615,43 @@ void FreeSurfaceSolver::keep_laplacian_positive() {
 //     A moved wall node (the rising mould, δz = v δt) otherwise kept a pressure off by ρ g δz —
 //     a Neumann source over the whole mould that the PPE can drain only through the small top
 //     surface: φ ≈ −10 kPa in the 50 000-node slump at δt = 1e-2, clipped to p = 0 everywhere.
+// Gradients that must see the boundary values as they are: free-surface nodes their own p = 0
+// (anchored_surface_gradient), and fluid nodes beside a dry wall node (one without an interior
+// fluid node within h, p = p_atm) not that wall node (exclude_dry_walls). A dry wall node stands
+// above the surface: its p = 0 is not the hydrostatic field's extension there, and a contact-line
+// node that counts it loses part of the support that balances gravity.
+void FreeSurfaceSolver::regradient_for_boundary_values() {
+  const std::size_t n = kinds_.size();
+  const NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  dry_wall_.assign(params_.exclude_dry_walls ? n : 0, 0);
+  if (params_.exclude_dry_walls)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
+      bool wet = false;
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !wet; ++k)
+        wet = kinds_[nb.indices[k]] == FreeNode::interior && ops.weights[k] > 0;
+      dry_wall_[i] = wet ? 0 : 1;
+    }
+  const auto beside_dry_wall = [&](std::size_t i) {
+    if (dry_wall_.empty()) return false;
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
+      if (dry_wall_[nb.indices[k]] && ops.weights[k] > 0) return true;
+    return false;
+  };
+  std::vector<std::size_t> centred, anchored;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kinds_[i] == FreeNode::surface && params_.anchored_surface_gradient)
+      anchored.push_back(i);
+    else if ((kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface) && beside_dry_wall(i))
+      centred.push_back(i);
+  }
+  rebuild_gradients(positions_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient},
+                    centred, dry_wall_, operators_);
+  rebuild_gradients(positions_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, false}, anchored,
+                    dry_wall_, operators_);
+}
+
 void FreeSurfaceSolver::impose_boundary_pressure() {
   const auto dim = static_cast<std::size_t>(dim_);
   const NeighbourList& nb = neighbours_;
@@ -803,15 +840,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   const Operators& ops = operators_;
   last_kinds_ = kinds_;
   classify();
-  if (params_.anchored_surface_gradient) {
-    // A surface node knows its own pressure (p = p_atm): its gradient is eq. 14 about the node,
-    // not the centred fit through its one-sided neighbours that leaves that value out.
-    anchored_nodes_.clear();
-    for (std::size_t i = 0; i < n; ++i)
-      if (kinds_[i] == FreeNode::surface) anchored_nodes_.push_back(i);
-    anchor_gradients(positions_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, false},
-                     anchored_nodes_, operators_);
-  }
+  regradient_for_boundary_values();
   stats.positivity_guarded = laplacian_guarded_;
   for (std::size_t i = 0; i < n; ++i) {
     stats.surface_nodes += kinds_[i] == FreeNode::surface ? 1 : 0;

@@ -113,22 +113,38 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
   ops.conditioning[i] = moment_inverse.conditioning;  // of eq. 13's moment (free-surface detection reads it)
 }
 
+// Gradient coefficients of node i from its pair weights, neighbours j with skip[j] != 0 left out
+// (skip empty: none), about the node (eq. 14) or, centred, about the kept neighbours' centroid.
 template <int D>
-void anchor_node(std::size_t i, std::span<const double> x, const NeighbourList& nb, const OperatorSettings& settings,
-                 Operators& ops) {
+void rebuild_node_gradient(std::size_t i, std::span<const double> x, const NeighbourList& nb,
+                           const OperatorSettings& settings, std::span<const std::uint8_t> skip, Operators& ops) {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
   const Vec xi = Eigen::Map<const Vec>(&x[i * D]);
+  const auto kept_weight = [&](std::size_t k) { return !skip.empty() && skip[nb.indices[k]] ? 0.0 : ops.weights[k]; };
   Mat moment = Mat::Zero();
+  Vec offset = Vec::Zero();
+  double weight_sum = 0;
   for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
     const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
-    moment.noalias() += ops.weights[k] * xij * xij.transpose();  // eq. 13
+    const double w = kept_weight(k);
+    moment.noalias() += w * xij * xij.transpose();  // eq. 13
+    offset += w * xij;
+    weight_sum += w;
   }
-  const Mat b = guarded_inverse<D>(moment, settings.min_moment_rcond).inverse;
+  Vec centre = Vec::Zero();
+  if (settings.centred_gradient && weight_sum > 0) {
+    centre = offset / weight_sum;
+    moment -= weight_sum * centre * centre.transpose();
+  }
+  const GuardedInverse<D> inverse = guarded_inverse<D>(moment, settings.min_moment_rcond);
+  const Mat& b = inverse.inverse;
   for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
     const Vec xij = Eigen::Map<const Vec>(&x[nb.indices[k] * D]) - xi;
-    Eigen::Map<Vec>(&ops.gradient[k * D]) = ops.weights[k] * (b * xij);  // eq. 14
+    Eigen::Map<Vec>(&ops.gradient[k * D]) = kept_weight(k) * (b * (xij - centre));  // eq. 14
   }
+  // Bit 0 now tells whether this gradient's moment was pseudo-inverted.
+  ops.guarded[i] = static_cast<std::uint8_t>((ops.guarded[i] & ~1U) | (inverse.pseudo ? 1U : 0U));
 }
 
 void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
@@ -180,19 +196,30 @@ void build_operators(std::span<const double> positions, int dimension, const Nei
   }
 }
 
-void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
-                      const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops) {
+void rebuild_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+                       const OperatorSettings& settings, std::span<const std::size_t> nodes,
+                       std::span<const std::uint8_t> skip, Operators& ops) {
   const auto dim = static_cast<std::size_t>(ops.dimension);
-  check_sizes(neighbours, ops, positions.size(), dim, positions.size(), dim, "anchor_gradients");
+  check_sizes(neighbours, ops, positions.size(), dim, positions.size(), dim, "rebuild_gradients");
+  if (!skip.empty() && skip.size() != neighbours.node_count())
+    throw std::invalid_argument(fmt::format("rebuild_gradients: {} skip flags for {} nodes", skip.size(),
+                                            neighbours.node_count()));
   const auto count = static_cast<std::ptrdiff_t>(nodes.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const std::size_t i = nodes[static_cast<std::size_t>(s)];
     if (dim == 2)
-      anchor_node<2>(i, positions, neighbours, settings, ops);
+      rebuild_node_gradient<2>(i, positions, neighbours, settings, skip, ops);
     else
-      anchor_node<3>(i, positions, neighbours, settings, ops);
+      rebuild_node_gradient<3>(i, positions, neighbours, settings, skip, ops);
   }
+}
+
+void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+                      const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops) {
+  OperatorSettings about_the_node = settings;
+  about_the_node.centred_gradient = false;
+  rebuild_gradients(positions, neighbours, about_the_node, nodes, {}, ops);
 }
 
 void gradient(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {

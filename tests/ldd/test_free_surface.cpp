@@ -408,6 +408,30 @@ TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
   EXPECT_FALSE(liquid["arrested"].get<bool>());
 }
 
+// A resting water column (μ = 1e-3 Pa·s, nothing to damp a spurious force) stays exactly at rest
+// when the fluid leaves the dry wall nodes above its surface out of its gradients: the hydrostatic
+// field is then a discrete equilibrium. With them in, the contact-line nodes count their p = 0 and
+// lose part of the support that balances gravity; the column starts to move there and collapses.
+TEST(FreeSurfaceRun, RestingWaterColumnStaysAtRestWithoutTheDryWallsInItsGradients) {
+  const auto peak_energy = [](const char* dry_walls) {
+    const std::string text = fmt::format(
+        "kind: ldd\ndimension: 2\nscene: {{type: column, size: [0.1, 0.05]}}\n"
+        "fluid: {{density: 1000, rheology: {{model: newtonian, viscosity: 1.0e-3}}}}\ngravity: [0, -9.81]\n"
+        "resolution: {{spacing: 0.002}}\ntime: {{step: 1.0e-3, end: 0.3}}\n"
+        "solver: {{threads: 1, velocity_tolerance: 1.0e-6, dry_walls: {}}}\n",
+        dry_walls);
+    const core::Case c = core::parse_case(text, std::string("resting_water_") + dry_walls + ".yaml");
+    const auto dir = std::filesystem::temp_directory_path() / (std::string("rheosim_resting_water_") + dry_walls);
+    std::filesystem::remove_all(dir);
+    run_case(c, dir, core::Log::null());
+    const double peak = core::read_json(dir / "summary.json")["kinetic_energy_peak"].get<double>();
+    std::filesystem::remove_all(dir);
+    return peak;
+  };
+  EXPECT_LT(peak_energy("exclude"), 1e-12);  // J/m, against the column's 1.2 J/m of potential energy
+  EXPECT_GT(peak_energy("include"), 1e-4);
+}
+
 // Runs `text` once straight through and once stopped after `stop_at` steps and run again into
 // the same folder; the two must end with the same numbers, bit for bit: the probe history, the
 // summary, the final state and the last frame (index last_frame). Returns the stopped run's

@@ -192,6 +192,40 @@ TEST(Gradient, AnchoredNodesTakeEq14AndTheRestStayCentred) {
   }
 }
 
+// rebuild_gradients with skip flags: the skipped neighbours get zero coefficients, the rest
+// still give the exact gradient of a linear field, and the skipped values no longer matter.
+TEST(Gradient, RebuiltWithoutSkippedNeighboursStaysExactAndIgnoresThem) {
+  const Cloud c = square_cloud(20, 0.35);
+  const double h = 1.6 * c.spacing;
+  const std::size_t n = c.boundary.size();
+  const NeighbourList nb = find_neighbours(c.x, 2, h);
+  for (const bool centred : {true, false}) {
+    Operators ops = build_operators(c.x, 2, nb, OperatorSettings{h, 1e-3, centred});
+    std::vector<std::uint8_t> skip(n, 0);
+    std::vector<std::size_t> nodes;
+    for (std::size_t i = 0; i < n; ++i) {
+      skip[i] = c.x[2 * i + 1] > 0.75 ? 1 : 0;  // everything above y = 0.75 (a wall above the fluid)
+      if (!skip[i] && !c.boundary[i] && c.x[2 * i + 1] > 0.75 - h) nodes.push_back(i);
+    }
+    ASSERT_GT(nodes.size(), 10U);
+    rebuild_gradients(c.x, nb, OperatorSettings{h, 1e-3, centred}, nodes, skip, ops);
+    std::vector<double> f(n), g(2 * n);
+    for (std::size_t i = 0; i < n; ++i)
+      f[i] = skip[i] ? 1e6 : 2.0 - 1.5 * c.x[2 * i] + 0.5 * c.x[2 * i + 1];  // nonsense where skipped
+    gradient(nb, ops, f, g);
+    for (std::size_t i : nodes) {
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        if (skip[nb.indices[k]]) {
+          EXPECT_EQ(ops.gradient[2 * k], 0.0);
+        }
+      }
+      if ((ops.guarded[i] & 1U) != 0) continue;
+      EXPECT_NEAR(g[2 * i], -1.5, 1e-8) << "node " << i << (centred ? " centred" : " eq. 14");
+      EXPECT_NEAR(g[2 * i + 1], 0.5, 1e-8) << "node " << i << (centred ? " centred" : " eq. 14");
+    }
+  }
+}
+
 TEST(Gradient, ExactForLinearFieldsOnJitteredCloud3D) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.3, 0.3);

@@ -200,6 +200,9 @@ struct LddSolverSettings {
   std::string gradient = "auto";
   // Free-surface scenes: taylor (a PBD shift δx changes the velocity by ⟨∇u⟩·δx) | none
   std::string pbd_velocity = "taylor";
+  // Free-surface scenes: include | exclude wall nodes above the surface (no interior fluid node
+  // within h) from the fluid nodes' gradients
+  std::string dry_walls = "include";
   std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
   std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
   // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain

@@ -153,6 +153,9 @@ struct FreeSurfaceParams {
   // Free-surface nodes use eq. 14 about the node (their own value, p = p_atm, enters) instead of
   // the centred gradient; interior nodes keep centred_gradient. Case key gradient: surface_anchored.
   bool anchored_surface_gradient = false;
+  // Fluid nodes leave dry wall nodes (no interior fluid node within h: they stand above the
+  // surface, p = p_atm) out of their gradients. Case key solver.dry_walls: exclude.
+  bool exclude_dry_walls = false;
   double surface_fluid_weight = 0.1;   // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   double neighbour_skin = 0.3;         // search radius = h + skin·Δ (also the detection radius)
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
@@ -277,6 +280,7 @@ class FreeSurfaceSolver {
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
   void impose_boundary_pressure();  // previous_pressure_ from pressure_
+  void regradient_for_boundary_values();  // anchored_surface_gradient, exclude_dry_walls
   void reorder(std::span<const double> velocity_gradient);
   // Power iteration of the linearised step map on this step's matrices: growth per step and the
   // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
@@ -310,7 +314,7 @@ class FreeSurfaceSolver {
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
   std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
   std::vector<double> pair_dw_;  // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
-  std::vector<std::size_t> anchored_nodes_;  // this step's surface nodes (anchored_surface_gradient)
+  std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (exclude_dry_walls), else empty
 };
 
 }  // namespace rheosim::ldd

@@ -91,6 +91,12 @@ void build_operators(std::span<const double> positions, int dimension, const Nei
 // free-surface nodes use their own (Dirichlet) value. settings.centred_gradient is ignored.
 void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
                       const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops);
+// Rewrites the gradient coefficients of the listed nodes from their pair weights with the
+// neighbours j flagged in skip (one flag per node) left out, centred or eq. 14 as settings say:
+// the gradient of a node that must not see some of its neighbours' values.
+void rebuild_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+                       const OperatorSettings& settings, std::span<const std::size_t> nodes,
+                       std::span<const std::uint8_t> skip, Operators& ops);
 
 // ⟨∇f⟩ for every node (eq. 14): out has dimension values per node.
 void gradient(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
