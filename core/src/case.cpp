@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "rheosim/core/units.hpp"
@@ -153,6 +154,8 @@ SizeDistribution read_size_distribution(const Section& s, double d, const PlateG
 // 109 ms per step on two threads, docs/performance.md).
 constexpr double ldd_bytes_per_node = 8192.0;
 constexpr double ldd_seconds_per_node_step = 2e-6;
+// time.step: auto keeps max|u|δt/Δ at this for the scene's velocity scale (automatic_ldd_time_step).
+constexpr double ldd_auto_courant = 0.25;
 struct LddSizeEstimate {
   double nodes = 0, bytes = 0, steps = 0, node_steps = 0;
 };
@@ -177,6 +180,43 @@ LddSizeEstimate estimate_ldd_size(const LddCase& l) {
   e.steps = l.end_time / l.time_step;
   e.node_steps = e.nodes * e.steps;
   return e;
+}
+
+// time.step: auto. The viscous term is implicit (LDD eq. 19) and sets no limit; the step keeps
+// the advective Courant number max|u|δt/Δ at ldd_auto_courant for the scene's velocity scale:
+// the lid speed of a cavity, and for the free-surface scenes the front speed 2√(|g|H) of a
+// collapse of the fluid's height H (the shallow-water dam-break front, Ritter 1892), or a mould's
+// lift speed if faster. Rounded down to two significant digits.
+std::pair<double, std::string> automatic_ldd_time_step(const LddCase& l) {
+  double g = 0;
+  for (double c : l.gravity) g += c * c;
+  g = std::sqrt(g);
+  double speed = 0;
+  std::string scale;
+  const auto collapse = [&](double height) {
+    speed = 2.0 * std::sqrt(g * height);
+    scale = fmt::format("U = 2√(|g|H) = {:.3g} m/s, the front speed of a collapse of height H = {:.3g} m", speed,
+                        height);
+  };
+  if (const auto* c = std::get_if<CavityScene>(&l.scene)) {
+    speed = std::abs(c->lid_velocity);
+    scale = fmt::format("U = the lid speed {:.3g} m/s", speed);
+  } else if (const auto* b = std::get_if<DamBreakScene>(&l.scene)) {
+    collapse(b->reservoir[1]);
+  } else if (const auto* k = std::get_if<ColumnScene>(&l.scene)) {
+    collapse(k->size[1] + k->wave_amplitude);
+  } else if (const auto* s = std::get_if<SlumpScene>(&l.scene)) {
+    collapse(s->cone_height);
+    if (s->lift_velocity > speed) {
+      speed = s->lift_velocity;
+      scale = fmt::format("U = the mould's lift speed {:.3g} m/s", speed);
+    }
+  }
+  if (!(speed > 0)) speed = 1.0, scale = "U = 1 m/s (the scene has no velocity scale)";
+  const double exact = ldd_auto_courant * l.spacing / speed;
+  const double decade = std::pow(10.0, std::floor(std::log10(exact)) - 1.0);
+  const double dt = std::floor(exact / decade) * decade;
+  return {dt, fmt::format("auto: δt = {:.2g} s ≤ {} Δ/U, {}", dt, ldd_auto_courant, scale)};
 }
 
 double physical_memory_bytes() {
@@ -409,7 +449,15 @@ LddCase read_ldd(const Section& root, const std::filesystem::path& case_dir) {
   out.smoothing_ratio = resolution.number_or({"smoothing_ratio", "support radius over spacing h/Δ", "-"},
                                              out.smoothing_ratio, Range::closed(1.2, 3.0));
   const Section time = root.section({"time", "time stepping", "-"});
-  out.time_step = time.number({"step", "time step δt", "s"}, Range::positive());
+  const std::optional<double> step = time.number_or_word(
+      {"step", "time step δt (auto: the advective limit, docs/ldd.md)", "s"}, "auto", Range::positive());
+  if (step) {
+    out.time_step = *step;
+  } else {
+    const auto [dt, rule] = automatic_ldd_time_step(out);
+    out.time_step = dt;
+    out.time_step_rule = rule;
+  }
   out.end_time = time.number({"end", "end time", "s"}, Range::positive());
   if (out.end_time < out.time_step)
     time.fail("end", fmt::format("end time {} s is shorter than one step of {} s", out.end_time, out.time_step),

@@ -124,6 +124,7 @@ std::string describe(const Case& c) {
     out += fmt::format("  gravity: {} m/s²\n  spacing Δ {} m, h/Δ {}\n  time step {} s, end {} s ({} steps)\n",
                        list(l.gravity), l.spacing, l.smoothing_ratio, l.time_step, l.end_time,
                        static_cast<long long>(l.end_time / l.time_step + 0.5));
+    if (!l.time_step_rule.empty()) out += fmt::format("  time step {}\n", l.time_step_rule);
     if (l.steady_tolerance > 0) out += fmt::format("  stops at steady state (residual < {})\n", l.steady_tolerance);
     // Free-surface scenes reorder by PBD (the line below), whatever solver.reordering says.
     const bool cavity = std::holds_alternative<CavityScene>(l.scene);

@@ -216,6 +216,19 @@ double Section::number(const KeyInfo& key, const Range& range) const {
   return to_number(*this, key, node, range, location_of(*doc_, node), key_path(key.name));
 }
 
+std::optional<double> Section::number_or_word(const KeyInfo& key, std::string_view word, const Range& range) const {
+  Lookup lookup{*this, node_->node, *doc_};
+  const YAML::Node node = lookup.required(key);
+  if (node.IsScalar() && node.Scalar() == word) return std::nullopt;
+  try {
+    return to_number(*this, key, node, range, location_of(*doc_, node), key_path(key.name));
+  } catch (const ConfigError& e) {
+    ConfigError::Details d = e.details();
+    d.expected += fmt::format(", or {}", word);
+    throw ConfigError(d);
+  }
+}
+
 double Section::number_or(const KeyInfo& key, double fallback, const Range& range) const {
   Lookup lookup{*this, node_->node, *doc_};
   auto node = lookup.optional(key);

@@ -212,6 +212,7 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
 
   const double reynolds = l.fluid.density * params.velocity_scale * cavity.width() /
                           l.fluid.rheology->viscosity(params.velocity_scale / cavity.width());
+  if (!l.time_step_rule.empty()) log.info("time step {}", l.time_step_rule);
   log.info("LDD {}: {} nodes ({} fluid), Δ = {} m, δt = {} s, {} threads, Re(U/L) ≈ {:.4g}", l.scene_type,
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads, reynolds);
 

@@ -394,6 +394,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));
   const bool dam_break = std::holds_alternative<core::DamBreakScene>(l.scene);
   const bool slump = std::holds_alternative<core::SlumpScene>(l.scene);
+  if (!l.time_step_rule.empty()) log.info("time step {}", l.time_step_rule);
   log.info("LDD {} ({}D): {} nodes ({} fluid), Δ = {} m, δt = {} s, {} threads", l.scene_type, l.dimension,
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads);
 

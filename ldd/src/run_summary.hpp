@@ -68,6 +68,7 @@ template <class Solver>
   summary["fluid_nodes"] = solver.fluid_node_count();
   summary["spacing"] = l.spacing;
   summary["time_step"] = l.time_step;
+  if (!l.time_step_rule.empty()) summary["time_step_rule"] = l.time_step_rule;
   summary["steps"] = solver.steps();
   summary["time"] = solver.time();
   summary["threads"] = threads;

@@ -226,6 +226,28 @@ TEST(Case, LddSkewAngleIsConvertedToRadians) {
   EXPECT_DOUBLE_EQ(l.smoothing_ratio, 1.6);
 }
 
+// time.step: auto keeps the advective Courant number at 0.25 for the scene's velocity scale:
+// the lid speed of a cavity (0.25 · 0.02 / 1 = 5e-3 s), the collapse front 2√(gH) of a dam break
+// (0.25 · 0.002 / (2√(9.81 · 0.2)) = 1.785e-4, rounded down to 1.7e-4 s); a word other than auto
+// is refused with the alternatives.
+TEST(Case, LddAutomaticTimeStepFollowsTheSceneVelocityScale) {
+  const LddCase cavity =
+      std::get<LddCase>(parse_case(replace(cavity_case, "step: 1.0e-3", "step: auto"), "auto.yaml").spec);
+  EXPECT_DOUBLE_EQ(cavity.time_step, 5e-3);
+  EXPECT_THAT(cavity.time_step_rule, HasSubstr("lid speed"));
+  const std::string dam_break =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.1, 0.2], channel_length: 0.6}\n"
+      "fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\ngravity: [0, -9.81]\n"
+      "resolution: {spacing: 0.002}\ntime: {step: auto, end: 0.3}\n";
+  const LddCase water = std::get<LddCase>(parse_case(dam_break, "water.yaml").spec);
+  EXPECT_NEAR(water.time_step, 1.7e-4, 1e-12);
+  EXPECT_THAT(water.time_step_rule, HasSubstr("2√(|g|H)"));
+  EXPECT_TRUE(std::get<LddCase>(parse_case(cavity_case, "given.yaml").spec).time_step_rule.empty());
+  const auto e = parse_error(replace(cavity_case, "step: 1.0e-3", "step: fast"));
+  EXPECT_EQ(e.details().key_path, "time.step");
+  EXPECT_THAT(e.details().expected, HasSubstr("or auto"));
+}
+
 TEST(Case, LddGravityNeedsOneEntryPerDimension) {
   const auto e = parse_error(replace(cavity_case, "gravity: [0, 0]", "gravity: [0, 0, -9.81]"));
   EXPECT_EQ(e.details().key_path, "gravity");

@@ -226,6 +226,8 @@ struct LddCase {  // kind: ldd
   double spacing = 0;            // Δ [m]
   double smoothing_ratio = 1.6;  // h/Δ [-]
   double time_step = 0;          // δt [s]
+  // How time.step: auto chose time_step (empty when the case gives a number).
+  std::string time_step_rule;
   double end_time = 0;           // [s]
   double steady_tolerance = 0;   // stop when the centre-line residual drops below; 0: never
   LddSolverSettings solver;

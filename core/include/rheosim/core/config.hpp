@@ -64,6 +64,9 @@ class Section {
   // Required and optional scalars. Numbers must be finite and inside range.
   [[nodiscard]] double number(const KeyInfo& key, const Range& range) const;
   [[nodiscard]] double number_or(const KeyInfo& key, double fallback, const Range& range) const;
+  // A required number, or the word `word` (e.g. `auto`): nullopt for the word.
+  [[nodiscard]] std::optional<double> number_or_word(const KeyInfo& key, std::string_view word,
+                                                     const Range& range) const;
   [[nodiscard]] int integer(const KeyInfo& key, int lower, int upper) const;
   [[nodiscard]] int integer_or(const KeyInfo& key, int fallback, int lower, int upper) const;
   [[nodiscard]] bool boolean_or(const KeyInfo& key, bool fallback) const;
