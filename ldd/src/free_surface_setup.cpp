@@ -1,0 +1,131 @@
+// The free-surface scene's boundaries, its initial cloud and the solver parameters' check (free_surface.hpp).
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "rheosim/ldd/free_surface.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+void require(bool ok, const char* field, double value, const char* range) {
+  if (!ok)
+    throw std::invalid_argument(
+        fmt::format("LDD free-surface solver: {} = {} is out of range, expected {}", field, value, range));
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------ boundaries
+
+PlaneBoundary::PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal)
+    : point_(std::move(point)), normal_(std::move(inward_normal)) {
+  if (point_.size() != normal_.size() || (point_.size() != 2 && point_.size() != 3))
+    throw std::invalid_argument("PlaneBoundary: point and normal need 2 or 3 equal-sized entries");
+  double length = 0;
+  for (double v : normal_) length += v * v;
+  length = std::sqrt(length);
+  if (!(length > 0)) throw std::invalid_argument("PlaneBoundary: zero normal");
+  for (double& v : normal_) v /= length;
+}
+
+bool PlaneBoundary::distance(std::span<const double> x, double /*t*/, double& distance,
+                             std::span<double> normal) const {
+  distance = 0;
+  for (std::size_t d = 0; d < point_.size(); ++d) {
+    distance += normal_[d] * (x[d] - point_[d]);
+    normal[d] = normal_[d];
+  }
+  return true;
+}
+
+void PlaneBoundary::velocity(double /*t*/, std::span<double> v) const { std::fill(v.begin(), v.end(), 0.0); }
+
+ConeMouldBoundary::ConeMouldBoundary(double bottom_radius, double top_radius, double height, double z0,
+                                     double lift_velocity, double lift_height)
+    : bottom_radius_(bottom_radius),
+      top_radius_(top_radius),
+      height_(height),
+      z0_(z0),
+      lift_velocity_(lift_velocity),
+      lift_height_(lift_height) {
+  if (!(top_radius > 0 && bottom_radius > top_radius && height > 0 && lift_velocity >= 0))
+    throw std::invalid_argument(
+        "ConeMouldBoundary: needs 0 < top radius < bottom radius, height > 0, lift velocity >= 0");
+}
+
+double ConeMouldBoundary::bottom(double t) const { return z0_ + std::min(lift_velocity_ * t, lift_height_); }
+
+bool ConeMouldBoundary::distance(std::span<const double> x, double t, double& distance,
+                                 std::span<double> normal) const {
+  const double zb = bottom(t);
+  if (x[2] < zb || x[2] > zb + height_) return false;
+  const double slope = (bottom_radius_ - top_radius_) / height_;  // dr/dz, radius shrinks upwards
+  const double radius = bottom_radius_ - slope * (x[2] - zb);
+  const double rho = std::hypot(x[0], x[1]);
+  const double cosine = 1.0 / std::sqrt(1.0 + slope * slope);
+  distance = (radius - rho) * cosine;  // perpendicular distance to the slanted wall
+  // Inward normal: towards the axis and down the slope, −(r̂, slope)/√(1 + slope²).
+  const double rx = rho > 0 ? x[0] / rho : 1.0, ry = rho > 0 ? x[1] / rho : 0.0;
+  normal[0] = -rx * cosine;
+  normal[1] = -ry * cosine;
+  normal[2] = -slope * cosine;
+  return true;
+}
+
+void ConeMouldBoundary::velocity(double t, std::span<double> v) const {
+  std::fill(v.begin(), v.end(), 0.0);
+  if (lift_velocity_ * t < lift_height_) v[2] = lift_velocity_;
+}
+
+void FreeSurfaceCloud::add(std::span<const double> x, bool wall, bool corner, std::span<const double> normal,
+                           int boundary_index) {
+  positions.insert(positions.end(), x.begin(), x.end());
+  normals.insert(normals.end(), normal.begin(), normal.end());
+  is_wall.push_back(wall ? 1 : 0);
+  is_corner.push_back(corner ? 1 : 0);
+  boundary.push_back(boundary_index);
+}
+
+// ------------------------------------------------------------------------------ parameters
+
+void FreeSurfaceParams::check() const {
+  require(dimension == 2 || dimension == 3, "dimension", dimension, "2 or 3");
+  require(density > 0, "density", density, "> 0 kg/m³");
+  if (!rheology) throw std::invalid_argument("LDD free-surface solver: no rheology law");
+  require(gravity.size() == static_cast<std::size_t>(dimension), "gravity entries", static_cast<double>(gravity.size()),
+          "one per dimension");
+  require(spacing > 0, "spacing", spacing, "> 0 m");
+  require(smoothing_ratio >= 1.2 && smoothing_ratio <= 3.0, "smoothing_ratio", smoothing_ratio, "[1.2, 3]");
+  require(time_step > 0, "time_step", time_step, "> 0 s");
+  require(pressure_tolerance > 0 && pressure_tolerance < 1, "pressure_tolerance", pressure_tolerance, "(0, 1)");
+  require(velocity_tolerance > 0 && velocity_tolerance < 1, "velocity_tolerance", velocity_tolerance, "(0, 1)");
+  require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
+  require(surface_offset > 0 && surface_offset < 1, "surface_offset", surface_offset, "(0, 1)");
+  require(surface_count > 0 && surface_count < 1, "surface_count", surface_count, "(0, 1)");
+  require(min_moment_rcond > 0 && min_moment_rcond < 1, "min_moment_rcond", min_moment_rcond, "(0, 1)");
+  require(surface_moment_rcond > 0 && surface_moment_rcond < 1, "surface_moment_rcond", surface_moment_rcond, "(0, 1)");
+  require(surface_fluid_weight >= 0 && surface_fluid_weight < 1, "surface_fluid_weight", surface_fluid_weight,
+          "[0, 1)");
+  require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle,
+          "(0, 90) degrees");
+  require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
+  require(neighbour_reuse_skin >= 0 && neighbour_reuse_skin <= 2, "neighbour_reuse_skin", neighbour_reuse_skin,
+          "[0, 2]");
+  require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
+  require(pbd_stiffness > 0 && pbd_stiffness <= 1, "pbd_stiffness", pbd_stiffness, "(0, 1]");
+  require(pbd_max_shift > 0 && pbd_max_shift <= 0.5, "pbd_max_shift", pbd_max_shift, "(0, 0.5]");
+  require(wall_clearance > 0 && wall_clearance < 1, "wall_clearance", wall_clearance, "(0, 1)");
+  require(max_courant > 0, "max_courant", max_courant, "> 0");
+  require(stability_probe_iterations >= 0, "stability_probe_iterations", stability_probe_iterations, ">= 0");
+}
+
+}  // namespace rheosim::ldd
