@@ -202,8 +202,8 @@ void rebuild_gradients(std::span<const double> positions, const NeighbourList& n
   const auto dim = static_cast<std::size_t>(ops.dimension);
   check_sizes(neighbours, ops, positions.size(), dim, positions.size(), dim, "rebuild_gradients");
   if (!skip.empty() && skip.size() != neighbours.node_count())
-    throw std::invalid_argument(fmt::format("rebuild_gradients: {} skip flags for {} nodes", skip.size(),
-                                            neighbours.node_count()));
+    throw std::invalid_argument(
+        fmt::format("rebuild_gradients: {} skip flags for {} nodes", skip.size(), neighbours.node_count()));
   const auto count = static_cast<std::ptrdiff_t>(nodes.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
@@ -213,13 +213,6 @@ void rebuild_gradients(std::span<const double> positions, const NeighbourList& n
     else
       rebuild_node_gradient<3>(i, positions, neighbours, settings, skip, ops);
   }
-}
-
-void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
-                      const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops) {
-  OperatorSettings about_the_node = settings;
-  about_the_node.centred_gradient = false;
-  rebuild_gradients(positions, neighbours, about_the_node, nodes, {}, ops);
 }
 
 void gradient(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {

@@ -160,8 +160,8 @@ TEST(Gradient, CentredGradientIsExactForLinearFieldsAndIgnoresTheNodesOwnValue) 
   }
 }
 
-// anchor_gradients turns the listed nodes of a centred set into eq. 14 about the node (the free
-// surface's own, Dirichlet, value enters) and leaves the others centred.
+// rebuild_gradients without centring turns the listed nodes of a centred set into eq. 14 about the
+// node (the free surface's own, Dirichlet, value enters) and leaves the others centred.
 TEST(Gradient, AnchoredNodesTakeEq14AndTheRestStayCentred) {
   const Cloud c = square_cloud(20, 0.35);
   const double h = 1.6 * c.spacing;
@@ -172,7 +172,7 @@ TEST(Gradient, AnchoredNodesTakeEq14AndTheRestStayCentred) {
   std::vector<std::size_t> edge;  // the one-sided stencils, where the two differ
   for (std::size_t i = 0; i < c.boundary.size(); ++i)
     if (c.boundary[i]) edge.push_back(i);
-  anchor_gradients(c.x, nb, OperatorSettings{h, 1e-3, true}, edge, mixed);
+  rebuild_gradients(c.x, nb, OperatorSettings{h, 1e-3, false}, edge, {}, mixed);
   double largest_change = 0;
   for (std::size_t i = 0; i < c.boundary.size(); ++i)
     for (std::size_t k = 2 * nb.offsets[i]; k < 2 * nb.offsets[i + 1]; ++k) {

@@ -86,11 +86,6 @@ struct Operators {
 void build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
                      const OperatorSettings& settings, Operators& out);
 
-// Rewrites the gradient coefficients of the listed nodes as eq. 14 about the node (W_ij B_i x_ij,
-// B_i guarded as above), leaving every other coefficient as it is: a centred operator set whose
-// free-surface nodes use their own (Dirichlet) value. settings.centred_gradient is ignored.
-void anchor_gradients(std::span<const double> positions, const NeighbourList& neighbours,
-                      const OperatorSettings& settings, std::span<const std::size_t> nodes, Operators& ops);
 // Rewrites the gradient coefficients of the listed nodes from their pair weights with the
 // neighbours j flagged in skip (one flag per node) left out, centred or eq. 14 as settings say:
 // the gradient of a node that must not see some of its neighbours' values.
