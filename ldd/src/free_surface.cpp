@@ -529,13 +529,11 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
         // A wall node that sees only surface nodes stands above the fluid: p = p_atm there (the
         // hydrostatic extrapolation would give suction that pulls the fluid up the wall).
         double wsum = 0;
-        bool below_surface = false;
         for (std::size_t k = begin; k < end; ++k) {
           const FreeNode kj = kinds_[nb.indices[k]];
           if (kj == FreeNode::interior || kj == FreeNode::surface) wsum += ops.weights[k];
-          below_surface = below_surface || (kj == FreeNode::interior && ops.weights[k] > 0);
         }
-        if (!below_surface) wsum = 0;
+        if (dry_wall_[i]) wsum = 0;
         double source = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];

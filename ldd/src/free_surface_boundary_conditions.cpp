@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <numbers>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -44,26 +45,29 @@ void FreeSurfaceSolver::keep_laplacian_positive() {
   laplacian_guarded_ = guarded;
 }
 
+// Dry wall nodes: active wall nodes without an interior fluid node within h. They stand above the
+// surface and take p = p_atm (the PPE's wall rows, impose_boundary_pressure).
+//
 // Gradients that must see the boundary values as they are: free-surface nodes their own p = 0
-// (anchored_surface_gradient), and fluid nodes beside a dry wall node (one without an interior
-// fluid node within h, p = p_atm) not that wall node (exclude_dry_walls). A dry wall node stands
-// above the surface: its p = 0 is not the hydrostatic field's extension there, and a contact-line
-// node that counts it loses part of the support that balances gravity.
+// (anchored_surface_gradient), and fluid nodes beside a dry wall node not that wall node
+// (exclude_dry_walls): its p = 0 is not the hydrostatic field's extension there, and a
+// contact-line node that counts it loses part of the support that balances gravity.
 void FreeSurfaceSolver::regradient_for_boundary_values() {
   const std::size_t n = kinds_.size();
   const NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
-  dry_wall_.assign(params_.exclude_dry_walls ? n : 0, 0);
-  if (params_.exclude_dry_walls)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
-      bool wet = false;
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !wet; ++k)
-        wet = kinds_[nb.indices[k]] == FreeNode::interior && ops.weights[k] > 0;
-      dry_wall_[i] = wet ? 0 : 1;
-    }
+  dry_wall_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
+    bool wet = false;
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !wet; ++k)
+      wet = kinds_[nb.indices[k]] == FreeNode::interior && ops.weights[k] > 0;
+    dry_wall_[i] = wet ? 0 : 1;
+  }
+  const std::span<const std::uint8_t> skip =
+      params_.exclude_dry_walls ? std::span<const std::uint8_t>(dry_wall_) : std::span<const std::uint8_t>();
   const auto beside_dry_wall = [&](std::size_t i) {
-    if (dry_wall_.empty()) return false;
+    if (skip.empty()) return false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
       if (dry_wall_[nb.indices[k]] && ops.weights[k] > 0) return true;
     return false;
@@ -77,9 +81,9 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
   }
   rebuild_gradients(positions_, nb,
                     OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient}, centred,
-                    dry_wall_, operators_);
-  rebuild_gradients(positions_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, false}, anchored,
-                    dry_wall_, operators_);
+                    skip, operators_);
+  rebuild_gradients(positions_, nb, OperatorSettings{support_radius_, params_.min_moment_rcond, false}, anchored, skip,
+                    operators_);
 }
 
 // previous_pressure_: p_{n−1} evaluated on the current cloud and classification before the
@@ -113,13 +117,11 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
   const bool history = last_kinds_.size() == kinds_.size();
   // Shepard average of p_j + ρ g·(x_i − x_j) over the neighbours j that pass `use`; p = 0 (no
   // tension) when there are none.
-  const auto extrapolate = [&](std::size_t i, const auto& use, bool& any_interior) {
+  const auto extrapolate = [&](std::size_t i, const auto& use) {
     double wsum = 0, source = 0;
-    any_interior = false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
       if (!use(j)) continue;
-      any_interior = any_interior || (kinds_[j] == FreeNode::interior && ops.weights[k] > 0);
       double hydrostatic = 0;
       for (std::size_t d = 0; d < dim; ++d)
         hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
@@ -139,22 +141,19 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    bool any_interior = false;
-    if (newly_interior(i)) estimate[i] = extrapolate(i, known, any_interior);
+    if (newly_interior(i)) estimate[i] = extrapolate(i, known);
   }
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (newly_interior(i)) p[i] = estimate[i];
-      // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 when the wall node
-      // sees no interior node (it stands above the fluid).
+
+      // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 on dry walls.
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
-    bool below_surface = false;
-    const double value = extrapolate(
-        i, [&](std::size_t j) { return kinds_[j] == FreeNode::interior || kinds_[j] == FreeNode::surface; },
-        below_surface);
-    p[i] = below_surface ? value : 0.0;
+    p[i] = dry_wall_[i] ? 0.0 : extrapolate(i, [&](std::size_t j) {
+      return kinds_[j] == FreeNode::interior || kinds_[j] == FreeNode::surface;
+    });
   }
 }
 

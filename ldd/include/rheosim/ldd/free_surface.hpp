@@ -156,13 +156,13 @@ struct FreeSurfaceParams {
   // Fluid nodes leave dry wall nodes (no interior fluid node within h: they stand above the
   // surface, p = p_atm) out of their gradients. Case key solver.dry_walls: exclude.
   bool exclude_dry_walls = false;
-  double surface_fluid_weight = 0.1;   // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
-  double neighbour_skin = 0.3;         // search radius = h + skin·Δ (also the detection radius)
+  double surface_fluid_weight = 0.1;  // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
+  double neighbour_skin = 0.3;        // search radius = h + skin·Δ (also the detection radius)
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
   // this, and each step keeps those now within the search radius (the same list a fresh search
   // gives) until some node has moved half of it. 0: a fresh search every step.
   double neighbour_reuse_skin = 0.3;
-  int pbd_iterations = 3;         // PBD sweeps per step (0: none)
+  int pbd_iterations = 3;  // PBD sweeps per step (0: none)
   // A PBD shift δx carries the velocity along to first order, u += ⟨∇u⟩·δx (true), or the node
   // keeps its velocity (false; LDD §3.2 interpolates only after large reorderings).
   bool pbd_velocity_correction = true;
@@ -279,8 +279,8 @@ class FreeSurfaceSolver {
   void rebuild_neighbours();
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
-  void impose_boundary_pressure();  // previous_pressure_ from pressure_
-  void regradient_for_boundary_values();  // anchored_surface_gradient, exclude_dry_walls
+  void impose_boundary_pressure();        // previous_pressure_ from pressure_
+  void regradient_for_boundary_values();  // dry walls; anchored_surface_gradient, exclude_dry_walls
   void reorder(std::span<const double> velocity_gradient);
   // Power iteration of the linearised step map on this step's matrices: growth per step and the
   // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
@@ -313,8 +313,8 @@ class FreeSurfaceSolver {
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
   std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
-  std::vector<double> pair_dw_;  // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
-  std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (exclude_dry_walls), else empty
+  std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
+  std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (regradient_for_boundary_values)
 };
 
 }  // namespace rheosim::ldd
