@@ -45,15 +45,15 @@
 #include "data/ghia1982.hpp"  // tests/ldd/data
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
-#include "rheosim/ldd/amg.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/free_surface.hpp"
-#include "rheosim/ldd/krylov.hpp"
-#include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "rheosim/numerics/amg.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace {
 
@@ -77,7 +77,7 @@ struct Scenario {
 struct Preconditioners {
   ldd::Preconditioner pressure = ldd::SolverParams{}.pressure_preconditioner;
   ldd::Preconditioner velocity = ldd::SolverParams{}.velocity_preconditioner;
-  ldd::AmgSettings amg;  // both systems
+  numerics::AmgSettings amg;  // both systems
 };
 
 // Process CPU time [s]: under load from other jobs the wall clock overstates the work.
@@ -279,15 +279,15 @@ void bandwidth() {
   std::vector<double> x;
   for (int j = 0; j < 200; ++j)
     for (int i = 0; i < 250; ++i) x.insert(x.end(), {static_cast<double>(i), static_cast<double>(j)});
-  const ldd::NeighbourList nb = ldd::find_neighbours(x, 2, 1.9);
-  ldd::StencilMatrix m{&nb, std::vector<double>(nb.node_count(), 4.0), std::vector<double>(nb.pair_count(), -0.3)};
+  const numerics::NeighbourList nb = numerics::find_neighbours(x, 2, 1.9);
+  numerics::StencilMatrix m{&nb, std::vector<double>(nb.node_count(), 4.0), std::vector<double>(nb.pair_count(), -0.3)};
   std::vector<double> u(nb.node_count(), 1.0), out(nb.node_count());
   // Bytes a product streams: per pair an index and a value, per node a diagonal, an offset, the
   // result and (from cache, mostly) x.
   const double product_bytes =
       16.0 * static_cast<double>(nb.pair_count()) + 32.0 * static_cast<double>(nb.node_count());
   std::printf(
-      "memory bandwidth: triad a = b + s c over %zu doubles; StencilMatrix::multiply on %zu nodes, %zu pairs "
+      "memory bandwidth: triad a = b + s c over %zu doubles; numerics::StencilMatrix::multiply on %zu nodes, %zu pairs "
       "(%.1f per node), %.1f MB per product\n",
       n, nb.node_count(), nb.pair_count(), static_cast<double>(nb.pair_count()) / static_cast<double>(nb.node_count()),
       product_bytes / 1e6);
@@ -342,7 +342,7 @@ void krylov_floor() {
         l.dimension == 3 ? ldd::slump_scene(std::get<core::SlumpScene>(l.scene), scene.spacing, l.walls)
                          : ldd::dam_break_scene(std::get<core::DamBreakScene>(l.scene), scene.spacing);
     const ldd::FreeSurfaceCloud& cloud = built.cloud;
-    const ldd::NeighbourList nb = ldd::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
+    const numerics::NeighbourList nb = numerics::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
     const std::size_t n = nb.node_count();
     const double support = 1.6 * scene.spacing;
     std::vector<double> weights(nb.pair_count()), kernel_sum(n, 0.0);  // W of each pair, Σ W of each node
@@ -357,8 +357,8 @@ void krylov_floor() {
     std::nth_element(fluid_sums.begin(), fluid_sums.begin() + static_cast<std::ptrdiff_t>(fluid_sums.size() / 2),
                      fluid_sums.end());
     const double full = fluid_sums[fluid_sums.size() / 2];
-    ldd::StencilMatrix pressure{&nb, std::vector<double>(n), std::vector<double>(nb.pair_count())};
-    ldd::StencilMatrix velocity{&nb, std::vector<double>(n, 1.0), std::vector<double>(nb.pair_count(), 0.0)};
+    numerics::StencilMatrix pressure{&nb, std::vector<double>(n), std::vector<double>(nb.pair_count())};
+    numerics::StencilMatrix velocity{&nb, std::vector<double>(n, 1.0), std::vector<double>(nb.pair_count(), 0.0)};
     const double viscous_ratio = 5.0;
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
@@ -379,9 +379,9 @@ void krylov_floor() {
       if (!surface) pressure.diagonal[i] = -kernel_sum[i];
       velocity.diagonal[i] = 1.0 + viscous_ratio * kernel_sum[i];
     }
-    ldd::AmgSettings pressure_settings;
+    numerics::AmgSettings pressure_settings;
     pressure_settings.unit_diagonal = l.dimension == 3;
-    ldd::AmgPreconditioner pressure_amg(pressure_settings), velocity_amg;
+    numerics::AmgPreconditioner pressure_amg(pressure_settings), velocity_amg;
     std::vector<double> r(n, 1.0), z(n), out(n);
     for (std::size_t i = 0; i < n; ++i) r[i] = std::sin(0.37 * static_cast<double>(i));
     for (int threads : {1, 2}) {
@@ -401,7 +401,7 @@ void krylov_floor() {
                   1e3 * pressure_cycle, 1e3 * velocity_cycle, 1e3 * pressure_setup, 1e3 * velocity_setup,
                   1e3 * floor_seconds, measured, scene.seed_ms);
     }
-    const auto sizes = [](const ldd::AmgPreconditioner& amg) {
+    const auto sizes = [](const numerics::AmgPreconditioner& amg) {
       std::string text;
       for (std::size_t level = 0; level < amg.levels(); ++level)
         text += (level ? " > " : "") + std::to_string(amg.rows(level));

@@ -14,14 +14,18 @@
 
 #include <fmt/format.h>
 
+#include "rheosim/numerics/anderson.hpp"
+#include "rheosim/numerics/gmres.hpp"
+#include "rheosim/numerics/quadrature.hpp"
+
 namespace rheosim::fluid {
 
 namespace {
 
 // 3-point Gauss–Legendre on [-1, 1]: exact for polynomials of degree 5, so ∫ μ r³ dr over a
 // face is exact for Newtonian fluids and very accurate for smooth μ(r).
-constexpr std::array<double, 3> gauss_nodes = {-0.7745966692414834, 0.0, 0.7745966692414834};
-constexpr std::array<double, 3> gauss_weights = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+constexpr auto gauss_nodes = numerics::GaussLegendre<3>::nodes;
+constexpr auto gauss_weights = numerics::GaussLegendre<3>::weights;
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
@@ -654,53 +658,6 @@ class Discretisation {
   double face_eps_r_corner(std::size_t i, std::size_t k) const { return face_eps_z_corner(i, k); }
 };
 
-// Anderson acceleration (type II) of a fixed-point map y ↦ G(y): the next iterate combines
-// the last `depth` iterates so that the linearised residual G(y) − y is least-squares smallest.
-// Picard iterations for strongly shear-thinning laws converge linearly and slowly; mixing
-// cuts the iteration count several-fold. depth 0 is plain (relaxed) Picard.
-class AndersonMixer {
- public:
-  explicit AndersonMixer(int depth) : depth_(static_cast<std::size_t>(depth)) {}
-
-  Eigen::VectorXd next(const Eigen::VectorXd& y, const Eigen::VectorXd& g, double relaxation) {
-    const Eigen::VectorXd f = g - y;
-    if (have_previous_ && depth_ > 0) {
-      residual_steps_.push_back(f - previous_f_);
-      map_steps_.push_back(g - previous_g_);
-      if (residual_steps_.size() > depth_) {
-        residual_steps_.erase(residual_steps_.begin());
-        map_steps_.erase(map_steps_.begin());
-      }
-    }
-    previous_f_ = f;
-    previous_g_ = g;
-    have_previous_ = true;
-    if (residual_steps_.empty()) return y + relaxation * f;
-    const auto m = static_cast<Eigen::Index>(residual_steps_.size());
-    Eigen::MatrixXd dF(f.size(), m), dG(f.size(), m);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      dF.col(j) = residual_steps_[static_cast<std::size_t>(j)];
-      dG.col(j) = map_steps_[static_cast<std::size_t>(j)];
-    }
-    const Eigen::VectorXd gamma = dF.colPivHouseholderQr().solve(f);
-    const Eigen::VectorXd y_bar = y - (dG - dF) * gamma;
-    const Eigen::VectorXd f_bar = f - dF * gamma;
-    return y_bar + relaxation * f_bar;
-  }
-
-  void reset() {
-    residual_steps_.clear();
-    map_steps_.clear();
-    have_previous_ = false;
-  }
-
- private:
-  std::size_t depth_;
-  std::vector<Eigen::VectorXd> residual_steps_, map_steps_;
-  Eigen::VectorXd previous_f_, previous_g_;
-  bool have_previous_ = false;
-};
-
 bool all_finite(const Eigen::VectorXd& x) { return x.allFinite(); }
 
 // Bilinear interpolation of v (index i * ys.size() + j, at (xs[i], ys[j])) at (x, y); constant
@@ -775,50 +732,6 @@ SwirlState interpolate_state(const CylindricalGrid& from, const SwirlState& s, c
   return out;
 }
 
-// GMRES (no restart) for M x = b with M given as a function: at most `max_iterations` Krylov
-// vectors, stops when ‖b − M x‖₂ ≤ tolerance ‖b‖₂. Used for the Newton step, where M is the
-// exact Jacobian (by finite differences) preconditioned by the LU of the linearised system.
-template <class Apply>
-Eigen::VectorXd gmres(const Apply& apply, const Eigen::VectorXd& b, double tolerance, int max_iterations) {
-  const Eigen::Index n = b.size();
-  const double beta = b.norm();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  if (!(beta > 0)) return x;
-  const auto m = static_cast<Eigen::Index>(max_iterations);
-  Eigen::MatrixXd v(n, m + 1), h = Eigen::MatrixXd::Zero(m + 1, m);
-  Eigen::VectorXd cs = Eigen::VectorXd::Zero(m), sn = Eigen::VectorXd::Zero(m), g = Eigen::VectorXd::Zero(m + 1);
-  v.col(0) = b / beta;
-  g[0] = beta;
-  Eigen::Index used = 0;
-  for (Eigen::Index j = 0; j < m; ++j) {
-    Eigen::VectorXd w = apply(v.col(j));
-    for (Eigen::Index i = 0; i <= j; ++i) {  // modified Gram–Schmidt
-      h(i, j) = w.dot(v.col(i));
-      w -= h(i, j) * v.col(i);
-    }
-    h(j + 1, j) = w.norm();
-    for (Eigen::Index i = 0; i < j; ++i) {  // earlier Givens rotations
-      const double a = h(i, j), c = h(i + 1, j);
-      h(i, j) = cs[i] * a + sn[i] * c;
-      h(i + 1, j) = -sn[i] * a + cs[i] * c;
-    }
-    const double denom = std::hypot(h(j, j), h(j + 1, j));
-    cs[j] = denom > 0 ? h(j, j) / denom : 1.0;
-    sn[j] = denom > 0 ? h(j + 1, j) / denom : 0.0;
-    const double hj1 = h(j + 1, j);
-    h(j, j) = cs[j] * h(j, j) + sn[j] * hj1;
-    h(j + 1, j) = 0;
-    g[j + 1] = -sn[j] * g[j];
-    g[j] = cs[j] * g[j];
-    used = j + 1;
-    if (std::abs(g[j + 1]) <= tolerance * beta || !(hj1 > 1e-300 * beta)) break;
-    v.col(j + 1) = w / hj1;
-  }
-  const Eigen::VectorXd y = h.topLeftCorner(used, used).triangularView<Eigen::Upper>().solve(g.head(used));
-  x = v.leftCols(used) * y;
-  return x;
-}
-
 }  // namespace
 
 SwirlSolver::SwirlSolver(SwirlParams params) : params_(std::move(params)), grid_(params_.grid) {
@@ -888,7 +801,7 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
   // secondary flow and on the cross gradients, which strong shear thinning makes large; GMRES
   // with the exact Jacobian supplies it, and the Picard LU is its preconditioner.
   const bool krylov = L.inertia && params_.newton_krylov;
-  AndersonMixer mixer(krylov ? 0 : params_.anderson_depth);
+  numerics::AndersonMixer mixer(krylov ? 0 : params_.anderson_depth);
   // System vector (ω, p, interior u_r, u_z) ↔ state; pressure pinned to 0 at cell (0, 0) as in
   // the assembled continuity rows.
   const auto to_system = [&](const SwirlState& st) {
@@ -963,7 +876,7 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     };
     // Inexact Newton: the linear tolerance follows the size of the step (superlinear near the end).
     const double eta = std::clamp(b.lpNorm<Eigen::Infinity>(), 1e-6, 1e-2);
-    const Eigen::VectorXd delta = gmres(apply, b, eta, 30);
+    const Eigen::VectorXd delta = numerics::gmres(apply, b, eta, 30);
     newton_step_size = delta.lpNorm<Eigen::Infinity>();
     // Backtracking on the row-scaled residual (rows scaled by Σ|a_rj| of the linearised
     // system): far from the solution the full step can overshoot, as plain Newton does.

@@ -19,6 +19,8 @@
 
 #include <fmt/format.h>
 
+#include "rheosim/numerics/quadrature.hpp"
+
 namespace rheosim::fluid {
 
 namespace {
@@ -28,8 +30,8 @@ constexpr double max_step_ratio = 2.0;  // Δt/Δt_prev above which a step falls
 
 // 3-point Gauss–Legendre on [-1, 1], as in SwirlSolver: ∫ μ r³ dr over an axial face is exact
 // for a Newtonian fluid and the torque matches the steady solver's on the same (r, z) grid.
-constexpr std::array<double, 3> gauss_nodes = {-0.7745966692414834, 0.0, 0.7745966692414834};
-constexpr std::array<double, 3> gauss_weights = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+constexpr auto gauss_nodes = numerics::GaussLegendre<3>::nodes;
+constexpr auto gauss_weights = numerics::GaussLegendre<3>::weights;
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplets = std::vector<Eigen::Triplet<double>>;

@@ -43,8 +43,8 @@ const char* kind_name(FreeNode k) {
 // components). Jacobi needed ~250 iterations per component at Δ = 2 mm (μ δt/(ρΔ²) up to 5·10³).
 class LuPreconditioner {
  public:
-  bool factorise(const StencilMatrix& a) {
-    const NeighbourList& nb = *a.pattern;
+  bool factorise(const numerics::StencilMatrix& a) {
+    const numerics::NeighbourList& nb = *a.pattern;
     const std::size_t n = a.size();
     entries_.clear();
     entries_.reserve(n + nb.pair_count());
@@ -80,8 +80,8 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
                                      FreeSurfaceCloud cloud)
     : params_(std::move(params)), dim_(params_.dimension), boundaries_(std::move(boundaries)) {
   params_.check();
-  pressure_amg_ = AmgPreconditioner(params_.pressure_amg);
-  velocity_amg_ = AmgPreconditioner(params_.velocity_amg);
+  pressure_amg_ = numerics::AmgPreconditioner(params_.pressure_amg);
+  velocity_amg_ = numerics::AmgPreconditioner(params_.velocity_amg);
   const auto dim = static_cast<std::size_t>(dim_);
   const std::size_t n = cloud.size();
   if (cloud.dimension != dim_ || cloud.positions.size() != dim * n || cloud.normals.size() != dim * n ||
@@ -212,13 +212,13 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
     if ((state.kinds[i] <= FreeNode::splash) != is_fluid(i) || state.kinds[i] > FreeNode::idle_wall)
       throw std::invalid_argument(fmt::format("LDD free-surface state: node {} is a {} node in the state but {} here",
                                               i, kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
-  const NeighbourList& nb = state.neighbours;
+  const numerics::NeighbourList& nb = state.neighbours;
   bool list_fits = nb.offsets.size() == n + 1 && nb.offsets.front() == 0 && nb.offsets.back() == nb.indices.size() &&
                    nb.distances.size() == nb.indices.size();
   for (std::size_t i = 0; list_fits && i < n; ++i) list_fits = nb.offsets[i] <= nb.offsets[i + 1];
   for (std::size_t k = 0; list_fits && k < nb.indices.size(); ++k) list_fits = nb.indices[k] < n;
   if (!list_fits) throw std::invalid_argument("LDD free-surface state: its neighbour list does not fit the cloud");
-  for (const AmgState* amg : {&state.pressure_amg, &state.velocity_amg})
+  for (const numerics::AmgState* amg : {&state.pressure_amg, &state.velocity_amg})
     if (!amg->empty() && (amg->diagonal.size() != n || amg->offsets.size() != n + 1))
       throw std::invalid_argument("LDD free-surface state: a kept AMG set-up matrix does not fit the cloud");
   pressure_amg_.restore(state.pressure_amg);
@@ -234,7 +234,7 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
   viscosity_ = std::move(state.viscosity);
   kinds_ = std::move(state.kinds);
   neighbours_ = std::move(state.neighbours);
-  candidates_ = NeighbourList{};  // searched afresh at the next step (the same list either way)
+  candidates_ = numerics::NeighbourList{};  // searched afresh at the next step (the same list either way)
   candidate_positions_.clear();
   steps_since_search_ = 0;
   times_ = state.times;
@@ -260,7 +260,7 @@ void FreeSurfaceSolver::rebuild_neighbours() {
     const bool verlet_list = candidates_.node_count() == kinds_.size();  // else the last search was plain
     if (verlet_list && 2.0 * moved < 0.9 * skin) {
       ++steps_since_search_;
-      neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
+      numerics::neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
       return;
     }
   }
@@ -269,11 +269,11 @@ void FreeSurfaceSolver::rebuild_neighbours() {
   const bool known_speed = searched_before && steps_since_search_ > 0;
   const double per_step = known_speed ? moved / static_cast<double>(steps_since_search_) : 0.0;
   if (skin > 0 && (!known_speed || 0.9 * skin >= 2.0 * 2.0 * per_step)) {
-    candidates_ = find_neighbours(positions_, dim_, search_radius_ + skin);
-    neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
+    candidates_ = numerics::find_neighbours(positions_, dim_, search_radius_ + skin);
+    numerics::neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
   } else {
-    candidates_ = NeighbourList{};
-    neighbours_ = find_neighbours(positions_, dim_, search_radius_);
+    candidates_ = numerics::NeighbourList{};
+    neighbours_ = numerics::find_neighbours(positions_, dim_, search_radius_);
   }
   candidate_positions_ = positions_;
   steps_since_search_ = 1;
@@ -317,7 +317,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   const double dt = params_.time_step, rho = params_.density;
   const std::vector<double>& g = params_.gravity;
   const double g_norm = std::sqrt(std::inner_product(g.begin(), g.end(), g.begin(), 0.0));
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   FreeSurfaceStats stats;
 
   // 1. Operators (eqs. 13–16) and the free-surface classification.
@@ -458,10 +458,10 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   new_velocity_.resize(dim * n);
   component_.resize(n);
   const double sqrt_n = std::sqrt(static_cast<double>(n));
-  KrylovSettings velocity_settings{params_.velocity_tolerance,
-                                   params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
-                                   params_.max_iterations,
-                                   {}};
+  numerics::KrylovSettings velocity_settings{params_.velocity_tolerance,
+                                             params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
+                                             params_.max_iterations,
+                                             {}};
   LuPreconditioner momentum_lu;
   if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
       momentum_lu.factorise(momentum_matrix_))
@@ -476,8 +476,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
   int most_velocity_iterations = 0;
   for (std::size_t d = 0; d < dim; ++d) {
     for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
-    auto result =
-        bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_, velocity_settings, krylov_);
+    auto result = numerics::bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
+                                     velocity_settings, krylov_);
     if (!result.converged && velocity_amg && !velocity_hierarchy_fresh) {
       // A hierarchy kept from earlier steps no longer fits the matrix: rebuild it, solve again.
       velocity_amg_.setup(momentum_matrix_);
@@ -485,8 +485,8 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
       ++stats.repeated_solves;
       for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
       stats.velocity_iterations += result.iterations;
-      result =
-          bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_, velocity_settings, krylov_);
+      result = numerics::bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
+                                  velocity_settings, krylov_);
     }
     most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
@@ -558,7 +558,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
     }
   }
   increment_.assign(n, 0.0);
-  KrylovSettings pressure_settings{
+  numerics::KrylovSettings pressure_settings{
       params_.pressure_tolerance,
       params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
       params_.max_iterations,
@@ -573,12 +573,12 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
     pressure_hierarchy_fresh = pressure_amg_.prepare(pressure_matrix_);
     pressure_settings.preconditioner = pressure_amg_.as_preconditioner();
   }
-  auto pressure_result = bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+  auto pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
   const auto repeat_pressure_solve = [&] {
     ++stats.repeated_solves;
     increment_.assign(n, 0.0);
     const int failed_iterations = pressure_result.iterations;
-    pressure_result = bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+    pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
     pressure_result.iterations += failed_iterations;
   };
   if (!pressure_result.converged && pressure_amg && !pressure_hierarchy_fresh) {
@@ -644,7 +644,7 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
                     dim == 3 ? fmt::format(", {:.4g}", positions_[dim * fastest + 2]) : std::string(),
                     fmt::format(", {} neighbours", nb.offsets[fastest + 1] - nb.offsets[fastest])));
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance)) {
-    const FloatingGroups floating = floating_groups(pressure_matrix_);
+    const numerics::FloatingGroups floating = numerics::floating_groups(pressure_matrix_);
     const std::size_t at = floating.largest_member;
     throw DivergenceError(fmt::format(
         "pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations ({} repeated "

@@ -24,7 +24,7 @@ namespace rheosim::ldd {
 // use eq. 15 without the offset correction (o_i = 0): first order there, all coefficients ≥ 0.
 void FreeSurfaceSolver::keep_laplacian_positive() {
   const auto dim = static_cast<std::size_t>(dim_);
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   std::size_t guarded = 0;
 #pragma omp parallel for schedule(static) reduction(+ : guarded)
@@ -54,7 +54,7 @@ void FreeSurfaceSolver::keep_laplacian_positive() {
 // contact-line node that counts it loses part of the support that balances gravity.
 void FreeSurfaceSolver::regradient_for_boundary_values() {
   const std::size_t n = kinds_.size();
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   dry_wall_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -105,7 +105,7 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
 //     surface: φ ≈ −10 kPa in the 50 000-node slump at δt = 1e-2, clipped to p = 0 everywhere.
 void FreeSurfaceSolver::impose_boundary_pressure() {
   const auto dim = static_cast<std::size_t>(dim_);
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const double rho = params_.density;

@@ -29,7 +29,7 @@ double FreeSurfaceSolver::kernel_density(std::size_t i) const {
 
 void FreeSurfaceSolver::classify() {
   const auto dim = static_cast<std::size_t>(dim_);
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const double h2 = support_radius_ * support_radius_, r2 = search_radius_ * search_radius_;
   const double offset_limit = params_.surface_offset * params_.spacing;

@@ -19,11 +19,11 @@ namespace rheosim::ldd {
 // classification, μ): u* = M⁻¹(ρu − δt⟨∇p⟩), φ = P⁻¹ rhs(u*, p), u' = u* − δt/ρ ⟨∇φ⟩, p' = p + φ,
 // with wall and splash rows homogeneous. Power iteration from a pseudo-random start finds its
 // largest growth factor; pressure is measured in velocity units δt p/(ρΔ).
-void FreeSurfaceSolver::probe_step_map(const KrylovSettings& velocity_settings, const KrylovSettings& pressure_settings,
-                                       FreeSurfaceStats& stats) {
+void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_settings,
+                                       const numerics::KrylovSettings& pressure_settings, FreeSurfaceStats& stats) {
   const auto dim = static_cast<std::size_t>(dim_);
   const std::size_t n = kinds_.size();
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   const double dt = params_.time_step, rho = params_.density;
   const double pressure_scale = dt / (rho * params_.spacing);
@@ -50,7 +50,7 @@ void FreeSurfaceSolver::probe_step_map(const KrylovSettings& velocity_settings, 
     return norm;
   };
   normalise();
-  KrylovSettings velocity = velocity_settings, pressure = pressure_settings;
+  numerics::KrylovSettings velocity = velocity_settings, pressure = pressure_settings;
   velocity.relative_tolerance = pressure.relative_tolerance = 1e-10;
   velocity.absolute_tolerance = pressure.absolute_tolerance = 0.0;
   const int iterations = params_.stability_probe_iterations;
@@ -63,7 +63,7 @@ void FreeSurfaceSolver::probe_step_map(const KrylovSettings& velocity_settings, 
         rhs[i] = moving(i) ? rho * u[dim * i + d] - dt * grad[dim * i + d] : 0.0;
         component[i] = u[dim * i + d];
       }
-      bicgstab(momentum_matrix_, rhs, component, velocity, krylov_);
+      numerics::bicgstab(momentum_matrix_, rhs, component, velocity, krylov_);
       for (std::size_t i = 0; i < n; ++i) predicted[dim * i + d] = moving(i) ? component[i] : 0.0;
     }
     divergence(nb, ops, predicted, div);
@@ -80,7 +80,7 @@ void FreeSurfaceSolver::probe_step_map(const KrylovSettings& velocity_settings, 
       }
     }
     std::fill(phi.begin(), phi.end(), 0.0);
-    bicgstab(pressure_matrix_, rhs, phi, pressure, krylov_);
+    numerics::bicgstab(pressure_matrix_, rhs, phi, pressure, krylov_);
     gradient(nb, ops, phi, grad);
     for (std::size_t i = 0; i < n; ++i) {
       for (std::size_t d = 0; d < dim; ++d)

@@ -22,7 +22,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
   const auto count = static_cast<std::ptrdiff_t>(n);
   shift_.assign(dim * n, 0.0);
   if (params_.pbd_iterations == 0) return;
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const double h = support_radius_, rho0 = rest_density_;
   const double max_shift = params_.pbd_max_shift * params_.spacing;
   const auto movable = [&](std::size_t i) { return kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface; };

@@ -20,7 +20,7 @@ bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
 // Solves the weighted least-squares fit of `Size` terms at one node in coordinates scaled by h
 // (entries O(1)); writes coefficients for the first Size terms of every pair. False if singular.
 template <int Size>
-bool fit_node(std::span<const double> positions, const NeighbourList& nb, std::size_t i, double h,
+bool fit_node(std::span<const double> positions, const numerics::NeighbourList& nb, std::size_t i, double h,
               std::span<double> coefficients) {
   using Mat = Eigen::Matrix<double, Size, Size>;
   using Vec = Eigen::Matrix<double, Size, 1>;
@@ -64,7 +64,8 @@ std::array<double, QuadraticFit::terms> taylor_basis(double rx, double ry) {
   return {rx, ry, 0.5 * rx * rx, rx * ry, 0.5 * ry * ry};
 }
 
-QuadraticFit::QuadraticFit(std::span<const double> positions, const NeighbourList& neighbours, double support_radius)
+QuadraticFit::QuadraticFit(std::span<const double> positions, const numerics::NeighbourList& neighbours,
+                           double support_radius)
     : support_radius_(support_radius),
       coefficients_(terms * neighbours.pair_count(), 0.0),
       linear_only_(neighbours.node_count(), 0) {
@@ -82,7 +83,7 @@ QuadraticFit::QuadraticFit(std::span<const double> positions, const NeighbourLis
   }
 }
 
-std::array<double, QuadraticFit::terms> QuadraticFit::derivatives(const NeighbourList& neighbours,
+std::array<double, QuadraticFit::terms> QuadraticFit::derivatives(const numerics::NeighbourList& neighbours,
                                                                   std::span<const double> field, std::size_t stride,
                                                                   std::size_t component, std::size_t node) const {
   std::array<double, terms> d{};
@@ -98,9 +99,9 @@ std::size_t QuadraticFit::linear_only_count() const {
   return static_cast<std::size_t>(std::count(linear_only_.begin(), linear_only_.end(), std::uint8_t{1}));
 }
 
-void return_to_lattice(std::span<const double> positions, std::span<const NodeKind> kinds, const NeighbourList& nb,
-                       const QuadraticFit& fit, std::span<const double> velocity, std::span<const double> advection,
-                       double time_step, bool limit, std::vector<double>& out) {
+void return_to_lattice(std::span<const double> positions, std::span<const NodeKind> kinds,
+                       const numerics::NeighbourList& nb, const QuadraticFit& fit, std::span<const double> velocity,
+                       std::span<const double> advection, double time_step, bool limit, std::vector<double>& out) {
   out.resize(velocity.size());
   const auto count = static_cast<std::ptrdiff_t>(kinds.size());
 #pragma omp parallel for schedule(static)

@@ -51,8 +51,8 @@ GuardedInverse<D> guarded_inverse(const Eigen::Matrix<double, D, D>& moment, dou
 }
 
 template <int D>
-void build_node(std::size_t i, std::span<const double> x, const NeighbourList& nb, const OperatorSettings& settings,
-                Operators& ops) {
+void build_node(std::size_t i, std::span<const double> x, const numerics::NeighbourList& nb,
+                const OperatorSettings& settings, Operators& ops) {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
   const double h = settings.support_radius;
@@ -116,7 +116,7 @@ void build_node(std::size_t i, std::span<const double> x, const NeighbourList& n
 // Gradient coefficients of node i from its pair weights, neighbours j with skip[j] != 0 left out
 // (skip empty: none), about the node (eq. 14) or, centred, about the kept neighbours' centroid.
 template <int D>
-void rebuild_node_gradient(std::size_t i, std::span<const double> x, const NeighbourList& nb,
+void rebuild_node_gradient(std::size_t i, std::span<const double> x, const numerics::NeighbourList& nb,
                            const OperatorSettings& settings, std::span<const std::uint8_t> skip, Operators& ops) {
   using Vec = Eigen::Matrix<double, D, 1>;
   using Mat = Eigen::Matrix<double, D, D>;
@@ -147,7 +147,7 @@ void rebuild_node_gradient(std::size_t i, std::span<const double> x, const Neigh
   ops.guarded[i] = static_cast<std::uint8_t>((ops.guarded[i] & ~1U) | (inverse.pseudo ? 1U : 0U));
 }
 
-void check_sizes(const NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
+void check_sizes(const numerics::NeighbourList& nb, const Operators& ops, std::size_t f_size, std::size_t f_stride,
                  std::size_t out_size, std::size_t out_stride, const char* what) {
   const std::size_t n = nb.node_count();
   if (ops.node_count() != n || f_size != n * f_stride || out_size != n * out_stride)
@@ -160,14 +160,14 @@ std::size_t Operators::guarded_count() const {
   return static_cast<std::size_t>(std::count_if(guarded.begin(), guarded.end(), [](std::uint8_t g) { return g != 0; }));
 }
 
-Operators build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
+Operators build_operators(std::span<const double> positions, int dimension, const numerics::NeighbourList& neighbours,
                           const OperatorSettings& settings) {
   Operators ops;
   build_operators(positions, dimension, neighbours, settings, ops);
   return ops;
 }
 
-void build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
+void build_operators(std::span<const double> positions, int dimension, const numerics::NeighbourList& neighbours,
                      const OperatorSettings& settings, Operators& ops) {
   if (dimension != 2 && dimension != 3)
     throw std::invalid_argument(fmt::format("build_operators: dimension = {}, expected 2 or 3", dimension));
@@ -196,7 +196,7 @@ void build_operators(std::span<const double> positions, int dimension, const Nei
   }
 }
 
-void rebuild_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+void rebuild_gradients(std::span<const double> positions, const numerics::NeighbourList& neighbours,
                        const OperatorSettings& settings, std::span<const std::size_t> nodes,
                        std::span<const std::uint8_t> skip, Operators& ops) {
   const auto dim = static_cast<std::size_t>(ops.dimension);
@@ -215,7 +215,8 @@ void rebuild_gradients(std::span<const double> positions, const NeighbourList& n
   }
 }
 
-void gradient(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {
+void gradient(const numerics::NeighbourList& nb, const Operators& ops, std::span<const double> f,
+              std::span<double> out) {
   const auto dim = static_cast<std::size_t>(ops.dimension);
   check_sizes(nb, ops, f.size(), 1, out.size(), dim, "gradient");
   const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
@@ -231,7 +232,8 @@ void gradient(const NeighbourList& nb, const Operators& ops, std::span<const dou
   }
 }
 
-void divergence(const NeighbourList& nb, const Operators& ops, std::span<const double> v, std::span<double> out) {
+void divergence(const numerics::NeighbourList& nb, const Operators& ops, std::span<const double> v,
+                std::span<double> out) {
   const auto dim = static_cast<std::size_t>(ops.dimension);
   check_sizes(nb, ops, v.size(), dim, out.size(), 1, "divergence");
   const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
@@ -247,7 +249,8 @@ void divergence(const NeighbourList& nb, const Operators& ops, std::span<const d
   }
 }
 
-void laplacian(const NeighbourList& nb, const Operators& ops, std::span<const double> f, std::span<double> out) {
+void laplacian(const numerics::NeighbourList& nb, const Operators& ops, std::span<const double> f,
+               std::span<double> out) {
   check_sizes(nb, ops, f.size(), 1, out.size(), 1, "laplacian");
   const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
 #pragma omp parallel for schedule(static)

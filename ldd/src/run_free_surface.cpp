@@ -213,7 +213,7 @@ void write_checkpoint(const std::filesystem::path& path, const core::Case& c, co
   add("state/neighbours/indices", as_doubles(s.neighbours.indices), 1, "");
   add("state/neighbours/distances", std::move(s.neighbours.distances), 1, "m");
   for (auto [name, amg] :
-       {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
+       {std::pair<const char*, numerics::AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
     const std::string group = std::string("state/amg/") + name;
     add(group + "/diagonal", std::move(amg->diagonal), 1, "");
     add(group + "/off_diagonal", std::move(amg->off_diagonal), 1, "");
@@ -283,7 +283,7 @@ std::string read_checkpoint(const std::filesystem::path& path, const core::Case&
   s.neighbours.indices = from_doubles<std::size_t>(data("state/neighbours/indices"));
   s.neighbours.distances = data("state/neighbours/distances");
   for (auto [name, amg] :
-       {std::pair<const char*, AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
+       {std::pair<const char*, numerics::AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
     const std::string group = std::string("state/amg/") + name;
     amg->diagonal = data(group + "/diagonal");
     amg->off_diagonal = data(group + "/off_diagonal");
@@ -458,9 +458,9 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
       row.push_back(st.step_map_growth > 0 ? solver.positions()[at] : 0.0);
       row.push_back(st.step_map_growth > 0 ? solver.positions()[at + 1] : 0.0);
     }
-    for (double v : {energy, released, drift, static_cast<double>(st.surface_nodes), static_cast<double>(st.splash_nodes),
-                     static_cast<double>(st.pressure_iterations), static_cast<double>(st.velocity_iterations),
-                     st.courant, st.max_pbd_shift})
+    for (double v : {energy, released, drift, static_cast<double>(st.surface_nodes),
+                     static_cast<double>(st.splash_nodes), static_cast<double>(st.pressure_iterations),
+                     static_cast<double>(st.velocity_iterations), st.courant, st.max_pbd_shift})
       row.push_back(v);
     history.add_row(row);
     return energy;

@@ -83,7 +83,7 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 // order[k] is the node eliminated k-th. Deterministic (ties broken by node index).
 class NestedDissection {
  public:
-  NestedDissection(std::span<const double> positions, const NeighbourList& nb)
+  NestedDissection(std::span<const double> positions, const numerics::NeighbourList& nb)
       : positions_(positions), nb_(nb), side_(nb.node_count(), 0) {
     std::vector<std::uint32_t> all(nb.node_count());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
@@ -130,7 +130,7 @@ class NestedDissection {
   }
 
   std::span<const double> positions_;
-  const NeighbourList& nb_;
+  const numerics::NeighbourList& nb_;
   std::vector<std::uint32_t> side_;  // stamp_ for the upper half of the current split
   std::uint32_t stamp_ = 0;
   std::vector<std::uint32_t> order_;
@@ -204,8 +204,8 @@ double test_residual(const SparseFactorisation& f, const SparseMatrix& a) {
 }
 
 // Sparse LU of a stencil matrix over the cloud `positions`; null when the factorisation fails.
-std::unique_ptr<SparseFactorisation> factorise(const StencilMatrix& a, std::span<const double> positions) {
-  const NeighbourList& nb = *a.pattern;
+std::unique_ptr<SparseFactorisation> factorise(const numerics::StencilMatrix& a, std::span<const double> positions) {
+  const numerics::NeighbourList& nb = *a.pattern;
   const std::size_t n = a.size();
   if (n >= std::numeric_limits<std::uint32_t>::max()) return nullptr;
   const NestedDissection dissection(positions, nb);
@@ -254,16 +254,17 @@ std::function<void(std::span<const double>, std::span<double>)> lu_preconditione
 
 // x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
 // iteration; `scratch` holds A x.
-KrylovResult direct_solve(const SparseFactorisation& lu, const StencilMatrix& a, std::span<const double> b,
-                          std::span<double> x, const KrylovSettings& settings, std::vector<double>& scratch) {
+numerics::KrylovResult direct_solve(const SparseFactorisation& lu, const numerics::StencilMatrix& a,
+                                    std::span<const double> b, std::span<double> x,
+                                    const numerics::KrylovSettings& settings, std::vector<double>& scratch) {
   lu_preconditioner (&lu)(b, x);
   scratch.resize(b.size());
   a.multiply(x, scratch);
   for (std::size_t i = 0; i < b.size(); ++i) scratch[i] = b[i] - scratch[i];
-  KrylovResult result;
+  numerics::KrylovResult result;
   result.iterations = 1;
-  const double b_norm = std::sqrt(parallel_dot(b, b));
-  result.residual = std::sqrt(parallel_dot(scratch, scratch));
+  const double b_norm = std::sqrt(numerics::parallel_dot(b, b));
+  result.residual = std::sqrt(numerics::parallel_dot(scratch, scratch));
   result.relative_residual = b_norm > 0 ? result.residual / b_norm : result.residual;
   result.converged = result.residual <= std::max(settings.relative_tolerance * b_norm, settings.absolute_tolerance);
   return result;
@@ -310,8 +311,8 @@ Solver::Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud)
       wall_velocities_(std::move(cloud.wall_velocities)),
       positions_(std::move(cloud.positions)) {
   params_.check();
-  pressure_amg_ = AmgPreconditioner(params_.pressure_amg);
-  velocity_amg_ = AmgPreconditioner(params_.velocity_amg);
+  pressure_amg_ = numerics::AmgPreconditioner(params_.pressure_amg);
+  velocity_amg_ = numerics::AmgPreconditioner(params_.velocity_amg);
   const std::size_t n = kinds_.size();
   if (positions_.size() != 2 * n || normals_.size() != 2 * n || wall_velocities_.size() != 2 * n)
     throw std::invalid_argument("LDD solver: node cloud arrays have inconsistent sizes");
@@ -353,14 +354,14 @@ std::size_t Solver::fluid_node_count() const {
 }
 
 void Solver::rebuild_neighbours() {
-  neighbours_ = find_neighbours(positions_, 2, support_radius_ + params_.neighbour_skin * params_.spacing);
+  neighbours_ = numerics::find_neighbours(positions_, 2, support_radius_ + params_.neighbour_skin * params_.spacing);
 }
 
 StepStats Solver::step() {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   StepStats stats;
 
   // 1. Operators (eqs. 13–16) on the current cloud.
@@ -462,7 +463,7 @@ StepStats Solver::step() {
   }
   new_velocity_.resize(2 * n);
   component_.resize(n);
-  KrylovSettings velocity_settings{params_.velocity_tolerance, 1e-300, params_.max_iterations, {}};
+  numerics::KrylovSettings velocity_settings{params_.velocity_tolerance, 1e-300, params_.max_iterations, {}};
   // Jacobi by default: a sparse LU of an earlier step's momentum matrix as preconditioner was
   // measured slower (μ(γ̇) changes too fast early in a run; each LU solve costs ~10 Jacobi
   // iterations). AMG reuses its coarse levels while μ changes slowly (amg.hpp).
@@ -474,7 +475,7 @@ StepStats Solver::step() {
   double velocity_residual = 0;
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
-  const auto record = [&](const KrylovResult& result) {
+  const auto record = [&](const numerics::KrylovResult& result) {
     most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
     stats.velocity_iterations += result.iterations;
     velocity_residual = std::max(velocity_residual, result.relative_residual);
@@ -487,7 +488,7 @@ StepStats Solver::step() {
         component_[i] = velocity_[2 * i + d];
         rhs_[i] = momentum_rhs_[2 * i + d];
       }
-      record(bicgstab(momentum_matrix_, rhs_, component_, velocity_settings, krylov_));
+      record(numerics::bicgstab(momentum_matrix_, rhs_, component_, velocity_settings, krylov_));
       for (std::size_t i = 0; i < n; ++i) new_velocity_[2 * i + d] = component_[i];
     }
   } else {
@@ -499,8 +500,8 @@ StepStats Solver::step() {
     older_momentum_increment_.resize(2 * n, 0.0);
     for (std::size_t i = 0; i < 2 * n; ++i)
       new_velocity_[i] = velocity_[i] + 2.0 * momentum_increment_[i] - older_momentum_increment_[i];
-    for (const KrylovResult& result :
-         bicgstab_jacobi_pair(momentum_matrix_, momentum_rhs_, new_velocity_, velocity_settings, pair_krylov_))
+    for (const numerics::KrylovResult& result : numerics::bicgstab_jacobi_pair(
+             momentum_matrix_, momentum_rhs_, new_velocity_, velocity_settings, pair_krylov_))
       record(result);
     next_momentum_increment_.resize(2 * n);  // taken over when the step is committed
     for (std::size_t i = 0; i < 2 * n; ++i) next_momentum_increment_[i] = new_velocity_[i] - velocity_[i];
@@ -572,12 +573,12 @@ StepStats Solver::step() {
   // Converged when the residual is small relative to the source, or when the divergence it
   // leaves is below pressure_tolerance · U/L in the RMS sense (near steady state ‖b‖ → 0).
   const double divergence_scale = rho / dt * params_.velocity_scale / params_.length_scale;
-  const KrylovSettings pressure_settings{
+  const numerics::KrylovSettings pressure_settings{
       params_.pressure_tolerance,
       params_.pressure_tolerance * divergence_scale * std::sqrt(static_cast<double>(n)),
       params_.max_iterations,
       {}};
-  KrylovSettings settings_with_preconditioner = pressure_settings;
+  numerics::KrylovSettings settings_with_preconditioner = pressure_settings;
   if (params_.reordering == Reordering::lattice && params_.pressure_preconditioner == Preconditioner::sparse_lu) {
     if (!pressure_lu_) {
       pressure_lu_ = factorise(pressure_matrix_, positions_);
@@ -595,7 +596,7 @@ StepStats Solver::step() {
     }
     settings_with_preconditioner.preconditioner = pressure_amg_.as_preconditioner();
   }
-  KrylovResult pressure_result;
+  numerics::KrylovResult pressure_result;
   if (pressure_lu_) {
     // The LU factorises this very matrix, so one direct solve is the answer to rounding (as a
     // BiCGStab preconditioner it cost a further matrix product and seven vector passes). Kept
@@ -604,9 +605,10 @@ StepStats Solver::step() {
   }
   if (!pressure_result.converged) {
     if (!std::isfinite(pressure_result.residual)) increment_.assign(n, 0.0);
-    const KrylovResult krylov = bicgstab(pressure_matrix_, rhs_, increment_, settings_with_preconditioner, krylov_);
-    pressure_result = KrylovResult{pressure_result.iterations + krylov.iterations, krylov.residual,
-                                   krylov.relative_residual, krylov.converged};
+    const numerics::KrylovResult krylov =
+        numerics::bicgstab(pressure_matrix_, rhs_, increment_, settings_with_preconditioner, krylov_);
+    pressure_result = numerics::KrylovResult{pressure_result.iterations + krylov.iterations, krylov.residual,
+                                             krylov.relative_residual, krylov.converged};
   }
   if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
   stats.pressure_iterations = pressure_result.iterations;
@@ -804,7 +806,7 @@ void Solver::reorder(std::span<const double> grad_u) {
   const auto count = static_cast<std::ptrdiff_t>(n);
   shift_.assign(2 * n, 0.0);
   if (params_.pbd_iterations == 0) return;
-  const NeighbourList& nb = neighbours_;
+  const numerics::NeighbourList& nb = neighbours_;
   const double h = support_radius_, rho0 = rest_density_;
   const double max_shift = params_.pbd_max_shift * params_.spacing;
   const double min_distance = params_.pbd_min_distance * params_.spacing;

@@ -16,8 +16,8 @@
 
 #include <fmt/format.h>
 
-#include "gauss_legendre.hpp"
 #include "rheosim/dem/size_distribution.hpp"
+#include "rheosim/numerics/quadrature.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
 
@@ -158,7 +158,8 @@ double plate_normal_force(const std::vector<double>& rates, const std::vector<do
   edges.push_back(rim_rate);
   double integral = 0.0;  // ∫₀^γ̇_R ΔN(s) s ds = ∫ c(s) s² ds
   for (std::size_t k = 0; k + 1 < edges.size(); ++k)
-    integral += integrate_gauss_legendre_8(edges[k], edges[k + 1], [&](double s) { return ratio(s) * s * s; });
+    integral +=
+        numerics::integrate_gauss_legendre<8>(edges[k], edges[k + 1], [&](double s) { return ratio(s) * s * s; });
   return pi * radius * radius / (rim_rate * rim_rate) * integral;
 }
 

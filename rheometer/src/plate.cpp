@@ -6,6 +6,7 @@
 #include <string>
 
 #include "rheosim/core/units.hpp"
+#include "rheosim/numerics/quadrature.hpp"
 
 namespace rheosim::rheometer {
 
@@ -64,29 +65,12 @@ std::optional<double> closed_form_torque(const ParallelPlate& plate, const core:
 
 namespace {
 
-// 8-point Gauss–Legendre nodes and weights on [-1, 1].
-constexpr std::array<double, 8> gl_nodes = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
-                                            -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
-                                            0.7966664774136267,  0.9602898564975363};
-constexpr std::array<double, 8> gl_weights = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
-                                              0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
-                                              0.2223810344533745, 0.1012285362903763};
-
-template <class F>
-double gauss_legendre(const F& f, double a, double b) {
-  const double half = 0.5 * (b - a);
-  const double mid = 0.5 * (a + b);
-  double sum = 0;
-  for (std::size_t i = 0; i < gl_nodes.size(); ++i) sum += gl_weights[i] * f(mid + half * gl_nodes[i]);
-  return sum * half;
-}
-
 // Adaptive bisection: accept a panel when splitting it changes the integral by less than tol.
 template <class F>
 double adaptive(const F& f, double a, double b, double whole, double tolerance, int depth) {
   const double mid = 0.5 * (a + b);
-  const double left = gauss_legendre(f, a, mid);
-  const double right = gauss_legendre(f, mid, b);
+  const double left = numerics::integrate_gauss_legendre<8>(a, mid, f);
+  const double right = numerics::integrate_gauss_legendre<8>(mid, b, f);
   if (depth >= 40 || std::abs(left + right - whole) <= tolerance) return left + right;
   return adaptive(f, a, mid, left, 0.5 * tolerance, depth + 1) + adaptive(f, mid, b, right, 0.5 * tolerance, depth + 1);
 }
@@ -104,8 +88,8 @@ double creeping_torque(const ParallelPlate& plate, const core::Rheology& rheolog
   double upper = 1.0;
   for (int panel = 0; panel < 60 && upper > 1e-18; ++panel) {
     const double lower = upper / 4.0;
-    integral +=
-        adaptive(integrand, lower, upper, gauss_legendre(integrand, lower, upper), relative_tolerance * scale, 0);
+    integral += adaptive(integrand, lower, upper, numerics::integrate_gauss_legendre<8>(lower, upper, integrand),
+                         relative_tolerance * scale, 0);
     upper = lower;
   }
   return 2.0 * pi * std::pow(plate.radius, 3) * integral;

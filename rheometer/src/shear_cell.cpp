@@ -18,12 +18,12 @@
 
 #include <fmt/format.h>
 
-#include "gauss_legendre.hpp"
 #include "rheosim/core/units.hpp"
 #include "rheosim/coupling/shear_cell_point.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/dem/shear_cell_scene.hpp"
 #include "rheosim/fluid/swirl.hpp"
+#include "rheosim/numerics/quadrature.hpp"
 #include "rheosim/rheometer/plate.hpp"
 
 namespace rheosim::rheometer {
@@ -433,8 +433,8 @@ double plate_torque(const LocalFlowCurve& curve, double radius, double rim_rate)
                                                       std::log(curve.shear_rate[1] / curve.shear_rate[0]);
   double integral = curve.stress_at(edges[1]) * edges[1] * edges[1] * edges[1] / (exponent + 3.0);
   for (std::size_t i = 1; i + 1 < edges.size(); ++i)
-    integral +=
-        integrate_gauss_legendre_8(edges[i], edges[i + 1], [&](double s) { return curve.stress_at(s) * s * s; });
+    integral += numerics::integrate_gauss_legendre<8>(edges[i], edges[i + 1],
+                                                      [&](double s) { return curve.stress_at(s) * s * s; });
   return 2.0 * core::units::pi * radius * radius * radius / (rim_rate * rim_rate * rim_rate) * integral;
 }
 

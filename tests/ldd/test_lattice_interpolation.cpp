@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "rheosim/ldd/lattice_interpolation.hpp"
-#include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -24,7 +24,7 @@ constexpr double support = 1.6 * spacing;  // h of the solver's default smoothin
 struct Cloud {
   std::vector<double> positions;
   std::vector<NodeKind> kinds;  // outer ring: wall (copied), inside: fluid
-  NeighbourList neighbours;
+  numerics::NeighbourList neighbours;
 };
 
 // (cells + 1)² nodes, lattice vectors (Δ, 0) and (Δ cos α, Δ sin α), each moved by up to
@@ -40,7 +40,7 @@ Cloud lattice(int cells, double angle, double jitter, unsigned seed = 7) {
       c.positions.insert(c.positions.end(), {x + (edge ? 0.0 : shake(random)), y + (edge ? 0.0 : shake(random))});
       c.kinds.push_back(edge ? NodeKind::wall : NodeKind::fluid);
     }
-  c.neighbours = find_neighbours(c.positions, 2, support + 0.2 * spacing);
+  c.neighbours = numerics::find_neighbours(c.positions, 2, support + 0.2 * spacing);
   return c;
 }
 
@@ -79,7 +79,7 @@ TEST(QuadraticFit, FallsBackToLinearWithTooFewNeighbours) {
   // Four nodes on a line and one off it: not enough for five second-order terms.
   Cloud c;
   c.positions = {0, 0, 0.1, 0, -0.1, 0, 0.0, 0.1};
-  c.neighbours = find_neighbours(c.positions, 2, support);
+  c.neighbours = numerics::find_neighbours(c.positions, 2, support);
   const QuadraticFit fit(c.positions, c.neighbours, support);
   EXPECT_EQ(fit.linear_only_count(), 4U);           // node 0 sees all three others; the rest fewer
   const std::vector<double> f{1.0, 1.2, 0.8, 1.5};  // f = 1 + 2x + 5y

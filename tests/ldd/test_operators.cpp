@@ -18,9 +18,9 @@
 #include <random>
 #include <vector>
 
-#include "rheosim/ldd/krylov.hpp"
-#include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -55,12 +55,12 @@ Cloud square_cloud(int n, double jitter, unsigned seed = 7) {
 }
 
 struct Built {
-  NeighbourList nb;
+  numerics::NeighbourList nb;
   Operators ops;
 };
 
 Built build(const std::vector<double>& x, int dim, double h) {
-  Built b{find_neighbours(x, dim, h), {}};
+  Built b{numerics::find_neighbours(x, dim, h), {}};
   b.ops = build_operators(x, dim, b.nb, OperatorSettings{h});
   return b;
 }
@@ -79,7 +79,8 @@ TEST(Weight, IsCubicAndVanishesAtSupport) {
 TEST(Operators, RebuiltIntoUsedStorageEqualFreshOnes) {
   const Cloud large = square_cloud(30, 0.3, 1), small = square_cloud(20, 0.3, 2);
   const double h = 1.6 / 20;
-  const NeighbourList large_nb = find_neighbours(large.x, 2, 1.6 / 30), small_nb = find_neighbours(small.x, 2, h);
+  const numerics::NeighbourList large_nb = numerics::find_neighbours(large.x, 2, 1.6 / 30),
+                                small_nb = numerics::find_neighbours(small.x, 2, h);
   Operators reused = build_operators(large.x, 2, large_nb, OperatorSettings{1.6 / 30, 1e-3, true});
   build_operators(small.x, 2, small_nb, OperatorSettings{h, 1e-3, true}, reused);
   const Operators fresh = build_operators(small.x, 2, small_nb, OperatorSettings{h, 1e-3, true});
@@ -121,7 +122,7 @@ TEST(Gradient, CentredGradientIsExactForLinearFieldsAndIgnoresTheNodesOwnValue) 
   for (const double jitter : {0.0, 0.35}) {
     const Cloud c = square_cloud(20, jitter);
     const double h = 1.6 * c.spacing;
-    const NeighbourList nb = find_neighbours(c.x, 2, h);
+    const numerics::NeighbourList nb = numerics::find_neighbours(c.x, 2, h);
     const Operators centred = build_operators(c.x, 2, nb, OperatorSettings{h, 1e-3, true});
     const Operators plain = build_operators(c.x, 2, nb, OperatorSettings{h});
     const std::size_t n = c.boundary.size();
@@ -165,7 +166,7 @@ TEST(Gradient, CentredGradientIsExactForLinearFieldsAndIgnoresTheNodesOwnValue) 
 TEST(Gradient, AnchoredNodesTakeEq14AndTheRestStayCentred) {
   const Cloud c = square_cloud(20, 0.35);
   const double h = 1.6 * c.spacing;
-  const NeighbourList nb = find_neighbours(c.x, 2, h);
+  const numerics::NeighbourList nb = numerics::find_neighbours(c.x, 2, h);
   Operators mixed = build_operators(c.x, 2, nb, OperatorSettings{h, 1e-3, true});
   const Operators centred = mixed;
   const Operators plain = build_operators(c.x, 2, nb, OperatorSettings{h});
@@ -198,7 +199,7 @@ TEST(Gradient, RebuiltWithoutSkippedNeighboursStaysExactAndIgnoresThem) {
   const Cloud c = square_cloud(20, 0.35);
   const double h = 1.6 * c.spacing;
   const std::size_t n = c.boundary.size();
-  const NeighbourList nb = find_neighbours(c.x, 2, h);
+  const numerics::NeighbourList nb = numerics::find_neighbours(c.x, 2, h);
   for (const bool centred : {true, false}) {
     Operators ops = build_operators(c.x, 2, nb, OperatorSettings{h, 1e-3, centred});
     std::vector<std::uint8_t> skip(n, 0);
@@ -377,7 +378,7 @@ double poisson_error(int n, double jitter) {
   const auto b = build(c.x, 2, 1.6 * c.spacing);
   const std::size_t count = c.boundary.size();
   const auto exact = [](double x, double y) { return std::sin(pi * x) * std::sin(2 * pi * y) + x * y; };
-  StencilMatrix a{&b.nb, std::vector<double>(count), std::vector<double>(b.nb.pair_count())};
+  numerics::StencilMatrix a{&b.nb, std::vector<double>(count), std::vector<double>(b.nb.pair_count())};
   std::vector<double> rhs(count), f(count, 0.0);
   for (std::size_t i = 0; i < count; ++i) {
     const double x = c.x[2 * i], y = c.x[2 * i + 1];
@@ -394,8 +395,8 @@ double poisson_error(int n, double jitter) {
     a.diagonal[i] = -sum;
     rhs[i] = -5 * pi * pi * std::sin(pi * x) * std::sin(2 * pi * y);
   }
-  KrylovWorkspace work;
-  const auto result = bicgstab(a, rhs, f, KrylovSettings{1e-12, 1e-300, 5000, {}}, work);
+  numerics::KrylovWorkspace work;
+  const auto result = numerics::bicgstab(a, rhs, f, numerics::KrylovSettings{1e-12, 1e-300, 5000, {}}, work);
   EXPECT_TRUE(result.converged) << "N = " << n << ": residual " << result.relative_residual;
   double max_error = 0;
   for (std::size_t i = 0; i < count; ++i)

@@ -60,11 +60,12 @@
 #include <vector>
 
 #include "rheosim/core/rheology.hpp"
-#include "rheosim/ldd/amg.hpp"
-#include "rheosim/ldd/krylov.hpp"
-#include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
+#include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "rheosim/numerics/amg.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {
 
@@ -178,7 +179,8 @@ struct FreeSurfaceParams {
   // (free_surface_params in run_free_surface.cpp, docs/performance.md).
   Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
   Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
-  AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
+  numerics::AmgSettings pressure_amg,
+      velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
   // Diagnostic: when > 0, every step also runs this many power iterations of its linearised
   // step map (u, p) → (u', p') — predictor, PPE and correction on the step's own matrices, without
   // advection or the no-tension clip — and reports the growth per step in
@@ -221,9 +223,9 @@ struct FreeSurfaceState {
   bool first_step = true;  // the first advection is first order (no u_{n−1} yet)
   std::vector<double> positions, velocity, previous_velocity, pressure, shear_rate, viscosity;
   std::vector<FreeNode> kinds;
-  NeighbourList neighbours;  // the list the next step uses (built before the last PBD shifts)
-  PhaseTimes times;          // wall time per phase so far
-  AmgState pressure_amg, velocity_amg;
+  numerics::NeighbourList neighbours;  // the list the next step uses (built before the last PBD shifts)
+  PhaseTimes times;                    // wall time per phase so far
+  numerics::AmgState pressure_amg, velocity_amg;
 };
 
 class FreeSurfaceSolver {
@@ -284,8 +286,8 @@ class FreeSurfaceSolver {
   void reorder(std::span<const double> velocity_gradient);
   // Power iteration of the linearised step map on this step's matrices: growth per step and the
   // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
-  void probe_step_map(const KrylovSettings& velocity_settings, const KrylovSettings& pressure_settings,
-                      FreeSurfaceStats& stats);
+  void probe_step_map(const numerics::KrylovSettings& velocity_settings,
+                      const numerics::KrylovSettings& pressure_settings, FreeSurfaceStats& stats);
   [[nodiscard]] double kernel_density(std::size_t node) const;
 
   FreeSurfaceParams params_;
@@ -300,15 +302,15 @@ class FreeSurfaceSolver {
   double time_ = 0;
   std::size_t steps_ = 0, laplacian_guarded_ = 0;
   bool first_step_ = true;
-  NeighbourList neighbours_;
-  NeighbourList candidates_;                 // Verlet list (neighbour_reuse_skin); empty after a plain search
+  numerics::NeighbourList neighbours_;
+  numerics::NeighbourList candidates_;       // Verlet list (neighbour_reuse_skin); empty after a plain search
   std::vector<double> candidate_positions_;  // where the nodes were at the last search
   std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
   Operators operators_;
   PhaseTimes times_;
-  KrylovWorkspace krylov_;
-  AmgPreconditioner pressure_amg_, velocity_amg_;
-  StencilMatrix pressure_matrix_, momentum_matrix_;
+  numerics::KrylovWorkspace krylov_;
+  numerics::AmgPreconditioner pressure_amg_, velocity_amg_;
+  numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
   std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, increment_gradient_;
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "rheosim/ldd/domain.hpp"
-#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {
 
@@ -42,13 +42,13 @@ class QuadraticFit {
   QuadraticFit() = default;
   // Coefficients for `positions` (interleaved x, y) and its neighbour list (pairs at r >= h get
   // W = 0). Parallel over nodes; independent of the thread count.
-  QuadraticFit(std::span<const double> positions, const NeighbourList& neighbours, double support_radius);
+  QuadraticFit(std::span<const double> positions, const numerics::NeighbourList& neighbours, double support_radius);
 
   [[nodiscard]] bool empty() const { return coefficients_.empty(); }
   // D_i for component `component` of a field with `stride` values per node.
-  [[nodiscard]] std::array<double, terms> derivatives(const NeighbourList& neighbours, std::span<const double> field,
-                                                      std::size_t stride, std::size_t component,
-                                                      std::size_t node) const;
+  [[nodiscard]] std::array<double, terms> derivatives(const numerics::NeighbourList& neighbours,
+                                                      std::span<const double> field, std::size_t stride,
+                                                      std::size_t component, std::size_t node) const;
   [[nodiscard]] std::size_t linear_only_count() const;  // nodes that fell back to a linear fit (or to none)
   [[nodiscard]] double support_radius() const { return support_radius_; }  // h [m]
 
@@ -66,7 +66,8 @@ class QuadraticFit {
 // velocity); both interleaved x, y. Non-fluid nodes copy their velocity. `limit` = false skips the
 // clamp (for tests and the comparison in docs/ldd.md). out is resized to velocity.size().
 void return_to_lattice(std::span<const double> positions, std::span<const NodeKind> kinds,
-                       const NeighbourList& neighbours, const QuadraticFit& fit, std::span<const double> velocity,
-                       std::span<const double> advection, double time_step, bool limit, std::vector<double>& out);
+                       const numerics::NeighbourList& neighbours, const QuadraticFit& fit,
+                       std::span<const double> velocity, std::span<const double> advection, double time_step,
+                       bool limit, std::vector<double>& out);
 
 }  // namespace rheosim::ldd

@@ -33,7 +33,7 @@
 #include <span>
 #include <vector>
 
-#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {
 
@@ -80,25 +80,27 @@ struct Operators {
 // neighbours `neighbours` (found with a radius >= h; pairs at r >= h get zero weight).
 // Parallel over nodes (OpenMP); the result does not depend on the thread count.
 [[nodiscard]] Operators build_operators(std::span<const double> positions, int dimension,
-                                        const NeighbourList& neighbours, const OperatorSettings& settings);
+                                        const numerics::NeighbourList& neighbours, const OperatorSettings& settings);
 // The same into `out`, reusing its storage (a solver rebuilding every step: no fresh pages to
 // fault in and zero).
-void build_operators(std::span<const double> positions, int dimension, const NeighbourList& neighbours,
+void build_operators(std::span<const double> positions, int dimension, const numerics::NeighbourList& neighbours,
                      const OperatorSettings& settings, Operators& out);
 
 // Rewrites the gradient coefficients of the listed nodes from their pair weights with the
 // neighbours j flagged in skip (one flag per node) left out, centred or eq. 14 as settings say:
 // the gradient of a node that must not see some of its neighbours' values.
-void rebuild_gradients(std::span<const double> positions, const NeighbourList& neighbours,
+void rebuild_gradients(std::span<const double> positions, const numerics::NeighbourList& neighbours,
                        const OperatorSettings& settings, std::span<const std::size_t> nodes,
                        std::span<const std::uint8_t> skip, Operators& ops);
 
 // ⟨∇f⟩ for every node (eq. 14): out has dimension values per node.
-void gradient(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
+void gradient(const numerics::NeighbourList& neighbours, const Operators& ops, std::span<const double> f,
+              std::span<double> out);
 // ⟨∇·v⟩ for a vector field v (dimension values per node), from eq. 14 per component.
-void divergence(const NeighbourList& neighbours, const Operators& ops, std::span<const double> v,
+void divergence(const numerics::NeighbourList& neighbours, const Operators& ops, std::span<const double> v,
                 std::span<double> out);
 // ⟨∇²f⟩ for every node (eq. 15).
-void laplacian(const NeighbourList& neighbours, const Operators& ops, std::span<const double> f, std::span<double> out);
+void laplacian(const numerics::NeighbourList& neighbours, const Operators& ops, std::span<const double> f,
+               std::span<double> out);
 
 }  // namespace rheosim::ldd

@@ -42,12 +42,13 @@
 #include <vector>
 
 #include "rheosim/core/rheology.hpp"
-#include "rheosim/ldd/amg.hpp"
 #include "rheosim/ldd/domain.hpp"
-#include "rheosim/ldd/krylov.hpp"
 #include "rheosim/ldd/lattice_interpolation.hpp"
-#include "rheosim/ldd/neighbours.hpp"
 #include "rheosim/ldd/operators.hpp"
+#include "rheosim/ldd/preconditioner.hpp"
+#include "rheosim/numerics/amg.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {
 
@@ -105,7 +106,7 @@ struct SolverParams {
   Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
   // Eq. 19: Jacobi or AMG (hierarchy reused over steps, amg.hpp); a sparse LU is not offered.
   Preconditioner velocity_preconditioner = Preconditioner::jacobi;
-  AmgSettings pressure_amg, velocity_amg;                                // when the preconditioner is amg
+  numerics::AmgSettings pressure_amg, velocity_amg;                      // when the preconditioner is amg
   LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice mode: see LatticeInterpolation
 
   void check() const;  // throws std::invalid_argument naming the field and its valid range
@@ -189,18 +190,18 @@ class Solver {
   double time_ = 0;
   std::size_t steps_ = 0;
   bool first_step_ = true;
-  NeighbourList neighbours_;
+  numerics::NeighbourList neighbours_;
   Operators operators_;
   bool operators_valid_ = false;
   std::unique_ptr<SparseFactorisation> pressure_lu_;  // lattice mode only
   QuadraticFit lattice_fit_;                          // lattice mode, quadratic interpolation
   std::vector<double> advection_velocity_;            // a of eq. 20 on every node
-  AmgPreconditioner pressure_amg_, velocity_amg_;
+  numerics::AmgPreconditioner pressure_amg_, velocity_amg_;
   PhaseTimes times_;
   // Work buffers reused across steps.
-  KrylovWorkspace krylov_;
-  PairKrylovWorkspace pair_krylov_;
-  StencilMatrix pressure_matrix_, momentum_matrix_;
+  numerics::KrylovWorkspace krylov_;
+  numerics::PairKrylovWorkspace pair_krylov_;
+  numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
   std::vector<double> velocity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
   std::vector<double> new_velocity_, component_, shift_, increment_;
   // u* − u of the last two committed momentum solves (Jacobi: the next initial guess), and this step's.

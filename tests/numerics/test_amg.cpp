@@ -1,6 +1,6 @@
-// Smoothed-aggregation AMG as BiCGStab's preconditioner (ldd/amg.hpp): grid-independent
-// iteration counts on 2D and 3D Poisson problems, the LDD Laplacian (eq. 15) on a jittered cloud
-// against the Jacobi-preconditioned solve, reuse of a hierarchy on a changed matrix, and
+// Smoothed-aggregation AMG as BiCGStab's preconditioner (numerics/amg.hpp): grid-independent
+// iteration counts on 2D and 3D Poisson problems, a meshless (row-normalised, not symmetric)
+// Laplacian on a jittered cloud against the Jacobi-preconditioned solve, reuse of a hierarchy on a changed matrix, and
 // bit-identical repeated applications.
 #include <gtest/gtest.h>
 
@@ -11,13 +11,12 @@
 #include <random>
 #include <vector>
 
-#include "../../ldd/src/sparse_product.hpp"  // the set-up's row-parallel product
-#include "rheosim/ldd/amg.hpp"
-#include "rheosim/ldd/krylov.hpp"
-#include "rheosim/ldd/neighbours.hpp"
-#include "rheosim/ldd/operators.hpp"
+#include "rheosim/numerics/amg.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
+#include "sparse_product.hpp"  // the set-up's row-parallel product
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 namespace {
 
 // A lattice of `cells` nodes per side (unit spacing) with its nearest-neighbour pattern; the
@@ -94,8 +93,10 @@ TEST(Amg, TwoDimensionalPoissonIterationsDoNotGrowWithTheGrid) { expect_grid_ind
 
 TEST(Amg, ThreeDimensionalPoissonIterationsDoNotGrowWithTheGrid) { expect_grid_independent(3, 12, 30); }
 
-// The eq. 15 Laplacian on a jittered lattice (not symmetric), Dirichlet rows on the boundary:
-// the AMG-preconditioned solve equals the Jacobi-preconditioned one.
+// A meshless Laplacian on a jittered lattice, Dirichlet rows on the boundary: each row's kernel
+// weights w = (1 − r/h)³ normalised by Σ w r² / (2 d) (Brookshaw's form, exact for quadratics on
+// a symmetric stencil), so rows differ and the matrix is not symmetric, as the LDD operators.
+// The AMG-preconditioned solve equals the Jacobi-preconditioned one.
 struct Cloud {
   std::vector<double> x;
   std::vector<bool> boundary;
@@ -115,10 +116,19 @@ Cloud jittered(std::size_t cells, double jitter, unsigned seed) {
   return c;
 }
 
-Problem ldd_laplacian(const Cloud& c) {
+Problem meshless_laplacian(const Cloud& c) {
   const double h = 1.6;
   Problem p{find_neighbours(c.x, 2, h), {}, {}};
-  const Operators ops = build_operators(c.x, 2, p.nb, OperatorSettings{h});
+  std::vector<double> laplacian(p.nb.pair_count());
+  for (std::size_t i = 0; i < p.nb.node_count(); ++i) {
+    double normalisation = 0;
+    for (std::size_t k = p.nb.offsets[i]; k < p.nb.offsets[i + 1]; ++k) {
+      const double r = p.nb.distances[k];
+      laplacian[k] = std::pow(1.0 - r / h, 3);
+      normalisation += laplacian[k] * r * r;
+    }
+    for (std::size_t k = p.nb.offsets[i]; k < p.nb.offsets[i + 1]; ++k) laplacian[k] *= 4.0 / normalisation;
+  }
   const std::size_t n = c.boundary.size();
   p.a.pattern = &p.nb;
   p.a.diagonal.assign(n, 1.0);
@@ -132,8 +142,8 @@ Problem ldd_laplacian(const Cloud& c) {
     }
     double sum = 0;
     for (std::size_t k = p.nb.offsets[i]; k < p.nb.offsets[i + 1]; ++k) {
-      p.a.off_diagonal[k] = ops.laplacian[k];
-      sum += ops.laplacian[k];
+      p.a.off_diagonal[k] = laplacian[k];
+      sum += laplacian[k];
     }
     p.a.diagonal[i] = -sum;
     p.b[i] = std::cos(0.2 * xi) * std::sin(0.15 * yi);
@@ -141,8 +151,8 @@ Problem ldd_laplacian(const Cloud& c) {
   return p;
 }
 
-TEST(Amg, LddLaplacianOnAJitteredCloudMatchesTheJacobiSolve) {
-  const Problem p = ldd_laplacian(jittered(66, 0.2, 7));  // 4 356 nodes: the parallel smoother path
+TEST(Amg, MeshlessLaplacianOnAJitteredCloudMatchesTheJacobiSolve) {
+  const Problem p = meshless_laplacian(jittered(66, 0.2, 7));  // 4 356 nodes: the parallel smoother path
   AmgPreconditioner amg;
   amg.setup(p.a);
   std::vector<double> with_amg, with_jacobi;
@@ -170,8 +180,8 @@ Cloud moved_on(Cloud c, std::size_t cells) {
 }
 
 TEST(Amg, ReusedHierarchyPreconditionsAMovedCloud) {
-  const Problem before = ldd_laplacian(jittered(60, 0.2, 3));
-  const Problem after = ldd_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+  const Problem before = meshless_laplacian(jittered(60, 0.2, 3));
+  const Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
 
   AmgSettings settings;
   settings.reuse_steps = 2;
@@ -190,7 +200,7 @@ TEST(Amg, ReusedHierarchyPreconditionsAMovedCloud) {
 }
 
 TEST(Amg, RepeatedApplicationsAreBitIdentical) {
-  const Problem p = ldd_laplacian(jittered(70, 0.2, 5));
+  const Problem p = meshless_laplacian(jittered(70, 0.2, 5));
   AmgPreconditioner amg;
   amg.setup(p.a);
   std::vector<double> z1(p.b.size()), z2(p.b.size());
@@ -206,8 +216,8 @@ TEST(Amg, RepeatedApplicationsAreBitIdentical) {
 // the moved cloud the restored one, reusing its coarse levels like the original, preconditions
 // bit for bit the same, and its reuse counters carry on (the next prepare() is a set-up in both).
 TEST(Amg, RestoredStateRebuildsTheKeptHierarchy) {
-  const Problem before = ldd_laplacian(jittered(60, 0.2, 3));
-  const Problem after = ldd_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+  const Problem before = meshless_laplacian(jittered(60, 0.2, 3));
+  const Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
   AmgSettings settings;
   settings.reuse_steps = 3;
   AmgPreconditioner original(settings);
@@ -348,4 +358,4 @@ TEST(Amg, RejectsBadSettings) {
 }
 
 }  // namespace
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

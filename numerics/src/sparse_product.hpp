@@ -12,7 +12,7 @@
 
 #include "blocks.hpp"  // block_range
 
-namespace rheosim::ldd::detail {
+namespace rheosim::numerics::detail {
 
 // Compressed rows: row i's entries at [offsets[i], offsets[i + 1]), columns ascending.
 struct CompressedRows {
@@ -88,4 +88,4 @@ CompressedRows combine_rows(std::size_t rows, const CompressedRows& b, int block
   return out;
 }
 
-}  // namespace rheosim::ldd::detail
+}  // namespace rheosim::numerics::detail

@@ -14,9 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 namespace {
 
 using ::testing::ElementsAre;
@@ -231,4 +231,4 @@ TEST(Neighbours, InvalidInputIsRejected) {
 }
 
 }  // namespace
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

@@ -1,4 +1,4 @@
-#include "rheosim/ldd/amg.hpp"
+#include "rheosim/numerics/amg.hpp"
 
 #include <omp.h>
 
@@ -16,7 +16,7 @@
 #include "blocks.hpp"
 #include "sparse_product.hpp"
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 namespace {
 
 using SparseRows = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
@@ -586,4 +586,4 @@ double AmgPreconditioner::operator_complexity() const {
          static_cast<double>(hierarchy_->coarse_nonzeros) / static_cast<double>(hierarchy_->fine_nonzeros_at_setup);
 }
 
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

@@ -1,5 +1,6 @@
 #pragma once
-// Matrix-free linear algebra for the LDD pressure (eq. 17) and velocity (eq. 19) systems.
+// Matrix-free Krylov solvers over a neighbour pattern: the LDD pressure (LDD eq. 17) and
+// velocity (LDD eq. 19) systems.
 //
 // A StencilMatrix is a row per node: (A x)_i = diagonal_i x_i + Σ_j off_diagonal_ij x_j over the
 // node's neighbours (the pattern of a NeighbourList, which it refers to, never owns). The LDD
@@ -15,12 +16,11 @@
 #include <cstdint>
 #include <functional>
 #include <span>
-#include <string_view>
 #include <vector>
 
-#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 
 struct StencilMatrix {
   const NeighbourList* pattern = nullptr;  // not owned; must outlive the matrix
@@ -41,12 +41,6 @@ struct FloatingGroups {
   std::size_t largest_member = 0;     // one node of the largest
 };
 [[nodiscard]] FloatingGroups floating_groups(const StencilMatrix& a);
-
-// Preconditioner of an LDD linear system (a solver setting): 1/diagonal, a sparse LU, or one
-// AMG V-cycle (amg.hpp).
-enum class Preconditioner { jacobi, sparse_lu, amg };
-// "jacobi" | "lu" | "amg" as in case files; "auto" (or anything else) gives `fallback`.
-[[nodiscard]] Preconditioner preconditioner_named(std::string_view name, Preconditioner fallback);
 
 struct KrylovSettings {
   double relative_tolerance = 1e-8;    // stop when ‖b − A x‖₂ <= tol · ‖b‖₂ ...
@@ -90,4 +84,4 @@ std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::sp
 // Deterministic parallel dot product (block partial sums added in block order).
 [[nodiscard]] double parallel_dot(std::span<const double> a, std::span<const double> b);
 
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

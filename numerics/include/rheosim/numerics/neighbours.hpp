@@ -1,7 +1,7 @@
 #pragma once
-// Fixed-radius neighbour search for 2D and 3D point clouds (DESIGN §4 ldd/: "cell-list
-// neighbour search"), feeding the LDD weight W(r, h) = (1 − r/h)³, zero for r >= h (LDD §3.1),
-// and the operators built on it (LDD eqs. 12–16).
+// Fixed-radius neighbour search for 2D and 3D point clouds by a cell list: the support of the
+// LDD weight W(r, h) = (1 − r/h)³, zero for r >= h (LDD §3.1), and of the operators built on it
+// (LDD eqs. 12–16).
 //
 // Definition: node j is a neighbour of node i iff j ≠ i and
 //   Σ_d (x_j,d − x_i,d)² < h²          (evaluated in double precision)
@@ -21,7 +21,7 @@
 #include <span>
 #include <vector>
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 
 // Neighbours of every node in compressed sparse row form: the neighbours of node i are
 // indices[offsets[i] .. offsets[i+1]), ascending, with their distances [m] alongside.
@@ -56,4 +56,4 @@ struct NeighbourList {
 void neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension, double radius,
                        NeighbourList& out);
 
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

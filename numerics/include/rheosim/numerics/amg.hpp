@@ -1,6 +1,6 @@
 #pragma once
 // Algebraic multigrid (smoothed aggregation, Vaněk, Mandel & Brezina 1996) as a right
-// preconditioner for the LDD pressure (eq. 17) and velocity (eq. 19) systems.
+// preconditioner, built for the LDD pressure (LDD eq. 17) and velocity (LDD eq. 19) systems.
 //
 // Set-up (serial, deterministic): the stencil matrix is assembled with every row scaled to a
 // positive diagonal, or optionally a unit one (the PPE mixes Laplacian rows, diagonal < 0, with
@@ -29,10 +29,10 @@
 #include <span>
 #include <vector>
 
-#include "rheosim/ldd/krylov.hpp"
-#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 
 struct AmgSettings {
   double strength_threshold = 0.08;  // θ of the strong-connection test
@@ -103,4 +103,4 @@ class AmgPreconditioner {
   bool setup_due_ = true;
 };
 
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

@@ -1,4 +1,4 @@
-#include "rheosim/ldd/neighbours.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 namespace {
 
 // Cells are this much larger than h, so rounding in the cell-index arithmetic can never put
@@ -331,4 +331,4 @@ void neighbours_within(const NeighbourList& candidates, std::span<const double> 
   }
 }
 
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

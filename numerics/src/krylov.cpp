@@ -1,4 +1,4 @@
-#include "rheosim/ldd/krylov.hpp"
+#include "rheosim/numerics/krylov.hpp"
 
 #include <omp.h>
 
@@ -14,7 +14,7 @@
 
 #include "blocks.hpp"
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 namespace {
 
 using detail::block_range;
@@ -58,13 +58,6 @@ double block_sum(std::size_t n, Partial&& partial) {
 }
 
 }  // namespace
-
-Preconditioner preconditioner_named(std::string_view name, Preconditioner fallback) {
-  if (name == "jacobi") return Preconditioner::jacobi;
-  if (name == "lu") return Preconditioner::sparse_lu;
-  if (name == "amg") return Preconditioner::amg;
-  return fallback;
-}
 
 double parallel_dot(std::span<const double> a, std::span<const double> b) {
   if (a.size() != b.size()) throw std::invalid_argument("parallel_dot: sizes differ");
@@ -437,4 +430,4 @@ FloatingGroups floating_groups(const StencilMatrix& a) {
   return out;
 }
 
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

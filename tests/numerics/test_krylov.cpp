@@ -1,4 +1,4 @@
-// Matrix-free BiCGStab (ldd/krylov.hpp): a non-symmetric stencil system, the shadow-residual
+// Matrix-free BiCGStab (numerics/krylov.hpp): a non-symmetric stencil system, the shadow-residual
 // restart (a right-hand side that lives on Dirichlet rows only broke down without it), a custom
 // preconditioner, and deterministic dot products.
 #include <gtest/gtest.h>
@@ -8,11 +8,11 @@
 #include <cmath>
 #include <vector>
 
-#include "../../ldd/src/blocks.hpp"  // the work split the Krylov and AMG loops share
-#include "rheosim/ldd/krylov.hpp"
-#include "rheosim/ldd/neighbours.hpp"
+#include "blocks.hpp"  // the work split the Krylov and AMG loops share
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
 
-namespace rheosim::ldd {
+namespace rheosim::numerics {
 namespace {
 
 // A 1D chain of n nodes with neighbours i ± 1: convection–diffusion rows (non-symmetric), the
@@ -163,4 +163,4 @@ TEST(BalancedBlocks, SplitRowsByTheirEntriesAndCoverEveryRowOnce) {
 }
 
 }  // namespace
-}  // namespace rheosim::ldd
+}  // namespace rheosim::numerics

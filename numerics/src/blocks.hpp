@@ -9,7 +9,7 @@
 #include <span>
 #include <utility>
 
-namespace rheosim::ldd::detail {
+namespace rheosim::numerics::detail {
 
 // [begin, end) of block `t` out of `blocks` over n entries.
 inline std::pair<std::size_t, std::size_t> block_range(std::size_t n, int t, int blocks) {
@@ -66,4 +66,4 @@ void for_balanced_blocks(std::span<const std::size_t> offsets, Body&& body) {
   }
 }
 
-}  // namespace rheosim::ldd::detail
+}  // namespace rheosim::numerics::detail
