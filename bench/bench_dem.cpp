@@ -1,4 +1,4 @@
-// DEM throughput of the rheometer scene (issue 4 item 4): particle-steps per second for the
+// DEM throughput of the rheometer scene: particle-steps per second for the
 // CD §4 rheometer (R = 15 mm, H = 0.5 mm, d = 200 µm) at φ = 0.1 and 0.3 and for a smaller
 // disk, on however many ranks it is started with (bench/dem_scaling.sh runs 1 and 2), and the
 // strain a dry-shear point needs to reach a steady torque on a small disk (--steady).

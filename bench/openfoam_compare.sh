@@ -7,7 +7,7 @@
 # simpleFoam serially (one run at a time), reads the torque on the rotating plate from
 # postProcessing/forces/0/moment.dat, and prints: OpenFOAM torque, closed-form creeping torque,
 # relative error, gap Reynolds number ρΩH²/μ(γ̇_R) and wall times. simpleFoam includes inertia,
-# so at large Re the torque exceeds the creeping closed form by design (DESIGN §5).
+# so at large Re the torque exceeds the creeping closed form, as it should.
 # With --with-rheosim it also runs `rheosim run` on the same one-point case and prints rheosim's
 # torque (summary.json points[0].torque), error, wall time (points[0].wall_time, and the whole
 # process) and the speed ratio OpenFOAM/rheosim.

@@ -1,6 +1,6 @@
 #pragma once
 // lubrication: near-contact hydrodynamic resistance between two spheres and between a sphere
-// and a plate (issue 9 item 1). Leading singular terms of the exact two-sphere resistance
+// and a plate. Leading singular terms of the exact two-sphere resistance
 // functions (Jeffrey & Onishi, J. Fluid Mech. 139 (1984) 261; Kim & Karrila, Microhydrodynamics
 // (1991) §9.3, §11.3), sphere–plane limits of Cox & Brenner (1967) and Goldman, Cox & Brenner
 // (1967), which are the λ → ∞ limits of the same functions.

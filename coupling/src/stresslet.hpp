@@ -1,7 +1,7 @@
 #pragma once
 // stresslet (alias single_particle) and stokes_drag: the single-particle hydrodynamics of a
 // rigid sphere of radius a in a linear ambient flow u∞(x) with rate of strain E∞ and vorticity
-// ω∞ = ½ ∇×u∞, in a liquid of viscosity μ = μ(√(2E∞:E∞)) (issue 9 item 2):
+// ω∞ = ½ ∇×u∞, in a liquid of viscosity μ = μ(√(2E∞:E∞)):
 //   torque     T = −8πμa³ (Ω − ω∞)            (Kim & Karrila 1991, §2.4: rotlet of a sphere)
 //   stresslet  S = (20/3)πμa³ E∞              (Batchelor & Green, J. Fluid Mech. 56 (1972) 375;
 //                                             Einstein: n·S = 2.5 φ · 2μE∞, so η_r = 1 + 2.5φ;

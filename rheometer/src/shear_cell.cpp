@@ -1,5 +1,5 @@
 // Plate torque from the periodic shear cell, model choice, similarity and stiffness scaling
-// (issue 10; see shear_cell.hpp).
+// (see shear_cell.hpp).
 #include "rheosim/rheometer/shear_cell.hpp"
 
 #include "rheosim/rheometer/box_point.hpp"
@@ -42,7 +42,7 @@ double cell_cost_seconds(const core::RheometerCase& r, double phi, double rate, 
   const auto n = static_cast<double>(dem::shear_cell_particle_count(r.geometry.gap, length, length, p.diameter, phi));
   const double dt =
       0.3 * dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus / softening, p.poisson_ratio});
-  // Near field: ×10–25 the DEM time per step with soft particles (docs/performance.md, issue 9).
+  // Near field: ×10–25 the DEM time per step with soft particles (docs/performance.md).
   const double near_field = p.hydrodynamics.any() ? 20.0 : 1.0;
   return std::max(n, 1.0) * max_strain / (rate * dt) / 3e6 * near_field;
 }

@@ -1,5 +1,5 @@
 // A sweep killed with SIGKILL mid-way and started again computes only the missing points and
-// ends with the same results as an uninterrupted run (issue 6). Drives the built `rheosim`
+// ends with the same results as an uninterrupted run. Drives the built `rheosim`
 // binary as a user would: fork/exec, kill -9, run again.
 #include <fcntl.h>
 #include <fmt/format.h>

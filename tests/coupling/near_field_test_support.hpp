@@ -1,5 +1,5 @@
 #pragma once
-// Shared set-up for the near-field (issue 9) validations: a LIGGGHTS box with optional
+// Shared set-up for the near-field validations: a LIGGGHTS box with optional
 // periodic directions, soft Hertz spheres, nve/sphere, no gravity.
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-// Lubrication resistance (issue 9 item 1) against the analytic near-contact results:
+// Lubrication resistance against the analytic near-contact results:
 //  - equal spheres: X^A = 1/(4ξ) + (9/40) ln(1/ξ), Y^A = (1/6) ln(1/ξ), Y^B = 1/4 ln, Y^C_11 = 1/5 ln,
 //    Y^C_12 = 1/20 ln (Jeffrey & Onishi 1984; Kim & Karrila 1991 Table 11.x); the leading squeeze
 //    force is the Reynolds result F = 6πμ (a₁a₂/(a₁+a₂))² V / h;

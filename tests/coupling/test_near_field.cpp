@@ -1,4 +1,4 @@
-// coupling::NearFieldModel (issue 9): the term registry and settings checks, the single-particle
+// coupling::NearFieldModel: the term registry and settings checks, the single-particle
 // torque and stresslet against Stokes' closed forms, the implicit update of the stiff squeeze
 // against the quasi-static two-sphere trajectory (at a δt far beyond the explicit limit), the
 // periodic cell-list neighbour search against brute force, and the plate bookkeeping.

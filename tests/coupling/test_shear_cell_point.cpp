@@ -1,4 +1,4 @@
-// coupling::run_shear_cell_point (issue 10 item 1): without particles the fluid column is plane
+// coupling::run_shear_cell_point: without particles the fluid column is plane
 // Couette flow, so the wall stress is exactly μ(γ̇) γ̇ for any generalized-Newtonian law and the
 // same on both plates; settings are checked; a near-field model runs on every DEM step and its
 // plate load, stresslet and couple reach the wall stress; the near-field scene describes the box.

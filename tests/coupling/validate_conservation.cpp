@@ -1,4 +1,4 @@
-// Validation (issue 5 item 5): in a coupled LIGGGHTS ↔ TransientSolver run with 300 particles in
+// Validation: in a coupled LIGGGHTS ↔ TransientSolver run with 300 particles in
 // a sheared gap — some on the axis, some touching the plates and the rim, all moving and crossing
 // cell faces — the particle volume carried by the grid equals the total particle volume and the
 // drag on the particles equals minus the drag source given to the fluid, to round-off, at every

@@ -1,4 +1,4 @@
-// Validation (issue 5 item 5): a fixed packed bed at ε = 0.4 gives Ergun's pressure drop within
+// Validation: a fixed packed bed at ε = 0.4 gives Ergun's pressure drop within
 // 10 % through the coupled pieces (void fraction → sampler → Di Felice drag → implicit exchange →
 // TransientSolver pressure).
 // Set-up: the fluid's closed cylinder (R = H = 10 mm, N_θ = 1, N_r = 2, N_z = 4) filled with a

@@ -1,4 +1,4 @@
-// Two-sphere and sphere–plate squeeze in LIGGGHTS with the near-field hook (issue 9 item 4):
+// Two-sphere and sphere–plate squeeze in LIGGGHTS with the near-field hook:
 // spheres pressed together (or onto a plate) by a constant force F in a quiescent liquid close
 // the gap along the quasi-static trajectory dh/dt = −F / (6πμa X^A(ξ)) with the analytic
 // near-contact resistance (Jeffrey & Onishi 1984 for two equal spheres, X^A = 1/(4ξ) + (9/40)

@@ -1,4 +1,4 @@
-// Validation (issue 5 item 5): a single sphere settling from rest in a Newtonian liquid at rest,
+// Validation: a single sphere settling from rest in a Newtonian liquid at rest,
 // coupled LIGGGHTS ↔ TransientSolver, reaches the terminal velocity the Di Felice law predicts
 // (drag = buoyant weight, the buoyancy coming from the fluid's hydrostatic ∇p through CD eq. 34)
 // and, at low Re, Stokes' velocity, both within 2 %.

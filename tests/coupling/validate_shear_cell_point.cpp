@@ -1,4 +1,4 @@
-// coupling::run_shear_cell_point with particles (issue 10 item 1), CD §4 liquid and particles,
+// coupling::run_shear_cell_point with particles, CD §4 liquid and particles,
 // H = 0.5 mm, γ̇ = 100 1/s, 1.6 mm × 1.6 mm cell:
 //  - momentum balance: in a steady state the total shear stress (fluid + contact) is the same on
 //    both plates, since the fluid's ε∂zτ plus the particles' (1−ε)∂zτ (CD eq. 35) telescopes
@@ -6,7 +6,7 @@
 //  - φ = 0.1 (31 spheres, no contacts once sheared): with drag only, particles that follow the
 //    flow exchange no net momentum, so the profile stays linear and τ = μγ̇ (to the steady-state
 //    tolerance). Drag-only unresolved CFD-DEM has no stresslet, hence no Einstein increase: that
-//    is the near-field model's job (issue 9), and this pins the baseline it adds to;
+//    is the near-field model's job, and this pins the baseline it adds to;
 //  - both softened to E = 3 MPa (DEM step 31× the CD one) so the test runs in seconds;
 //  - φ = 0.3 (92 spheres): contacts carry part of
 //    the stress (> 0) and the total is above μγ̇; the balance holds within the window's noise.

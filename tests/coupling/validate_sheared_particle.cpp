@@ -1,4 +1,4 @@
-// Validation (issue 5 item 5): a neutrally buoyant particle released at rest in the sheared gap
+// Validation: a neutrally buoyant particle released at rest in the sheared gap
 // (creeping Couette flow u_θ = Ω r z/H between a fixed and a rotating plate) picks up the fluid
 // velocity and then follows the fluid on its circle: drag accelerates it, and the centripetal
 // force of its circular path comes from the fluid's radial pressure gradient (CD eq. 34).

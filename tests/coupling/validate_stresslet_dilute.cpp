@@ -1,4 +1,4 @@
-// Dilute suspension in an imposed simple shear u∞ = γ̇ (z − z_c) e_x (issue 9 items 2 and 4):
+// Dilute suspension in an imposed simple shear u∞ = γ̇ (z − z_c) e_x:
 // LIGGGHTS spheres, periodic in x and y, advected by the near-field hook with
 // stokes_drag + stresslet + lubrication (implicit, δt = 0.45 × the drag relaxation time and
 // 1e-4 strain per step). Checked on the DEM particles as they move:

@@ -1,4 +1,4 @@
-// The rheometer scene under MPI (issue 4 item 3): `mpirun -np 2 dem_mpi_scene --compare` runs the
+// The rheometer scene under MPI: `mpirun -np 2 dem_mpi_scene --compare` runs the
 // same dry-shear scene on all ranks (MPI_COMM_WORLD) and, on rank 0 alone, on MPI_COMM_SELF,
 // and checks that
 //   - both hold the same particle count, the per-rank particle arrays partition the particles

@@ -1,4 +1,4 @@
-// dem::Engine::set_step_force_callback (issue 9): the callback runs on every DEM step, sees
+// dem::Engine::set_step_force_callback: the callback runs on every DEM step, sees
 // LIGGGHTS' current arrays, and the force and torque it returns act on that step. Checked
 // against closed forms: a constant callback force gives x = x0 + F t²/(2m) (velocity Verlet is
 // exact for constant acceleration), a callback torque gives ω = T t / I with I = (2/5) m r², a

@@ -1,4 +1,4 @@
-// dem::RheometerScene and dem::place_particles (issue 4 items 2–3): the placed count matches φ,
+// dem::RheometerScene and dem::place_particles: the placed count matches φ,
 // no initial overlaps, a dropped particle rebounds with the restitution coefficient, a particle
 // on the rotating plate is carried by it (its contact point moves at Ω r), the rim is
 // frictionless, and the contact torque on the top plate is right in sign and size and grows

@@ -1,4 +1,4 @@
-// dem::ShearCellScene (issue 10 item 1): the placed count matches φ, no initial overlaps (with
+// dem::ShearCellScene: the placed count matches φ, no initial overlaps (with
 // periodic images), a particle pressed against a plate at the periodic edge loads the plate
 // exactly once, the conveyor top plate carries a resting particle along at U, and the dry
 // contact shear stress is positive and grows with the shear rate (Bagnold: ∝ γ̇²).

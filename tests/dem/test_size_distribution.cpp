@@ -1,4 +1,4 @@
-// Optional particle size distribution (issue 4 item 2): the case keys
+// Optional particle size distribution: the case keys
 // particles.size_distribution {type: uniform | lognormal | discrete}, the diameters drawn to
 // fill φ (within 1 %), their placement without overlaps, and the scene holding them.
 #include <gmock/gmock.h>

@@ -1,5 +1,5 @@
 // Dry granular shear in the rheometer scene reaches a steady, positive contact torque that
-// grows with Ω (issue 4 item 3), measured the way a rheometer point is: a time average over a
+// grows with Ω, measured the way a rheometer point is: a time average over a
 // strain window after the start-up transient.
 //
 // Physics. Without a fluid, gravity or a confining load, the particles only touch the plates

@@ -1,4 +1,4 @@
-// Free-surface LDD (issue 8): the surface criterion on lattice and jittered columns (no false
+// Free-surface LDD: the surface criterion on lattice and jittered columns (no false
 // surface nodes inside or along the walls), hydrostatic pressure ρgh from a p = 0 start (LDD
 // eq. 17 with p = p_atm on the surface), the volume kept by the PBD, splash nodes that fall
 // ballistically without upsetting the PPE, a viscous column released by a receding slip gate at

@@ -1,6 +1,6 @@
 // LDD operators (LDD eqs. 13–16): exactness on the fields they are built for, second-order
 // convergence of a lattice Poisson problem, the guard for near-singular moment matrices, and the
-// error on jittered clouds measured and printed (DESIGN §4: on disordered clouds the Laplacian's
+// error on jittered clouds measured and printed (on disordered clouds the Laplacian's
 // error for anisotropic second derivatives does not vanish with refinement).
 //
 // Measured (this file, printed by the tests below as "[ measured ]"; h/Δ = 1.6, jitter ±0.2Δ

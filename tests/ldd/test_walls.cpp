@@ -1,4 +1,4 @@
-// Walls of free-surface LDD scenes (issue 8): box and capped-cylinder signed distances and normals
+// Walls of free-surface LDD scenes: box and capped-cylinder signed distances and normals
 // against closed forms, STL meshes (ASCII and binary) of the same shapes giving the same
 // distances, wall-node layers on their boundaries, the case-file entries validated at the edge,
 // and a small slump in a cylindrical container whose fluid stays inside.

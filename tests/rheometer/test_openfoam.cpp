@@ -1,4 +1,4 @@
-// OpenFOAM export (issue 3 item 4): files, O-grid topology, kinematic units, errors; and, when
+// OpenFOAM export: files, O-grid topology, kinematic units, errors; and, when
 // Debian's OpenFOAM v1912 is installed, blockMesh + checkMesh (and one short simpleFoam run).
 // The OpenFoamValidation.* tests run external programs; they skip when /usr/bin/blockMesh is
 // missing. (They share this file's ctest label; filter them with -R OpenFoamValidation.)

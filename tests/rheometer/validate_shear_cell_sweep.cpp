@@ -1,4 +1,4 @@
-// A sweep through the shear-cell runner (issue 10 items 2–4): `model: shear_cell` in the case,
+// A sweep through the shear-cell runner: `model: shear_cell` in the case,
 // φ = 0 by the swirl solver and φ = 0.1 by the cell (CD §4 liquid and spheres, 0.5 mm gap,
 // rates 25, 50, 100 1/s). summary.json records the model, the reason with the cell's choices
 // (stiffness, size, the Stokes shortcut) and the estimated error; the drag-only suspension at

@@ -1,4 +1,4 @@
-// Issue 10 item 5: the shear cell's plate torque against CFD-DEM of the whole disk, one φ and two
+// the shear cell's plate torque against CFD-DEM of the whole disk, one φ and two
 // rim shear rates (about 2 minutes on one core of a quiet machine; docs/shear-cell.md and
 // docs/performance.md record it).
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Typed, validated case files (DESIGN §3). load_case() is the only way in: it parses the
+// Typed, validated case files (docs/case-files.md). load_case() is the only way in: it parses the
 // YAML, validates every key (SI units, ranges, cross-key checks), rejects unknown keys, and
 // returns plain structs. Solvers take these structs and never see YAML.
 #include <array>
@@ -46,8 +46,8 @@ struct SizeDistribution {
   std::array<double, max_classes> volume_fractions{};  // [-] discrete: share of the solid volume per class, sum 1
 };
 
-// particles.hydrodynamics: near-field hydrodynamics on every DEM step (issue 9;
-// docs/hydrodynamics.md). YAML: `hydrodynamics: {model: lubrication+stresslet, roughness:
+// particles.hydrodynamics: near-field hydrodynamics on every DEM step
+// (docs/hydrodynamics.md). YAML: `hydrodynamics: {model: lubrication+stresslet, roughness:
 // 1.0e-3, lubrication_cutoff: 0.5}`; model is `none` or terms joined by '+': lubrication,
 // stresslet (= single_particle), stokes_drag. Absent: none (the seed's drag-only model).
 // Trivially copyable, like SizeDistribution (flags instead of a list of names).
@@ -228,8 +228,8 @@ struct LddCase {  // kind: ldd
   double time_step = 0;          // δt [s]
   // How time.step: auto chose time_step (empty when the case gives a number).
   std::string time_step_rule;
-  double end_time = 0;           // [s]
-  double steady_tolerance = 0;   // stop when the centre-line residual drops below; 0: never
+  double end_time = 0;          // [s]
+  double steady_tolerance = 0;  // stop when the centre-line residual drops below; 0: never
   LddSolverSettings solver;
   LddOutputSettings output;
   std::vector<LddWall> walls;  // scene.walls (slump only so far)

@@ -1,6 +1,6 @@
 #pragma once
-// coupling::Coupler: advances LIGGGHTS and the transient fluid solver together (DESIGN §2/§4,
-// CD §3–4). One coupling step:
+// coupling::Coupler: advances LIGGGHTS and the transient fluid solver together (CD §3–4).
+// One coupling step:
 //   1. DEM: N = coupling_interval LIGGGHTS steps with the fluid forces of the previous step held
 //      fixed (fix external, dem::Engine::set_external_forces);
 //   2. void fraction ε from the new particle positions (VoidFractionField; volume conserved to
@@ -58,7 +58,7 @@ struct CostSplit {
   double void_fraction = 0.0;
   double forces = 0.0;  // interpolation, force models, exchange, handing forces to LIGGGHTS
   double fluid = 0.0;
-  double near_field = 0.0;  // near-field models inside the DEM steps (issue 9), not counted in dem
+  double near_field = 0.0;  // near-field models inside the DEM steps, not counted in dem
   std::int64_t steps = 0;
   // Coupling steps whose fluid step broke the fluid's Courant limit and was split into
   // substeps (the coupling forces held over them), and the most substeps one needed.
@@ -71,7 +71,7 @@ struct CostSplit {
   std::int64_t void_fraction_clamped_steps = 0;
   double min_raw_void_fraction = 1.0;
   [[nodiscard]] double total() const { return dem + void_fraction + forces + fluid + near_field; }
-  // (void fraction + forces) / DEM: the coupling overhead issue 5 bounds by 25 %.
+  // (void fraction + forces) / DEM: the coupling overhead, kept below 25 %.
   [[nodiscard]] double coupling_overhead() const { return dem > 0.0 ? (void_fraction + forces) / dem : 0.0; }
 };
 
@@ -82,7 +82,7 @@ struct CouplingStepRecord {
   // Fluid torque transmitted to the bottom plate [N·m]; fluid_torque − bottom_fluid_torque is
   // what the fluid hands to the particles (and on to their contacts) at steady state.
   double bottom_fluid_torque = 0.0;
-  // Near-field parts (issue 9; 0 without particles.hydrodynamics), filled by run_point: plate
+  // Near-field parts (0 without particles.hydrodynamics), filled by run_point: plate
   // lubrication on the top plate, and the torque the particle stresslets transmit,
   // (1/H) Σ_p (x_p S_yz − y_p S_xz), which the fluid grid does not carry [N·m].
   // The rotation couples' part −Σ (x T_x + y T_y) / (2H) (near_field.hpp), likewise.

@@ -1,5 +1,5 @@
 #pragma once
-// Near-field hydrodynamics evaluated on every DEM step (issue 9): what an unresolved CFD-DEM
+// Near-field hydrodynamics evaluated on every DEM step: what an unresolved CFD-DEM
 // grid cannot see — pairwise lubrication between close particles and between particles and the
 // plates, and the single-particle torque and stresslet in the local ambient flow. Terms are
 // selected by name from the case file (`particles: {hydrodynamics: {model:
@@ -14,7 +14,7 @@
 //     (dem::Engine::set_step_force_callback) and applies result.forces / result.torques on that
 //     step (added to the coupling's drag);
 //   - result.particle_stress accumulates the particles' stress contribution (pair virial of the
-//     lubrication forces + stresslets) for the stress bookkeeping of issue 9 item 3.
+//     lubrication forces + stresslets) for the stress bookkeeping.
 //
 // Form of the hydrodynamic force (resistance formulation, generalized coordinates V = (U, Ω)
 // of all particles): F_H = −R V + F₀, where R (symmetric, positive semi-definite) collects the

@@ -1,5 +1,5 @@
 #pragma once
-// One suspension point in the periodic shear cell (issue 10 items 1–3): a dem::ShearCellScene
+// One suspension point in the periodic shear cell: a dem::ShearCellScene
 // coupled to the horizontally averaged fluid column of the same gap, run until the wall shear
 // stress is steady. rheometer/ turns τ(γ̇) at a few rates into a plate torque (shear_cell.hpp
 // there).
@@ -38,14 +38,14 @@
 // telescopes, so in a steady state the top and bottom plates carry the same total stress; the
 // validation checks this (tests/coupling/validate_shear_cell_point.cpp).
 //
-// Near-field hydrodynamics (issue 9, `near_field`): the model runs on every DEM step through
+// Near-field hydrodynamics (`near_field`): the model runs on every DEM step through
 // NearFieldStepHook (implicit update) in the column's flow (u(z) and ∂u/∂z of the layers), with
 // make_near_field_scene()'s plates and periodic box. The wall stress is then fluid + contact +
 // plate lubrication + the stresslets' Σ S_xz / V + the rotation couples' ½ Σ T_y / V (near_field.hpp):
 // a force dipole and a couple that the column does not carry, added as the stress they transmit
 // (for a Newtonian column this is exact, since (1/H)∫μ∂u/∂z dz = μU/H whatever the profile).
 //
-// Stress cross-check (issue 9 item 3): every step also gives the bulk (Batchelor) stress of the
+// Stress cross-check: every step also gives the bulk (Batchelor) stress of the
 // cell contents, (1/H)∫μ∂u/∂z dz + (1/V)[pair contact virial (LIGGGHTS) + plate contacts +
 // near-field virial (pairs and plates: force x times lever z, not symmetrised) + Σ −(z_p − z_layer)
 // F_p of the fluid forces] + the same stresslet and couple parts. Summing each body's x-momentum

@@ -1,5 +1,5 @@
 #pragma once
-// One suspension shear-rate point of the virtual rheometer (issue 5 items 3–4): a
+// One suspension shear-rate point of the virtual rheometer: a
 // dem::RheometerScene and a fluid::TransientSolver on the same gap, coupled by
 // coupling::Coupler, run until the plate torque is steady, for rheometer/run.cpp to report
 // (summary.json: torque, torque_fluid, torque_contact, cost split).
@@ -15,7 +15,7 @@
 // φ = 0 runs the fluid alone on the same grid and time step (N × the DEM step the particles
 // would have), the same-grid reference for the suspension's torque increase (no LIGGGHTS).
 //
-// Near-field hydrodynamics (issue 9, particles.hydrodynamics): the model runs on every DEM step
+// Near-field hydrodynamics (particles.hydrodynamics): the model runs on every DEM step
 // through coupling::NearFieldStepHook (implicit, see near_field.hpp) with the solved fluid as the
 // ambient flow (per cell: the velocity gradient of the cell-centred velocities, with the
 // cylindrical metric terms, in Cartesian components at the particle). The plate torque is then

@@ -1,6 +1,6 @@
 #pragma once
-// Hertz contact scales for elastic spheres, used to choose the DEM time step (DESIGN §4 dem/:
-// "time step from the Rayleigh time") and to check the contact parameters handed to
+// Hertz contact scales for elastic spheres, used to choose the DEM time step (a fraction
+// of the Rayleigh time) and to check the contact parameters handed to
 // LIGGGHTS' `model hertz`. SI throughout.
 //
 // Effective properties of a contact between spheres a and b (Hertz; Johnson, Contact

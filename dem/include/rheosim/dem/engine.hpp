@@ -1,5 +1,5 @@
 #pragma once
-// dem::Engine: one LIGGGHTS instance in this process (DESIGN §4 dem/). The rest of rheosim
+// dem::Engine: one LIGGGHTS instance in this process. The rest of rheosim
 // talks to LIGGGHTS only through this class; liggghts/*.h and mpi.h stay in dem/src/.
 //
 // Lifetime and output
@@ -44,7 +44,7 @@
 //   and which is 0 for particles inserted later. set_external_forces() creates both fixes on
 //   first use (ids rheosim_external and rheosim_external_store; the box must exist).
 //
-// Per-step force hook (issue 9: near-field hydrodynamics)
+// Per-step force hook (near-field hydrodynamics)
 //   set_step_force_callback(f) makes the same fix external callback call f on every DEM step
 //   (in post_force: positions x^(n+1), velocities at the half step v^(n+1/2) of velocity
 //   Verlet, contact forces of this step already summed) and in the setup of each run. f sees

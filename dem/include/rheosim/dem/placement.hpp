@@ -1,7 +1,7 @@
 #pragma once
 // Initial particle positions for the parallel-plate gap: monodisperse spheres of diameter d (or
-// spheres of given diameters, see "Polydisperse") at a target volume fraction φ, with no overlaps (DESIGN §4 dem/,
-// issue 4 item 2). Pure geometry, no LIGGGHTS: dem::RheometerScene hands the result to LIGGGHTS as a data file.
+// spheres of given diameters, see "Polydisperse") at a target volume fraction φ, with no overlaps.
+// Pure geometry, no LIGGGHTS: dem::RheometerScene hands the result to LIGGGHTS as a data file.
 //
 // What φ means
 //   φ is the particle volume over the whole gap volume V = π R² H (the volume the fluid solver

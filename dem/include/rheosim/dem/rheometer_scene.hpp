@@ -1,6 +1,6 @@
 #pragma once
-// dem::RheometerScene: the particles of a parallel-plate rheometer in LIGGGHTS (DESIGN §4 dem/,
-// issue 4 item 2), built from the case file's plate geometry and particle properties.
+// dem::RheometerScene: the particles of a parallel-plate rheometer in LIGGGHTS,
+// built from the case file's plate geometry and particle properties.
 //
 // Scene (SI units, axis along z through x = y = 0)
 //   - Bottom plate: fixed, the plane z = 0 (fix wall/gran primitive zplane), material type 2.

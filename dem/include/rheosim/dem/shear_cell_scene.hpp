@@ -1,8 +1,8 @@
 #pragma once
-// dem::ShearCellScene: the local equivalent of the rheometer gap at one radius (issue 10 item 1)
+// dem::ShearCellScene: the local equivalent of the rheometer gap at one radius
 // — a LIGGGHTS box periodic in x and y between two flat plates, the top one sliding in x.
 //
-// API in one paragraph (for users such as the lubrication validation of issue 9):
+// API in one paragraph (for users such as the lubrication validation):
 //   Construct with Params{gap H, cell_length L_x, cell_width L_y, particles (φ, d, ρ_p, E, ν,
 //   e, μ_c as in the case file), shear_rate γ̇, run_directory, ...}; the scene places
 //   N = round(φ L_x L_y H / V_p) spheres without overlaps (jittered layered lattice, periodic

@@ -1,6 +1,6 @@
 #pragma once
 // Particle diameters drawn from the case file's size distribution (core::SizeDistribution,
-// `particles.size_distribution`), for the rheometer scene (issue 4 item 2).
+// `particles.size_distribution`), for the rheometer scene.
 //
 // What is drawn
 //   The spheres fill a given solid volume V_s = φ · π R² H. Distributions are on a volume

@@ -1,6 +1,6 @@
 #pragma once
 // Structured staggered grid over the gap of a parallel-plate rheometer, in cylindrical
-// coordinates (r, θ, z) (DESIGN §4 fluid/): 0 <= r <= R, 0 <= θ < 2π, 0 <= z <= H. The plates
+// coordinates (r, θ, z): 0 <= r <= R, 0 <= θ < 2π, 0 <= z <= H. The plates
 // z = 0 and z = H and the rim r = R are coordinate surfaces.
 //
 // Layout (MAC staggering): pressure and scalars at cell centres, u_r on radial faces (r = const),

@@ -2,7 +2,7 @@
 // Closed 2D domains for the LDD solver: a convex polygon of straight walls at any angle, each
 // moving tangentially at its own velocity (a lid) or at rest, and the initial node cloud.
 //
-// Cavities (DESIGN §3 `cavity`, `skewed_cavity`; LDD §4.1–4.2) are parallelograms in their own
+// Cavities (`cavity`, `skewed_cavity`; LDD §4.1–4.2) are parallelograms in their own
 // coordinates (ξ, η) ∈ [0, W] × [0, S]:
 //     x = ξ + η cos α,   y = η sin α
 // with W the width (bottom and lid), S the side-wall length and α the angle between the bottom

@@ -1,5 +1,5 @@
 #pragma once
-// The LDD time step for free-surface flows in 2D and 3D (LDD §3.2, issue 8): dam break, slump
+// The LDD time step for free-surface flows in 2D and 3D (LDD §3.2): dam break, slump
 // test, resting columns. Nodes are Lagrangian; solid walls are fixed (or moving, a lifted mould)
 // wall nodes one layer thick, and every fluid node is classified each step as interior, free
 // surface (p = p_atm = 0, LDD eq. 17 third line) or splash (too few neighbours to build operators).

@@ -17,7 +17,7 @@
 // The gradient is exact for linear fields on any cloud whose moment matrix is invertible. The
 // Laplacian is exact for quadratics on symmetric lattices (o_i = 0); on disordered clouds its
 // error for anisotropic second derivatives (∂²f/∂x² ≠ ∂²f/∂y², ∂²f/∂x∂y ≠ 0) is O(1) and does
-// not vanish under refinement (DESIGN §4; measured in tests/ldd/test_operators.cpp), so node
+// not vanish under refinement (measured in tests/ldd/test_operators.cpp), so node
 // quality is an accuracy control (see the PBD reordering in solver.hpp).
 //
 // Guards (documented in docs/ldd.md):

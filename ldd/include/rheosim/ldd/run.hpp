@@ -1,5 +1,5 @@
 #pragma once
-// Runs one `kind: ldd` case into a folder (DESIGN §3): cavity scenes (cavity, skewed_cavity) with
+// Runs one `kind: ldd` case into a folder (docs/case-files.md): cavity scenes (cavity, skewed_cavity) with
 // the lattice Solver, free-surface scenes (dam_break, slump, column) with the FreeSurfaceSolver
 // (outputs listed further down).
 //
@@ -75,7 +75,7 @@ struct CavityResult {
 [[nodiscard]] CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams& params, double end_time,
                                            double steady_tolerance, std::span<const double> probe_fractions);
 
-// ---------------------------------------------------------------- free-surface scenes (issue 8)
+// ---------------------------------------------------------------- free-surface scenes
 // run_case() runs dam_break, slump and column scenes with the FreeSurfaceSolver and writes
 //   summary.json   nodes, steps, ms_per_step, status, volume_drift, front: [{t, x}] (dam break),
 //                  spread: [{t, diameter, height}] (slump), table1 (dam break), phase timings

@@ -1,6 +1,6 @@
 #pragma once
-// Initial clouds and boundaries of the free-surface scenes (DESIGN §3 `dam_break`, `slump`,
-// `column`; LDD §4.3–4.4).
+// Initial clouds and boundaries of the free-surface scenes (`dam_break`, `slump`, `column`
+// in docs/case-files.md; LDD §4.3–4.4).
 //
 // Conventions. Fluid nodes start at the centres of Δ-cells filling the fluid region; walls are one
 // layer of wall nodes Δ/2 outside the fluid region (so the first fluid layer is a lattice step

@@ -1,5 +1,5 @@
 #pragma once
-// Solid walls of free-surface scenes beyond planes and the Abrams mould (issue 8): axis-aligned
+// Solid walls of free-surface scenes beyond planes and the Abrams mould: axis-aligned
 // boxes, capped cylinders and closed triangulated (STL) surfaces, each one Boundary (signed
 // distance, normal into the fluid, wall velocity) plus the wall-node layer that carries its
 // boundary conditions, selected by name from a case file's `scene.walls` through make_wall().

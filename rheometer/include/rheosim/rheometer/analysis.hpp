@@ -1,5 +1,5 @@
 #pragma once
-// Flow-curve analysis of parallel-plate data (DESIGN §4 rheometer/): what a rheologist reads.
+// Flow-curve analysis of parallel-plate data: what a rheologist reads.
 // Pure numerics on SI values; no I/O. The steps, in the order a sweep applies them per φ:
 //
 //   1. rim_stress_curve      torque T(γ̇_R) → apparent and plate-corrected rim stress
@@ -313,7 +313,7 @@ struct RelativeViscosityAnalysis {
 // 5. Validity of a measured point
 
 struct ValidityLimits {
-  double max_gap_reynolds = 1.0;       // secondary flow becomes O(1) (DESIGN §5)
+  double max_gap_reynolds = 1.0;       // secondary flow becomes O(1) (docs/openfoam.md)
   double max_particle_reynolds = 0.1;  // inertia at the particle scale negligible
   double max_stokes = 0.1;             // particles follow the flow (viscous, not inertial, collisions)
   double min_gap_to_diameter = 10.0;   // the sample is a continuum across the gap

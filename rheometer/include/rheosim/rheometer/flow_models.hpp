@@ -2,7 +2,7 @@
 // Flow-curve models τ(γ̇) that rheometer::fit_flow_curve (analysis.hpp) fits to measured
 // (rim shear rate, rim stress) data. Each model is one small class behind FlowModel, selected by
 // its name through FlowModelRegistry; add_builtin_flow_models() is the one explicit list.
-// Names and parameter keys follow the rheology laws of core/ (DESIGN §3) where they exist, so a
+// Names and parameter keys follow the rheology laws of core/ where they exist, so a
 // fit can be read back as a `rheology:` section; `carreau` is carreau_yasuda with a = 2.
 //
 // The solver moves each parameter in its fit coordinate θ (least_squares.hpp, ParameterScale):

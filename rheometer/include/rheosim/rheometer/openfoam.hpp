@@ -1,5 +1,5 @@
 #pragma once
-// OpenFOAM as the independent peer (DESIGN §4, issue 3 item 4): a single-phase `kind: rheometer`
+// OpenFOAM as the independent peer (docs/openfoam.md): a single-phase `kind: rheometer`
 // case at one rim shear rate, written as a complete OpenFOAM v1912 case directory for simpleFoam.
 // OpenFOAM is used as a program, not a library (Debian packages no headers): these functions only
 // write text files; running blockMesh/simpleFoam is left to the caller (see docs/openfoam.md and

@@ -20,7 +20,7 @@ struct ParallelPlate {
 
   [[nodiscard]] double angular_velocity(double rim_shear_rate) const { return rim_shear_rate * gap / radius; }
   [[nodiscard]] double rim_shear_rate(double angular_velocity) const { return angular_velocity * radius / gap; }
-  // Gap Reynolds number ρΩH²/μ (DESIGN §5): inertia (secondary flow) matters when it is O(1).
+  // Gap Reynolds number ρΩH²/μ: inertia (secondary flow) matters when it is O(1).
   [[nodiscard]] double gap_reynolds_number(double density, double rim_shear_rate, double viscosity) const {
     return density * angular_velocity(rim_shear_rate) * gap * gap / viscosity;
   }

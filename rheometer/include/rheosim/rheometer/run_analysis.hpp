@@ -1,6 +1,6 @@
 #pragma once
 // The analysis of a finished rheometer run or sweep, written into its summary.json
-// (DESIGN §3: points, fits, yield_stress, relative_viscosity). It applies analysis.hpp to the
+// (points, fits, yield_stress, relative_viscosity; docs/report.md). It applies analysis.hpp to the
 // measured points, one flow curve ("series") per (fluid, φ):
 //
 //   points[i]            + log_slope n′ (± se), apparent_stress, rim_stress (plate-corrected),

@@ -1,5 +1,5 @@
 #pragma once
-// Suspension rheometry in minutes (issue 10): the plate torque from a periodic shear cell
+// Suspension rheometry in minutes: the plate torque from a periodic shear cell
 // (coupling/shear_cell_point.hpp) instead of CFD-DEM of the whole disk, with the program choosing
 // the model, the cell size and the contact stiffness itself and reporting what each choice
 // costs in accuracy. docs/shear-cell.md explains the method and its measured errors.
@@ -37,9 +37,9 @@
 
 namespace rheosim::rheometer {
 
-// Dimensionless groups of one point at rim rate γ̇_R (issue 10 item 2); μ = μ(γ̇_R), a = d/2.
+// Dimensionless groups of one point at rim rate γ̇_R; μ = μ(γ̇_R), a = d/2.
 struct DimensionlessGroups {
-  double gap_reynolds = 0;       // ρ Ω H² / μ, Ω = γ̇_R H / R (DESIGN §5): disk inertia, not in the cell
+  double gap_reynolds = 0;       // ρ Ω H² / μ, Ω = γ̇_R H / R: disk inertia, not in the cell
   double particle_reynolds = 0;  // ρ γ̇_R a² / μ
   double stokes = 0;             // (2/9) ρ_p γ̇_R a² / μ: particle relaxation time × γ̇
   double bingham = 0;            // τ_y / (μ γ̇_R); 0 without a yield stress

@@ -1,6 +1,6 @@
 #pragma once
-// `kind: sweep`: every (fluid, φ, γ̇_R) of fluids × volume_fractions × shear_rates (DESIGN §2
-// rheometer::Sweep), resumable after any kill, then the flow-curve analysis and the report.
+// `kind: sweep`: every (fluid, φ, γ̇_R) of fluids × volume_fractions × shear_rates,
+// resumable after any kill, then the flow-curve analysis and the report.
 //
 // Who computes a point is injected: a PointRunner is any callable that turns one SweepPoint into
 // a PointResult. run_sweep takes two, one for single-phase points (φ = 0) and one for suspension
@@ -67,7 +67,7 @@ struct PointResult {
   double torque = std::numeric_limits<double>::quiet_NaN();          // on the top plate [N·m]
   double torque_fluid = std::numeric_limits<double>::quiet_NaN();    // fluid part [N·m]
   double torque_contact = std::numeric_limits<double>::quiet_NaN();  // particle contacts [N·m]
-  // Near-field parts (issue 9): plate lubrication, and the torque the stresslets and the
+  // Near-field parts: plate lubrication, and the torque the stresslets and the
   // particles' rotation couples transmit through the liquid [N·m].
   double torque_lubrication = std::numeric_limits<double>::quiet_NaN();
   double torque_stresslet = std::numeric_limits<double>::quiet_NaN();
@@ -84,7 +84,7 @@ struct PointResult {
   double cost_near_field = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;    // nonlinear iterations or time steps
   double wall_time = 0;  // [s]
-  // Which scene computed it (issue 10): "swirl", "full_disk" or "shear_cell", why, and the
+  // Which scene computed it: "swirl", "full_disk" or "shear_cell", why, and the
   // model's estimated relative error of `torque` (NaN when not estimated).
   std::string model;
   std::string model_reason;
@@ -124,14 +124,14 @@ struct PointRunners {
 // max_strain, at 1.5e7 particle-steps/s per core, docs/performance.md); a point whose estimate
 // exceeds `budget_seconds` fails at once with the estimate and what to change, instead of
 // running for hours.
-// With the case's `model:` (issue 10) this runner dispatches each point: model full_disk runs
+// With the case's `model:` this runner dispatches each point: model full_disk runs
 // the disk as above; shear_cell runs rheometer::make_shear_cell_suspension_runner
 // (shear_cell.hpp); auto asks choose_suspension_model() and records the reason.
 // volume_fractions: the sweep's, for the box runner to queue later φ on free cores.
 [[nodiscard]] PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
                                                          std::filesystem::path work_dir, double budget_seconds,
                                                          std::vector<double> volume_fractions = {});
-// The full-disk CFD-DEM runner alone (what make_coupled_suspension_runner did before issue 10).
+// The full-disk CFD-DEM runner alone.
 [[nodiscard]] PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheometer,
                                                            std::filesystem::path work_dir, double budget_seconds);
 
