@@ -13,6 +13,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "rheosim/numerics/conjugate_gradient.hpp"
+
 #include "block_cholesky.hpp"
 #include "lubrication.hpp"
 #include "stresslet.hpp"
@@ -435,7 +437,6 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
       for (std::size_t k = 0; k < 6; ++k) b[7 * k] += inertia[6 * i + k];
       cholesky_6(b);
     }
-    std::vector<double> ax(6 * n), residual(6 * n), z(6 * n), direction(6 * n), a_dir(6 * n);
     const auto apply_a = [&](std::span<const double> x, std::span<double> out) {
       apply_resistance(s, x, out);
       for (std::size_t k = 0; k < x.size(); ++k) out[k] += inertia[k] * x[k];
@@ -447,40 +448,11 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
     // Initial guess: the current velocities V (the previous step's V⁺): in a lubrication-
     // dominated flow the velocities change little per step, while V* carries the full kick of
     // the contact forces that the lubrication mostly cancels.
-    apply_a(v_new, ax);
-    double rhs_norm = 0.0;
-    for (std::size_t k = 0; k < 6 * n; ++k) {
-      residual[k] = rhs[k] - ax[k];
-      rhs_norm += rhs[k] * rhs[k];
-    }
-    rhs_norm = std::sqrt(rhs_norm);
-    precondition(residual, z);
-    double rz = 0.0;
-    for (std::size_t k = 0; k < 6 * n; ++k) {
-      direction[k] = z[k];
-      rz += residual[k] * z[k];
-    }
-    int iteration = 0;
-    for (; iteration < settings_.max_solver_iterations; ++iteration) {
-      double res_norm = 0.0;
-      for (double x : residual) res_norm += x * x;
-      if (std::sqrt(res_norm) <= settings_.solver_tolerance * rhs_norm || rhs_norm == 0.0) break;
-      apply_a(direction, a_dir);
-      double d_ad = 0.0;
-      for (std::size_t k = 0; k < 6 * n; ++k) d_ad += direction[k] * a_dir[k];
-      const double alpha = rz / d_ad;
-      for (std::size_t k = 0; k < 6 * n; ++k) {
-        v_new[k] += alpha * direction[k];
-        residual[k] -= alpha * a_dir[k];
-      }
-      precondition(residual, z);
-      double rz_new = 0.0;
-      for (std::size_t k = 0; k < 6 * n; ++k) rz_new += residual[k] * z[k];
-      const double beta = rz_new / rz;
-      rz = rz_new;
-      for (std::size_t k = 0; k < 6 * n; ++k) direction[k] = z[k] + beta * direction[k];
-    }
-    r.solver_iterations = iteration;
+    numerics::ConjugateGradientSettings cg;
+    cg.relative_tolerance = settings_.solver_tolerance;
+    cg.max_iterations = settings_.max_solver_iterations;
+    numerics::ConjugateGradientWorkspace work;
+    r.solver_iterations = numerics::conjugate_gradient(apply_a, precondition, rhs, v_new, cg, work).iterations;
   }
 
   // F_H = −R V⁺ + F₀.

@@ -14,6 +14,8 @@
 
 #include <fmt/format.h>
 
+#include "rheosim/numerics/conjugate_gradient.hpp"
+
 #include "block_cholesky.hpp"
 #include "box_mean_flow.hpp"
 #include "lubrication.hpp"
@@ -814,46 +816,13 @@ class Box {
     const auto precondition = [&](std::span<const double> x, std::span<double> y) {
       for (std::size_t i = 0; i < n; ++i) cholesky_6_solve(factor_.data() + 36 * i, x.data() + 6 * i, y.data() + 6 * i);
     };
-    std::vector<double> r(m), z(m), p(m), q(m);
-    apply(velocity_, q);
-    double rhs_norm = 0.0;
-    for (std::size_t k = 0; k < m; ++k) {
-      r[k] = rhs[k] - q[k];
-      rhs_norm += rhs[k] * rhs[k];
-    }
-    rhs_norm = std::sqrt(rhs_norm);
-    if (rhs_norm == 0.0) {
-      std::fill(velocity_.begin(), velocity_.end(), 0.0);
-      return;
-    }
-    precondition(r, z);
-    p = z;
-    double rz = 0.0;
-    for (std::size_t k = 0; k < m; ++k) rz += r[k] * z[k];
-    double residual = 0.0;
-    int it = 0;
-    for (; it < s_.max_solver_iterations; ++it) {
-      residual = 0.0;
-      for (std::size_t k = 0; k < m; ++k) residual += r[k] * r[k];
-      residual = std::sqrt(residual) / rhs_norm;
-      if (residual <= s_.solver_tolerance) break;
-      apply(p, q);
-      double pq = 0.0;
-      for (std::size_t k = 0; k < m; ++k) pq += p[k] * q[k];
-      const double alpha = rz / pq;
-      for (std::size_t k = 0; k < m; ++k) {
-        velocity_[k] += alpha * p[k];
-        r[k] -= alpha * q[k];
-      }
-      precondition(r, z);
-      double rz_new = 0.0;
-      for (std::size_t k = 0; k < m; ++k) rz_new += r[k] * z[k];
-      const double beta = rz_new / rz;
-      rz = rz_new;
-      for (std::size_t k = 0; k < m; ++k) p[k] = z[k] + beta * p[k];
-    }
-    loads.iterations = it;
-    loads.residual = residual;
+    numerics::ConjugateGradientSettings cg;
+    cg.relative_tolerance = s_.solver_tolerance;
+    cg.max_iterations = s_.max_solver_iterations;
+    const numerics::KrylovResult solved =
+        numerics::conjugate_gradient(apply, precondition, rhs, velocity_, cg, cg_work_);
+    loads.iterations = solved.iterations;
+    loads.residual = solved.relative_residual;
   }
 
   SuspensionBoxSettings s_;
@@ -867,6 +836,7 @@ class Box {
   std::vector<lubrication::Gap> gaps_;
   std::vector<GapSource> gap_source_;
   std::vector<double> factor_, scratch_;
+  numerics::ConjugateGradientWorkspace cg_work_;
   bool walls_ = false;
   double length_ = 0.0, height_ = 0.0, solid_volume_ = 0.0, max_radius_ = 0.0, skin_ = 0.0;
   double offset_ = 0.0, strain_ = 0.0, strain_since_build_ = 0.0;

@@ -1,8 +1,8 @@
 // A neutrally buoyant suspension at φ = 0.3 with the seed's particles (d = 200 µm, E = 3 GPa) on a
 // 3 mm disk, coupled with drag + pressure-gradient + viscous forces at the seed's interval (100).
 // Without the ∇p filter (coupling/fluid_fields.hpp) the explicit −V_p∇p feedback of the
-// projection pressure's ∂ε/∂t answer blows up within a few hundred fluid steps (the solver
-// refuses the step on its Courant guard); with the default filter the same run stays calm and
+// projection pressure's ∂ε/∂t answer blows up within a strain of 2 (the solver refuses the step
+// on its Courant guard); with the default filter the same run stays calm and
 // its torque lies above the liquid's.
 #include <gtest/gtest.h>
 
@@ -42,7 +42,9 @@ SuspensionPointSettings dense_point(const std::filesystem::path& folder, double 
 
 TEST(DenseSuspensionStability, UnfilteredPressureGradientFeedbackBlowsUp) {
   testing::RunFolder folder;
-  SuspensionPointSettings s = dense_point(folder.path(), 1.0);
+  // The growth is exponential, but its onset follows the particles' chaotic paths: a change of
+  // round-off in the pressure solve has moved it past a strain of 1, hence a window of 2.
+  SuspensionPointSettings s = dense_point(folder.path(), 2.0);
   s.coupling.pressure_gradient_filter_steps = 0.0;
   try {
     (void)run_point(s);
