@@ -13,7 +13,6 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <Eigen/SparseLU>
 
 namespace rheosim::ldd {
 namespace {
@@ -37,40 +36,6 @@ const char* kind_name(FreeNode k) {
       return "idle wall";
   }
 }
-
-// Sparse LU of a stencil matrix as a BiCGStab preconditioner (the matrices change every step on a
-// Lagrangian cloud, so it is refactorised each step; one factorisation serves all velocity
-// components). Jacobi needed ~250 iterations per component at Δ = 2 mm (μ δt/(ρΔ²) up to 5·10³).
-class LuPreconditioner {
- public:
-  bool factorise(const numerics::StencilMatrix& a) {
-    const numerics::NeighbourList& nb = *a.pattern;
-    const std::size_t n = a.size();
-    entries_.clear();
-    entries_.reserve(n + nb.pair_count());
-    for (std::size_t i = 0; i < n; ++i) {
-      entries_.emplace_back(static_cast<int>(i), static_cast<int>(i), a.diagonal[i]);
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
-        if (a.off_diagonal[k] != 0.0)
-          entries_.emplace_back(static_cast<int>(i), static_cast<int>(nb.indices[k]), a.off_diagonal[k]);
-    }
-    matrix_.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-    matrix_.setFromTriplets(entries_.begin(), entries_.end());
-    lu_.compute(matrix_);
-    return lu_.info() == Eigen::Success;
-  }
-  [[nodiscard]] std::function<void(std::span<const double>, std::span<double>)> apply() {
-    return [this](std::span<const double> r, std::span<double> z) {
-      const Eigen::Map<const Eigen::VectorXd> in(r.data(), static_cast<Eigen::Index>(r.size()));
-      Eigen::Map<Eigen::VectorXd>(z.data(), static_cast<Eigen::Index>(z.size())) = lu_.solve(in);
-    };
-  }
-
- private:
-  std::vector<Eigen::Triplet<double>> entries_;
-  Eigen::SparseMatrix<double> matrix_;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu_;
-};
 
 }  // namespace
 
@@ -462,10 +427,10 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
                                              params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
                                              params_.max_iterations,
                                              {}};
-  LuPreconditioner momentum_lu;
+  numerics::SparseLu momentum_lu;
   if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
       momentum_lu.factorise(momentum_matrix_))
-    velocity_settings.preconditioner = momentum_lu.apply();
+    velocity_settings.preconditioner = momentum_lu.as_preconditioner();
   const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
   bool velocity_hierarchy_fresh = false;
   if (velocity_amg) {
@@ -563,10 +528,10 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
       params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
       params_.max_iterations,
       {}};
-  LuPreconditioner pressure_lu;
+  numerics::SparseLu pressure_lu;
   if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
       pressure_lu.factorise(pressure_matrix_))
-    pressure_settings.preconditioner = pressure_lu.apply();
+    pressure_settings.preconditioner = pressure_lu.as_preconditioner();
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
   bool pressure_hierarchy_fresh = false;
   if (pressure_amg) {
@@ -586,12 +551,12 @@ FreeSurfaceStats FreeSurfaceSolver::step() {
     pressure_amg_.setup(pressure_matrix_);
     repeat_pressure_solve();
   }
-  LuPreconditioner pressure_direct;  // outlives pressure_settings' use in the stability probe
+  numerics::SparseLu pressure_direct;  // outlives pressure_settings' use in the stability probe
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance) &&
       dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu &&
       pressure_direct.factorise(pressure_matrix_)) {
     // Last resort in 2D: the exact factors as the preconditioner (seconds at 200 000 nodes).
-    pressure_settings.preconditioner = pressure_direct.apply();
+    pressure_settings.preconditioner = pressure_direct.as_preconditioner();
     ++stats.repeated_with_lu;
     repeat_pressure_solve();
   }

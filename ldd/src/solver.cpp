@@ -11,57 +11,8 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <Eigen/SparseLU>
 
 namespace rheosim::ldd {
-
-// The lattice mode's PPE matrix never changes (operators are built once and it does not depend
-// on μ), so it is factorised once and every step solves with the factors (solve()).
-//
-// Ordering: nested dissection of the node cloud (NestedDissection below) with threshold
-// pivoting at 1e-3 (the diagonal is kept unless it is below 1e-3 of its column's largest entry).
-// At 200² the factors then hold 3.2 M entries against 5.6 M with COLAMD and partial pivoting,
-// and the solve, which is bound by reading them, takes half the time. A test solve checks the
-// factors; on failure the COLAMD / partial pivoting factorisation is used. The factors are
-// copied out of Eigen's supernodal storage into row-compressed triangles (32-bit columns),
-// solved row by row: Eigen's column-oriented solve was no faster and reads more.
-struct SparseFactorisation {
-  std::vector<std::uint32_t> row_map, column_map;  // b_i goes to y[row_map[i]]; x_i = z[column_map[i]]
-  std::vector<std::uint32_t> l_offsets{0}, l_columns, u_offsets{0}, u_columns;
-  std::vector<double> l_values, u_values, u_diagonal;  // L unit lower, U upper (strict parts)
-  mutable std::vector<double> work;                    // one solve at a time
-
-  // x = A⁻¹ b (x and b may not alias).
-  void solve(std::span<const double> b, std::span<double> x) const {
-    const std::size_t n = u_diagonal.size();
-    double* y = work.data();
-    for (std::size_t i = 0; i < n; ++i) y[row_map[i]] = b[i];
-    // Two partial sums per row: the row's products do not wait on each other.
-    for (std::size_t i = 0; i < n; ++i) {
-      double s0 = y[i], s1 = 0;
-      std::size_t k = l_offsets[i];
-      const std::size_t end = l_offsets[i + 1];
-      for (; k + 1 < end; k += 2) {
-        s0 -= l_values[k] * y[l_columns[k]];
-        s1 -= l_values[k + 1] * y[l_columns[k + 1]];
-      }
-      if (k < end) s0 -= l_values[k] * y[l_columns[k]];
-      y[i] = s0 + s1;
-    }
-    for (std::size_t i = n; i-- > 0;) {
-      double s0 = y[i], s1 = 0;
-      std::size_t k = u_offsets[i];
-      const std::size_t end = u_offsets[i + 1];
-      for (; k + 1 < end; k += 2) {
-        s0 -= u_values[k] * y[u_columns[k]];
-        s1 -= u_values[k + 1] * y[u_columns[k + 1]];
-      }
-      if (k < end) s0 -= u_values[k] * y[u_columns[k]];
-      y[i] = (s0 + s1) / u_diagonal[i];
-    }
-    for (std::size_t i = 0; i < n; ++i) x[i] = y[column_map[i]];
-  }
-};
 
 namespace {
 
@@ -75,189 +26,12 @@ void require(bool ok, const char* field, double value, const char* range) {
 
 bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
 
-using SparseMatrix = Eigen::SparseMatrix<double>;
-
-// Nested dissection of a 2D cloud: split the nodes at the median along the longer extent of their
-// bounding box; the nodes of the lower half with a neighbour in the upper half separate the two.
-// Order: each half recursively, then the separator, so elimination never couples the halves.
-// order[k] is the node eliminated k-th. Deterministic (ties broken by node index).
-class NestedDissection {
- public:
-  NestedDissection(std::span<const double> positions, const numerics::NeighbourList& nb)
-      : positions_(positions), nb_(nb), side_(nb.node_count(), 0) {
-    std::vector<std::uint32_t> all(nb.node_count());
-    for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<std::uint32_t>(i);
-    order_.reserve(all.size());
-    split(std::move(all));
-  }
-  [[nodiscard]] const std::vector<std::uint32_t>& order() const { return order_; }
-
- private:
-  static constexpr std::size_t leaf_size = 8;  // measured at 200²: 8–16 best, 64 gave 15 % more fill
-
-  void split(std::vector<std::uint32_t> nodes) {
-    if (nodes.size() <= leaf_size) {
-      order_.insert(order_.end(), nodes.begin(), nodes.end());
-      return;
-    }
-    double lo[2] = {positions_[2 * nodes[0]], positions_[2 * nodes[0] + 1]}, hi[2] = {lo[0], lo[1]};
-    for (const std::uint32_t v : nodes)
-      for (std::size_t d = 0; d < 2; ++d) {
-        lo[d] = std::min(lo[d], positions_[2 * v + d]);
-        hi[d] = std::max(hi[d], positions_[2 * v + d]);
-      }
-    const std::size_t d = hi[0] - lo[0] >= hi[1] - lo[1] ? 0 : 1;
-    std::sort(nodes.begin(), nodes.end(), [&](std::uint32_t a, std::uint32_t b) {
-      const double xa = positions_[2 * a + d], xb = positions_[2 * b + d];
-      return xa < xb || (xa == xb && a < b);
-    });
-    const std::size_t half = nodes.size() / 2;
-    ++stamp_;
-    for (std::size_t k = half; k < nodes.size(); ++k) side_[nodes[k]] = stamp_;
-    std::vector<std::uint32_t> lower, separator;
-    for (std::size_t k = 0; k < half; ++k) {
-      const std::uint32_t v = nodes[k];
-      const auto neighbours = nb_.neighbours_of(v);
-      const bool touches =
-          std::any_of(neighbours.begin(), neighbours.end(), [&](std::size_t j) { return side_[j] == stamp_; });
-      (touches ? separator : lower).push_back(v);
-    }
-    std::vector<std::uint32_t> upper(nodes.begin() + static_cast<std::ptrdiff_t>(half), nodes.end());
-    nodes = {};
-    split(std::move(lower));
-    split(std::move(upper));
-    order_.insert(order_.end(), separator.begin(), separator.end());
-  }
-
-  std::span<const double> positions_;
-  const numerics::NeighbourList& nb_;
-  std::vector<std::uint32_t> side_;  // stamp_ for the upper half of the current split
-  std::uint32_t stamp_ = 0;
-  std::vector<std::uint32_t> order_;
-};
-
-// Copies an Eigen SparseLU (P_r B P_c = L U) into f's triangles; `position[i]` is the row and
-// column of node i in B = P A Pᵀ.
-template <class Lu>
-void copy_factors(const Lu& lu, std::span<const std::uint32_t> position, SparseFactorisation& f) {
-  const auto l_return = lu.matrixL();
-  const auto u_return = lu.matrixU();
-  const auto& l = l_return.m_mapL;  // supernodal: L and the diagonal blocks of U
-  const auto& u = u_return.m_mapU;  // the rest of U, column-compressed
-  const auto n = static_cast<std::size_t>(l.rows());
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> l_rows(n), u_rows(n);
-  f.u_diagonal.assign(n, 0.0);
-  for (Eigen::Index s = 0; s <= l.nsuper(); ++s) {
-    const Eigen::Index first = l.supToCol()[s], last = l.supToCol()[s + 1];
-    const Eigen::Index rows = l.colIndexPtr()[first + 1] - l.colIndexPtr()[first];
-    const Eigen::Index row_start = l.rowIndexPtr()[first];
-    for (Eigen::Index c = first; c < last; ++c) {
-      const auto column = static_cast<std::uint32_t>(c);
-      for (Eigen::Index r = 0; r < rows; ++r) {
-        const auto row = static_cast<std::size_t>(l.rowIndex()[row_start + r]);
-        const double value = l.valuePtr()[l.colIndexPtr()[c] + r];
-        if (row < column) {
-          u_rows[row].emplace_back(column, value);
-        } else if (row == column) {
-          f.u_diagonal[row] = value;
-        } else {
-          l_rows[row].emplace_back(column, value);
-        }
-      }
-      for (typename std::remove_cvref_t<decltype(u)>::InnerIterator it(u, c); it; ++it)
-        u_rows[static_cast<std::size_t>(it.index())].emplace_back(column, it.value());
-    }
-  }
-  const auto compress = [](auto& rows, auto& offsets, auto& columns, auto& values) {
-    for (auto& row : rows) {
-      std::sort(row.begin(), row.end());
-      for (const auto& [column, value] : row)
-        if (value != 0.0) {
-          columns.push_back(column);
-          values.push_back(value);
-        }
-      offsets.push_back(static_cast<std::uint32_t>(columns.size()));
-      row = {};
-    }
-  };
-  compress(l_rows, f.l_offsets, f.l_columns, f.l_values);
-  compress(u_rows, f.u_offsets, f.u_columns, f.u_values);
-  f.row_map.resize(n);
-  f.column_map.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    f.row_map[i] = static_cast<std::uint32_t>(lu.rowsPermutation().indices()[position[i]]);
-    f.column_map[i] = static_cast<std::uint32_t>(lu.colsPermutation().indices()[position[i]]);
-  }
-  f.work.assign(n, 0.0);
-}
-
-// Relative residual of f's solve of A x = A·(1, 2, …) (a check of the factors).
-double test_residual(const SparseFactorisation& f, const SparseMatrix& a) {
-  const Eigen::Index n = a.rows();
-  const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(n, 1.0, static_cast<double>(n));
-  const Eigen::VectorXd b = a * expected;
-  Eigen::VectorXd x(n);
-  f.solve(std::span<const double>(b.data(), static_cast<std::size_t>(n)),
-          std::span<double>(x.data(), static_cast<std::size_t>(n)));
-  const double residual = (a * x - b).norm() / b.norm();
-  return std::isfinite(residual) ? residual : std::numeric_limits<double>::infinity();
-}
-
-// Sparse LU of a stencil matrix over the cloud `positions`; null when the factorisation fails.
-std::unique_ptr<SparseFactorisation> factorise(const numerics::StencilMatrix& a, std::span<const double> positions) {
-  const numerics::NeighbourList& nb = *a.pattern;
-  const std::size_t n = a.size();
-  if (n >= std::numeric_limits<std::uint32_t>::max()) return nullptr;
-  const NestedDissection dissection(positions, nb);
-  std::vector<std::uint32_t> position(n), identity(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    position[dissection.order()[k]] = static_cast<std::uint32_t>(k);
-    identity[k] = static_cast<std::uint32_t>(k);
-  }
-  const auto assemble = [&](std::span<const std::uint32_t> at) {
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(n + nb.pair_count());
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto row = static_cast<int>(at[i]);
-      entries.emplace_back(row, row, a.diagonal[i]);
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
-        if (a.off_diagonal[k] != 0.0) entries.emplace_back(row, static_cast<int>(at[nb.indices[k]]), a.off_diagonal[k]);
-    }
-    SparseMatrix matrix(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-    matrix.setFromTriplets(entries.begin(), entries.end());
-    return matrix;
-  };
-  const SparseMatrix matrix = assemble(identity);
-  constexpr double check_tolerance = 1e-8;  // the PPE's tolerance is 1e-6
-  {
-    Eigen::SparseLU<SparseMatrix, Eigen::NaturalOrdering<int>> lu;
-    lu.setPivotThreshold(1e-3);
-    lu.compute(assemble(position));
-    if (lu.info() == Eigen::Success) {
-      auto f = std::make_unique<SparseFactorisation>();
-      copy_factors(lu, position, *f);
-      if (test_residual(*f, matrix) < check_tolerance) return f;
-    }
-  }
-  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu;  // partial pivoting
-  lu.compute(matrix);
-  if (lu.info() != Eigen::Success) return nullptr;
-  auto f = std::make_unique<SparseFactorisation>();
-  copy_factors(lu, identity, *f);
-  if (!(test_residual(*f, matrix) < check_tolerance)) return nullptr;
-  return f;
-}
-
-std::function<void(std::span<const double>, std::span<double>)> lu_preconditioner(const SparseFactorisation* lu) {
-  return [lu](std::span<const double> r, std::span<double> z) { lu->solve(r, z); };
-}
-
 // x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
 // iteration; `scratch` holds A x.
-numerics::KrylovResult direct_solve(const SparseFactorisation& lu, const numerics::StencilMatrix& a,
+numerics::KrylovResult direct_solve(const numerics::SparseLu& lu, const numerics::StencilMatrix& a,
                                     std::span<const double> b, std::span<double> x,
                                     const numerics::KrylovSettings& settings, std::vector<double>& scratch) {
-  lu_preconditioner (&lu)(b, x);
+  lu.solve(b, x);
   scratch.resize(b.size());
   a.multiply(x, scratch);
   for (std::size_t i = 0; i < b.size(); ++i) scratch[i] = b[i] - scratch[i];
@@ -580,11 +354,12 @@ StepStats Solver::step() {
       {}};
   numerics::KrylovSettings settings_with_preconditioner = pressure_settings;
   if (params_.reordering == Reordering::lattice && params_.pressure_preconditioner == Preconditioner::sparse_lu) {
-    if (!pressure_lu_) {
-      pressure_lu_ = factorise(pressure_matrix_, positions_);
-      if (!pressure_lu_) params_.pressure_preconditioner = Preconditioner::jacobi;  // fall back to Jacobi
-    }
-    if (pressure_lu_) settings_with_preconditioner.preconditioner = lu_preconditioner(pressure_lu_.get());
+    // The matrix never changes in lattice mode (its operators are built once and do not depend
+    // on μ): factorised once, every step solves with the factors.
+    if (!pressure_lu_.ready() &&
+        !pressure_lu_.factorise(pressure_matrix_, numerics::SparseLu::Method::nested_dissection, positions_))
+      params_.pressure_preconditioner = Preconditioner::jacobi;  // fall back to Jacobi
+    if (pressure_lu_.ready()) settings_with_preconditioner.preconditioner = pressure_lu_.as_preconditioner();
   }
   // AMG: in lattice mode the matrix is constant, so the first set-up serves the whole run.
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
@@ -597,11 +372,11 @@ StepStats Solver::step() {
     settings_with_preconditioner.preconditioner = pressure_amg_.as_preconditioner();
   }
   numerics::KrylovResult pressure_result;
-  if (pressure_lu_) {
+  if (pressure_lu_.ready()) {
     // The LU factorises this very matrix, so one direct solve is the answer to rounding (as a
     // BiCGStab preconditioner it cost a further matrix product and seven vector passes). Kept
     // when its residual meets the tolerance; otherwise BiCGStab continues from it.
-    pressure_result = direct_solve(*pressure_lu_, pressure_matrix_, rhs_, increment_, pressure_settings, krylov_.r);
+    pressure_result = direct_solve(pressure_lu_, pressure_matrix_, rhs_, increment_, pressure_settings, krylov_.r);
   }
   if (!pressure_result.converged) {
     if (!std::isfinite(pressure_result.residual)) increment_.assign(n, 0.0);

@@ -49,6 +49,7 @@
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
+#include "rheosim/numerics/sparse_lu.hpp"
 
 namespace rheosim::ldd {
 
@@ -142,8 +143,6 @@ struct PhaseTimes {
   }
 };
 
-struct SparseFactorisation;  // sparse LU used as a preconditioner (solver.cpp)
-
 class Solver {
  public:
   Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud);
@@ -193,9 +192,9 @@ class Solver {
   numerics::NeighbourList neighbours_;
   Operators operators_;
   bool operators_valid_ = false;
-  std::unique_ptr<SparseFactorisation> pressure_lu_;  // lattice mode only
-  QuadraticFit lattice_fit_;                          // lattice mode, quadratic interpolation
-  std::vector<double> advection_velocity_;            // a of eq. 20 on every node
+  numerics::SparseLu pressure_lu_;          // lattice mode only
+  QuadraticFit lattice_fit_;                // lattice mode, quadratic interpolation
+  std::vector<double> advection_velocity_;  // a of eq. 20 on every node
   numerics::AmgPreconditioner pressure_amg_, velocity_amg_;
   PhaseTimes times_;
   // Work buffers reused across steps.
