@@ -2,13 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <iostream>
 #include <optional>
+#include <tuple>
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
 #include "rheosim/core/run_lock.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/ldd/report.hpp"
 #include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
 #include "rheosim/rheometer/report.hpp"
@@ -159,11 +163,21 @@ int export_openfoam(const std::string& case_file, const std::filesystem::path& d
 
 int report(const std::filesystem::path& run_dir, const core::Log& log) {
   try {
-    const auto files = rheometer::write_report(run_dir);
-    log.info("report written to {} ({} plots)", files.html.string(), files.plots.size());
-    if (!files.missing_plots.empty())
-      log.warn("{} plot(s) not drawn (gnuplot missing or failed); their .gp scripts are in {}",
-               files.missing_plots.size(), run_dir.string());
+    // The summary's kind picks the report: an LDD run has its own.
+    const auto summary = run_dir / "summary.json";
+    const bool ldd_run = std::filesystem::exists(summary) && core::read_json(summary).value("kind", "") == "ldd";
+    const auto [html, plots, missing_plots] = [&] {
+      if (ldd_run) {
+        const auto f = ldd::write_report(run_dir);
+        return std::tuple{f.html, f.plots.size(), f.missing_plots.size()};
+      }
+      const auto f = rheometer::write_report(run_dir);
+      return std::tuple{f.html, f.plots.size(), f.missing_plots.size()};
+    }();
+    log.info("report written to {} ({} plots)", html.string(), plots);
+    if (missing_plots > 0)
+      log.warn("{} plot(s) not drawn (gnuplot missing or failed); their .gp scripts are in {}", missing_plots,
+               run_dir.string());
     return exit_success;
   } catch (const core::ConfigError& e) {
     return bad_input(log, e);

@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/ldd/report.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::app {
@@ -17,6 +18,17 @@ int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, double st
     ldd::RunControl control;
     control.wall_time_limit = stop_after;
     const auto outcome = ldd::run_case(c, out_dir, log_file, control);
+    if (!outcome.summary.empty()) {
+      try {  // a report that cannot be drawn does not fail the run
+        const auto files = ldd::write_report(out_dir);
+        log_file.info("report: {}", files.html.string());
+        if (!files.missing_plots.empty())
+          log_file.warn("{} plot(s) not drawn (gnuplot missing or failed); their .gp scripts are in {}",
+                        files.missing_plots.size(), out_dir.string());
+      } catch (const std::exception& e) {
+        log_file.warn("report not written: {}", e.what());
+      }
+    }
     return outcome.status == "diverged" ? exit_run_failure : exit_success;
   } catch (const core::ConfigError& e) {
     log.error("{}", e.what());

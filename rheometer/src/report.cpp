@@ -16,6 +16,7 @@
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/core/report_page.hpp"
 #include "rheosim/rheometer/analysis.hpp"
 #include "rheosim/rheometer/flow_models.hpp"
 
@@ -103,24 +104,6 @@ struct SeriesInfo {
   bool has_fits = false;
 };
 
-std::string gp_header(const std::string& name, const std::string& what) {
-  return fmt::format(
-      "# {}\n# Data: the CSV files beside this script (written by rheosim from summary.json).\n"
-      "# Regenerate: gnuplot {}.gp\nset datafile separator ','\nset datafile missing 'nan'\nset grid\n"
-      "set key outside right top\nset encoding utf8\n",
-      what, name);
-}
-
-// The script's body is drawn twice: once per terminal.
-std::string gp_outputs(const std::string& name, const std::string& body, int width = 1000, int height = 600) {
-  std::string s;
-  s += fmt::format("set terminal pngcairo size {},{} font 'DejaVu Sans,10'\nset output '{}.png'\n{}", width, height,
-                   name, body);
-  s += fmt::format("set terminal svg size {},{} dynamic font 'DejaVu Sans,10'\nset output '{}.svg'\n{}", width, height,
-                   name, body);
-  return s + "unset output\n";
-}
-
 std::string filter(const std::string& label, int column) {
   return fmt::format("(strcol(1) eq '{}' ? ${} : NaN)", label, column);
 }
@@ -147,6 +130,15 @@ ReportFiles write_report(const fs::path& run_dir) {
     throw core::ConfigError(d);
   }
   const Json summary = core::read_json(summary_path);
+  if (const std::string kind = text(summary, "kind"); kind != "rheometer" && kind != "sweep") {
+    core::ConfigError::Details d;
+    d.where = core::FileLocation{summary_path.string(), 0, 0};
+    d.key_path = "kind";
+    d.problem = fmt::format("summary.json is of a kind '{}' run", kind);
+    d.expected = "the summary of a rheometer or sweep run";
+    d.hint = "'rheosim report' writes the report of an LDD run with the LDD report";
+    throw core::ConfigError(d);
+  }
   const Json& points = array(summary, "points");
   const Json& series_json = array(summary, "series");
   const Json& fits = array(summary, "fits");
@@ -329,8 +321,8 @@ ReportFiles write_report(const fs::path& run_dir) {
         "set title \"points: measured;  solid: T = T_0 + b γ̇_R (CD §4);  dashed: creeping closed form\" "
         "font ',10'\n";
     if (!plot.empty())
-      scripts["torque"] =
-          gp_header("torque", "Torque vs rim shear rate per φ") + gp_outputs("torque", body + "plot " + plot + "\n");
+      scripts["torque"] = core::gnuplot_header("torque", "Torque vs rim shear rate per φ") +
+                          core::gnuplot_outputs("torque", body + "plot " + plot + "\n");
   }
   {
     std::string stress_plot, viscosity_plot;
@@ -380,18 +372,22 @@ ReportFiles write_report(const fs::path& run_dir) {
     const std::string common = "set logscale xy\nset format y '%.1e'\nset xlabel 'rim shear rate γ̇_R [1/s]'\n";
     if (!stress_plot.empty()) {
       scripts["stress"] =
-          gp_header("stress",
-                    "Rim stress: plate-corrected τ_R (filled) and apparent τ_app = 2T/(πR³) (open), best fit by AICc") +
-          gp_outputs("stress", common +
-                                   "set ylabel 'rim shear stress [Pa]'\nset title 'Flow curve: τ_R = T/(2πR³)(3 + "
-                                   "d ln T/d ln γ̇_R) filled, apparent open, line: best fit (AICc)' font ',10'\nplot " +
-                                   stress_plot + "\n");
+          core::gnuplot_header(
+              "stress",
+              "Rim stress: plate-corrected τ_R (filled) and apparent τ_app = 2T/(πR³) (open), best fit by AICc") +
+          core::gnuplot_outputs("stress",
+                                common +
+                                    "set ylabel 'rim shear stress [Pa]'\nset title 'Flow curve: τ_R = T/(2πR³)(3 + "
+                                    "d ln T/d ln γ̇_R) filled, apparent open, line: best fit (AICc)' font ',10'\nplot " +
+                                    stress_plot + "\n");
       scripts["viscosity"] =
-          gp_header("viscosity", "Viscosity τ/γ̇ at the rim, corrected (filled) and apparent (open), best fit") +
-          gp_outputs("viscosity", common +
-                                      "set ylabel 'viscosity η [Pa s]'\nset title 'Viscosity curve: τ_R/γ̇_R filled, "
-                                      "apparent open, line: best fit (AICc)' font ',10'\nplot " +
-                                      viscosity_plot + "\n");
+          core::gnuplot_header("viscosity",
+                               "Viscosity τ/γ̇ at the rim, corrected (filled) and apparent (open), best fit") +
+          core::gnuplot_outputs("viscosity",
+                                common +
+                                    "set ylabel 'viscosity η [Pa s]'\nset title 'Viscosity curve: τ_R/γ̇_R filled, "
+                                    "apparent open, line: best fit (AICc)' font ',10'\nplot " +
+                                    viscosity_plot + "\n");
     }
   }
   if (!fits.empty()) {
@@ -421,8 +417,8 @@ ReportFiles write_report(const fs::path& run_dir) {
           plot + "\n";
     }
     body += "unset multiplot\n";
-    scripts["residuals"] =
-        gp_header("residuals", "Relative residuals of every fitted model") + gp_outputs("residuals", body, 1400, 650);
+    scripts["residuals"] = core::gnuplot_header("residuals", "Relative residuals of every fitted model") +
+                           core::gnuplot_outputs("residuals", body, 1400, 650);
   }
   if (!relative.empty()) {
     std::string plot;
@@ -467,8 +463,8 @@ ReportFiles write_report(const fs::path& run_dir) {
         any_particles ? "Relative viscosity η_r(φ) at the reference shear rate, φ_m fitted"
                       : "Relative viscosity: no finished point with φ > 0, curves use φ_m = 0.63 (not fitted)";
     scripts["relative_viscosity"] =
-        gp_header("relative_viscosity", "Relative viscosity against the classic correlations") +
-        gp_outputs(
+        core::gnuplot_header("relative_viscosity", "Relative viscosity against the classic correlations") +
+        core::gnuplot_outputs(
             "relative_viscosity",
             fmt::format("set xlabel 'volume fraction φ'\nset ylabel 'relative viscosity η_r'\nset logscale y\n"
                         "set xrange [0:*]\nset yrange [0.9:*]\nset key inside left top\nset title '{}' font ',10'\n"
@@ -493,11 +489,11 @@ ReportFiles write_report(const fs::path& run_dir) {
     }
     if (!plot.empty())
       scripts["normal_stress"] =
-          gp_header("normal_stress", "Normal stress differences vs rim shear rate") +
-          gp_outputs("normal_stress",
-                     "set xlabel 'rim shear rate γ̇_R [1/s]'\nset ylabel 'normal stress difference [Pa]'\n"
-                     "set format y '%.2e'\nset key outside right\nplot " +
-                         plot + "\n");
+          core::gnuplot_header("normal_stress", "Normal stress differences vs rim shear rate") +
+          core::gnuplot_outputs("normal_stress",
+                                "set xlabel 'rim shear rate γ̇_R [1/s]'\nset ylabel 'normal stress difference [Pa]'\n"
+                                "set format y '%.2e'\nset key outside right\nplot " +
+                                    plot + "\n");
   }
   if (!yields.empty()) {
     const std::vector<std::string> methods = {"bingham_intercept", "casson_intercept", "herschel_bulkley",
@@ -518,43 +514,24 @@ ReportFiles write_report(const fs::path& run_dir) {
           plot.empty() ? "" : ", ", offset, methods[m], 5 + 2 * static_cast<int>(m), m + 1, methods[m]);
     }
     scripts["yield_stress"] =
-        gp_header("yield_stress", "Yield stress vs φ by four methods, with 95 % intervals") +
-        gp_outputs("yield_stress",
-                   "set xlabel 'volume fraction φ'\nset ylabel 'yield stress τ_y [Pa]'\nset format y '%.2e'\n" +
-                       yield_xrange +
-                       "set xzeroaxis lt -1\nset title 'Yield stress by method (bars: 95 % interval; "
-                       "methods offset in φ for legibility)' font ',10'\nplot " +
-                       plot + "\n");
+        core::gnuplot_header("yield_stress", "Yield stress vs φ by four methods, with 95 % intervals") +
+        core::gnuplot_outputs(
+            "yield_stress",
+            "set xlabel 'volume fraction φ'\nset ylabel 'yield stress τ_y [Pa]'\nset format y '%.2e'\n" + yield_xrange +
+                "set xzeroaxis lt -1\nset title 'Yield stress by method (bars: 95 % interval; "
+                "methods offset in φ for legibility)' font ',10'\nplot " +
+                plot + "\n");
   }
 
   ReportFiles files;
-  const bool have_gnuplot = std::system("command -v gnuplot > /dev/null 2>&1") == 0;
+  const bool have_gnuplot = core::gnuplot_installed();
   for (const auto& [name, script] : scripts) {
     core::write_atomically(run_dir / (name + ".gp"), [&](std::ostream& os) { os << script; });
-    fs::remove(run_dir / (name + ".png"));
-    if (have_gnuplot) {
-      const std::string command =
-          fmt::format("cd '{}' && gnuplot {}.gp > {}.gnuplot.log 2>&1", run_dir.string(), name, name);
-      const int status = std::system(command.c_str());  // a failure shows as a missing PNG below
-      (void)status;
-    }
-    (fs::exists(run_dir / (name + ".png")) ? files.plots : files.missing_plots).push_back(name);
+    (core::plot_with_gnuplot(run_dir, name) ? files.plots : files.missing_plots).push_back(name);
   }
 
   // ------------------------------------------------------------------ HTML
-  std::string html = R"(<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>rheosim report</title>
-<style>
-body{font-family:'DejaVu Sans',sans-serif;max-width:80em;margin:1.5em auto;padding:0 1em;color:#222;line-height:1.35}
-h1{font-size:1.6em}h2{border-bottom:2px solid #ccd;padding-bottom:.15em;margin-top:1.6em}h3{margin-bottom:.3em}
-table{border-collapse:collapse;margin:.6em 0;font-size:.9em}td,th{border:1px solid #bbb;padding:.2em .5em;text-align:right;vertical-align:top}
-th{background:#eef}td.l,th.l{text-align:left}pre{background:#f6f6f6;padding:1em;overflow-x:auto;font-size:.85em}
-img{max-width:100%;border:1px solid #ddd}.warn{color:#a40;font-size:.85em}.bad{color:#b00;font-weight:bold}.ok{color:#070}
-.note{background:#fff6e0;border-left:4px solid #e0a000;padding:.5em 1em;margin:.8em 0}
-.fail{background:#fde8e8;border-left:4px solid #c00;padding:.5em 1em;margin:.8em 0}
-td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size:.85em;color:#444}.small{font-size:.85em;color:#555}
-</style></head><body>
-)";
+  std::string html = core::html_page_head("rheosim report");
   html += fmt::format("<h1>rheosim report: {}</h1>\n", esc(text(summary, "case")));
   const int failed = static_cast<int>(num(summary, "points_failed"));
   int converged = 0;
@@ -613,11 +590,7 @@ td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size
 
   const auto figure = [&](const std::string& name, const std::string& caption) {
     if (std::find(files.plots.begin(), files.plots.end(), name) == files.plots.end()) return std::string();
-    return fmt::format(
-        "<figure><img src=\"{0}.png\" alt=\"{0} plot\"><figcaption>{1} "
-        "<span class=small>[<a href=\"{0}.svg\">SVG</a> · <a href=\"{0}.gp\">gnuplot script</a>]</span>"
-        "</figcaption></figure>\n",
-        name, caption);
+    return core::html_figure(name, caption);
   };
 
   // Torque.
@@ -886,7 +859,7 @@ td.p{white-space:nowrap;text-align:left}figure{margin:1em 0}figcaption{font-size
     html += fmt::format("<h2>Input deck</h2>\n<p>case.yaml, sha256 <code>{}</code></p>\n<pre>{}</pre>\n",
                         core::sha256_hex(deck_text), esc(deck_text));
   }
-  html += "</body></html>\n";
+  html += core::html_page_tail();
 
   files.html = run_dir / "report.html";
   core::write_atomically(files.html, [&](std::ostream& os) { os << html; });

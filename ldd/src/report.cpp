@@ -1,0 +1,303 @@
+#include "rheosim/ldd/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/report_page.hpp"
+
+namespace rheosim::ldd {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+namespace {
+
+[[noreturn]] void missing(const fs::path& file, std::string_view key, std::string_view expected) {
+  core::ConfigError::Details d;
+  d.where = core::FileLocation{file.string(), 0, 0};
+  d.key_path = std::string(key);
+  d.problem = fmt::format("summary.json has no usable '{}'", key);
+  d.expected = std::string(expected);
+  d.hint = "pass the --out folder of a finished 'rheosim run' of a kind: ldd case";
+  throw core::ConfigError(d);
+}
+
+// Required values of the summary: a missing key, or one of another type, names itself.
+class Reader {
+ public:
+  Reader(const Json& json, fs::path file) : json_(json), file_(std::move(file)) {}
+  [[nodiscard]] bool has(std::string_view key) const { return json_.contains(std::string(key)); }
+  [[nodiscard]] const Json& at(std::string_view key) const {
+    if (!has(key)) missing(file_, key, "the key, as every LDD run writes it");
+    return json_.at(std::string(key));
+  }
+  [[nodiscard]] double number(std::string_view key) const {
+    const Json& v = at(key);
+    if (!v.is_number()) missing(file_, key, "a number");
+    return v.get<double>();
+  }
+  [[nodiscard]] std::optional<double> number_or_null(std::string_view key) const {
+    const Json& v = at(key);
+    if (v.is_null()) return std::nullopt;
+    if (!v.is_number()) missing(file_, key, "a number or null");
+    return v.get<double>();
+  }
+  [[nodiscard]] std::size_t count(std::string_view key) const {
+    const Json& v = at(key);
+    if (!v.is_number_unsigned()) missing(file_, key, "a count (an integer >= 0)");
+    return v.get<std::size_t>();
+  }
+  [[nodiscard]] std::string text(std::string_view key) const {
+    const Json& v = at(key);
+    if (!v.is_string()) missing(file_, key, "a string");
+    return v.get<std::string>();
+  }
+  [[nodiscard]] bool boolean(std::string_view key) const {
+    const Json& v = at(key);
+    if (!v.is_boolean()) missing(file_, key, "true or false");
+    return v.get<bool>();
+  }
+  [[nodiscard]] std::vector<std::string> texts(std::string_view key) const {
+    const Json& v = at(key);
+    if (!v.is_array() || !std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_string(); }))
+      missing(file_, key, "a list of strings");
+    return v.get<std::vector<std::string>>();
+  }
+
+ private:
+  const Json& json_;
+  fs::path file_;
+};
+
+std::string esc(std::string_view s) { return core::escape_markup(s); }
+
+std::string figure_or_note(const ReportFiles& files, const std::string& name, const std::string& caption) {
+  if (std::find(files.plots.begin(), files.plots.end(), name) != files.plots.end())
+    return core::html_figure(name, caption);
+  return fmt::format(
+      "<p class=warn>{}.png was not drawn (gnuplot missing or failed; see {}.gnuplot.log). "
+      "Run <code>gnuplot {}.gp</code> in this folder.</p>\n",
+      name, name, name);
+}
+
+// 1-based gnuplot column of the probe file's column `name`, 0 when it has none.
+int column_of(const core::CsvTable& table, std::string_view name) {
+  const auto& columns = table.numeric_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i].name == name) return static_cast<int>(i) + 1;
+  return 0;
+}
+
+std::string probe_file_of(const std::string& scene) {
+  if (scene == "dam_break") return "front.csv";
+  if (scene == "slump") return "spread.csv";
+  return "column.csv";
+}
+
+}  // namespace
+
+RunSummary read_run_summary(const fs::path& summary_json) {
+  const Json json = core::read_json(summary_json);
+  const Reader r(json, summary_json);
+  if (r.text("kind") != "ldd") {
+    core::ConfigError::Details d;
+    d.where = core::FileLocation{summary_json.string(), 0, 0};
+    d.key_path = "kind";
+    d.problem = fmt::format("summary.json is of a kind '{}' run", r.text("kind"));
+    d.expected = "the summary of a kind: ldd run";
+    d.hint = "'rheosim report' writes the report of a rheometer or sweep run with the rheometer report";
+    throw core::ConfigError(d);
+  }
+  RunSummary s;
+  s.case_name = r.text("case");
+  s.scene = r.text("scene");
+  s.status = r.text("status");
+  s.message = r.has("message") ? r.text("message") : std::string();
+  s.dimension = static_cast<int>(r.count("dimension"));
+  s.nodes = r.count("nodes");
+  s.steps = r.count("steps");
+  s.threads = r.count("threads");
+  s.spacing = r.number("spacing");
+  s.time_step = r.number("time_step");
+  s.time_step_rule = r.has("time_step_rule") ? r.text("time_step_rule") : std::string();
+  s.time = r.number("time");
+  s.ms_per_step = r.number("ms_per_step");
+  s.wall_time = r.number("wall_time");
+  s.warnings = r.texts("warnings");
+  s.free_surface = s.scene == "dam_break" || s.scene == "slump" || s.scene == "column";
+  if (s.free_surface) {
+    s.volume_drift = r.number("volume_drift");
+    s.kinetic_energy_peak = r.number("kinetic_energy_peak");
+    s.energy_gain = r.number_or_null("energy_gain");
+    s.repeated_solves = r.count("repeated_solves");
+    if (s.scene != "column") {
+      s.final_spread = r.number("final_spread");
+      s.final_height = r.number("final_height");
+      s.yielded_fraction = r.number_or_null("yielded_fraction");
+      s.arrested = r.boolean("arrested");
+    }
+  } else {
+    s.reynolds_number = r.number("reynolds_number");
+    s.final_residual = r.number("final_residual");
+  }
+  return s;
+}
+
+ReportFiles write_report(const fs::path& run_dir) {
+  const fs::path summary_path = run_dir / "summary.json";
+  if (!fs::exists(summary_path)) {
+    core::ConfigError::Details d;
+    d.where = core::FileLocation{run_dir.string(), 0, 0};
+    d.problem = "no summary.json in this folder";
+    d.expected = "a folder written by 'rheosim run'";
+    d.hint = "pass the --out folder of a finished run";
+    throw core::ConfigError(d);
+  }
+  const RunSummary s = read_run_summary(summary_path);
+  ReportFiles files;
+  const auto plot = [&](const std::string& name, const std::string& what, const std::string& body) {
+    core::write_atomically(run_dir / (name + ".gp"), [&](std::ostream& os) {
+      os << core::gnuplot_header(name, what) << core::gnuplot_outputs(name, body);
+    });
+    (core::plot_with_gnuplot(run_dir, name) ? files.plots : files.missing_plots).push_back(name);
+  };
+
+  std::string body;
+  const std::string energy_unit = s.dimension == 2 ? "J/m" : "J";
+  const bool table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
+  if (s.free_surface) {
+    const std::string probes = probe_file_of(s.scene);
+    const core::CsvTable table = core::read_csv(run_dir / probes);
+    const auto col = [&](std::string_view name) {
+      const int c = column_of(table, name);
+      if (c == 0) missing(run_dir / probes, name, "a column of the probe file");
+      return c;
+    };
+    if (s.scene == "dam_break") {
+      std::string curves = fmt::format("'{}' using 1:{} with lines lw 2 title 'LDD (this run)'", probes, col("front"));
+      if (table1)
+        curves +=
+            ", 'table1.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (LDD Table 1)', "
+            "'table1.csv' using 1:5 with points pt 6 ps 1.4 title 'seed LDD (same Δ, δt)'";
+      plot("front", "Mass front position vs time",
+           "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
+    } else if (s.scene == "slump") {
+      plot("spread", "Slump spread and height vs time",
+           fmt::format("set xlabel 't [s]'\nset ylabel 'length [m]'\nplot '{0}' using 1:{1} with lines lw 2 title "
+                       "'spread (diameter)', '{0}' using 1:{2} with lines lw 2 title 'height'\n",
+                       probes, col("diameter"), col("height")));
+    } else if (column_of(table, "left_wall_height") > 0) {
+      plot("wall_height", "Free-surface height at the left wall vs time",
+           fmt::format("set xlabel 't [s]'\nset ylabel 'height [m]'\nplot '{}' using 1:{} with lines lw 2 title "
+                       "'LDD'\n",
+                       probes, col("left_wall_height")));
+    }
+    plot("energy", "Kinetic energy and released potential energy vs time",
+         fmt::format("set xlabel 't [s]'\nset ylabel 'energy [{0}]'\nplot '{1}' using 1:{2} with lines lw 2 title "
+                     "'kinetic energy', '{1}' using 1:{3} with lines lw 2 title 'potential energy released'\n",
+                     energy_unit, probes, col("kinetic_energy"), col("potential_energy_released")));
+    plot("volume", "Relative fluid volume drift vs time",
+         fmt::format("set xlabel 't [s]'\nset ylabel 'volume drift [-]'\nplot '{}' using 1:{} with lines lw 2 title "
+                     "'(V − V₀)/V₀'\n",
+                     probes, col("volume_drift")));
+  }
+
+  // ---- the page
+  std::string html = core::html_page_head("rheosim LDD report");
+  html += fmt::format("<h1>rheosim LDD report: {}</h1>\n", esc(s.case_name));
+  if (s.status == "diverged")
+    html += fmt::format("<div class=fail><b>The run diverged</b>: {}</div>\n", esc(s.message));
+  html += "<table>\n";
+  const auto row = [&](std::string_view key, const std::string& value) {
+    html += fmt::format("<tr><th class=l>{}</th><td class=l>{}</td></tr>\n", key, value);
+  };
+  row("scene", fmt::format("{} ({}D)", esc(s.scene), s.dimension));
+  row("status", esc(s.status));
+  row("nodes", fmt::format("{}", s.nodes));
+  row("spacing Δ", fmt::format("{:g} m", s.spacing));
+  row("time step δt",
+      fmt::format("{:g} s{}", s.time_step, s.time_step_rule.empty() ? "" : " (" + esc(s.time_step_rule) + ")"));
+  row("steps, simulated time", fmt::format("{}, {:.6g} s", s.steps, s.time));
+  row("cost",
+      fmt::format("{:.3g} ms per step on {} thread(s), {:.3g} s wall time", s.ms_per_step, s.threads, s.wall_time));
+  if (s.free_surface) {
+    row("volume drift (largest)", fmt::format("{:.3g} %", 100 * s.volume_drift));
+    row("energy gain", s.energy_gain ? fmt::format("{:.3g} % of the potential energy released", 100 * *s.energy_gain)
+                                     : std::string("— (nothing released: a resting column)"));
+    row("repeated linear solves", fmt::format("{}", s.repeated_solves));
+    if (s.final_spread) {
+      row("final spread, height", fmt::format("{:.4g} m, {:.4g} m", *s.final_spread, *s.final_height));
+      row("yielded fraction",
+          s.yielded_fraction ? fmt::format("{:.3g}", *s.yielded_fraction) : std::string("— (no yield stress)"));
+      row("arrested (yield criterion)", s.arrested ? "yes" : "no");
+    }
+  } else {
+    row("Reynolds number", fmt::format("{:.4g}", s.reynolds_number));
+    row("final steady residual", fmt::format("{:.3g}", s.final_residual));
+  }
+  html += "</table>\n";
+  if (!s.warnings.empty()) {
+    html += "<div class=note><b>Rules the run bent</b> (also in summary.json <code>warnings</code> and the log):<ul>\n";
+    for (const auto& w : s.warnings) html += fmt::format("<li>{}</li>\n", esc(w));
+    html += "</ul></div>\n";
+  }
+  if (s.free_surface) {
+    if (s.scene == "dam_break") {
+      html += "<h2>Front</h2>\n";
+      html += figure_or_note(files, "front",
+                             "Mass front x(t) of this run; points: the experiment and the seed's LDD column of "
+                             "LDD Table 1 where the case's Δ and δt have one (front.csv, table1.csv).");
+      if (table1) {
+        const core::CsvTable t = core::read_csv(run_dir / "table1.csv");
+        html +=
+            "<table>\n<tr><th>t [s]</th><th>experiment [m]</th><th>this run [m]</th><th>error [m]</th>"
+            "<th>seed LDD [m]</th></tr>\n";
+        const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : std::string("—"); };
+        for (std::size_t i = 0; i < t.row_count(); ++i) {
+          const auto r = t.row(i);
+          html += fmt::format("<tr><td>{:.2f}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", r[0],
+                              cell(r[1]), cell(r[2]), cell(r[3]), cell(r[4]));
+        }
+        html += "</table>\n";
+      }
+    } else if (s.scene == "slump") {
+      html += "<h2>Spread</h2>\n";
+      html += figure_or_note(files, "spread", "Spread (diameter) and height of the slump against time (spread.csv).");
+    } else if (std::find(files.plots.begin(), files.plots.end(), "wall_height") != files.plots.end() ||
+               std::find(files.missing_plots.begin(), files.missing_plots.end(), "wall_height") !=
+                   files.missing_plots.end()) {
+      html += "<h2>Free surface at the left wall</h2>\n";
+      html += figure_or_note(files, "wall_height", "Free-surface height at the left wall (column.csv).");
+    }
+    html += "<h2>Energy and volume</h2>\n";
+    html += figure_or_note(files, "energy",
+                           "Kinetic energy against the potential energy released: with no energy source the "
+                           "first stays below the second (energy_gain in the table).");
+    html += figure_or_note(files, "volume", "Relative volume drift of the fluid nodes.");
+  } else {
+    html += "<h2>Centre lines and streamlines</h2>\n";
+    for (const char* name : {"centerlines", "streamlines"})
+      html +=
+          fs::exists(run_dir / (std::string(name) + ".png"))
+              ? fmt::format(
+                    "<figure><img src=\"{0}.png\" alt=\"{0}\"><figcaption>{0}.png, drawn by the run "
+                    "({0}.gp)</figcaption></figure>\n",
+                    name)
+              : fmt::format("<p class=warn>{0}.png was not drawn; run <code>gnuplot {0}.gp</code> here.</p>\n", name);
+  }
+  html +=
+      "<p class=small>Every number above is in summary.json or the CSV files of this folder; the node "
+      "clouds are in frames/ (nodes.pvd for ParaView).</p>\n";
+  html += core::html_page_tail();
+  files.html = run_dir / "report.html";
+  core::write_atomically(files.html, [&](std::ostream& os) { os << html; });
+  return files;
+}
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,98 @@
+// The LDD report (ldd/report.hpp): a dam-break run through run_case gets its own report.html
+// from its typed summary, and the summary reader names what is missing or of another kind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/log.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/ldd/report.hpp"
+#include "rheosim/ldd/run.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A short Bingham dam break run into its own folder (each test has one: ctest runs them in
+// parallel processes).
+class LddReport : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string text =
+        "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+        "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+        "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.05}\n"
+        "solver: {threads: 1}\n";
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::temp_directory_path() / (std::string("rheosim_ldd_report_") + test->name());
+    std::filesystem::remove_all(dir_);
+    ASSERT_EQ(run_case(core::parse_case(text, "report_dam_break.yaml"), dir_, core::Log::null()).status, "end_time");
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
+  const RunSummary s = read_run_summary(dir() / "summary.json");
+  const auto json = core::read_json(dir() / "summary.json");
+  EXPECT_EQ(s.scene, "dam_break");
+  EXPECT_TRUE(s.free_surface);
+  EXPECT_EQ(s.nodes, json["nodes"].get<std::size_t>());
+  EXPECT_EQ(s.steps, 50u);
+  ASSERT_TRUE(s.final_spread.has_value());
+  EXPECT_DOUBLE_EQ(*s.final_spread, json["final_spread"].get<double>());
+  ASSERT_TRUE(s.energy_gain.has_value());
+
+  const ReportFiles files = write_report(dir());
+  EXPECT_EQ(files.plots.size() + files.missing_plots.size(), 3u);  // front, energy, volume
+  for (const char* script : {"front.gp", "energy.gp", "volume.gp"})
+    EXPECT_TRUE(std::filesystem::exists(dir() / script)) << script;
+  const std::string html = read_text(files.html);
+  EXPECT_NE(html.find("rheosim LDD report: report_dam_break"), std::string::npos);
+  EXPECT_NE(html.find("dam_break (2D)"), std::string::npos);
+  EXPECT_NE(html.find("<td>0.103</td>"), std::string::npos);  // LDD Table 1's experiment at 0.09 s
+  EXPECT_EQ(html.find("nan"), std::string::npos);             // no missing value rendered as a number
+}
+
+TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
+  const auto folder = dir() / "broken";
+  std::filesystem::create_directories(folder);
+  auto json = core::read_json(dir() / "summary.json");
+  json.erase("ms_per_step");
+  core::write_json(folder / "summary.json", json);
+  try {
+    (void)read_run_summary(folder / "summary.json");
+    FAIL() << "a summary without ms_per_step was read";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.details().key_path, "ms_per_step");
+    EXPECT_NE(std::string(e.what()).find((folder / "summary.json").string()), std::string::npos) << e.what();
+  }
+  json = core::read_json(dir() / "summary.json");
+  json["kind"] = "sweep";
+  core::write_json(folder / "summary.json", json);
+  try {
+    (void)write_report(folder);
+    FAIL() << "a sweep's summary got an LDD report";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.details().key_path, "kind");
+  }
+}
+
+}  // namespace
+}  // namespace rheosim::ldd
