@@ -1,12 +1,36 @@
 #include "rheosim/core/report_page.hpp"
 
 #include <cstdlib>
+#include <utility>
 
 #include <fmt/format.h>
 
+#include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 
 namespace rheosim::core {
+
+std::filesystem::path run_summary_file(const std::filesystem::path& run_dir) {
+  const std::filesystem::path summary = run_dir / "summary.json";
+  if (std::filesystem::exists(summary)) return summary;
+  ConfigError::Details d;
+  d.where = FileLocation{run_dir.string(), 0, 0};
+  d.problem = "no summary.json in this folder";
+  d.expected = "a folder written by 'rheosim run'";
+  d.hint = "pass the --out folder of a finished run";
+  throw ConfigError(d);
+}
+
+void refuse_summary_kind(const std::filesystem::path& summary, std::string_view kind, std::string_view expected,
+                         std::string_view hint) {
+  ConfigError::Details d;
+  d.where = FileLocation{summary.string(), 0, 0};
+  d.key_path = "kind";
+  d.problem = fmt::format("summary.json is of a kind '{}' run", kind);
+  d.expected = std::string(expected);
+  d.hint = std::string(hint);
+  throw ConfigError(d);
+}
 
 std::string html_page_head(std::string_view title) {
   std::string head = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>";
@@ -46,10 +70,9 @@ std::string gnuplot_header(std::string_view name, std::string_view what) {
 
 std::string gnuplot_outputs(std::string_view name, std::string_view body, int width, int height) {
   std::string s;
-  s += fmt::format("set terminal pngcairo size {},{} font 'DejaVu Sans,10'\nset output '{}.png'\n{}", width, height,
-                   name, body);
-  s += fmt::format("set terminal svg size {},{} dynamic font 'DejaVu Sans,10'\nset output '{}.svg'\n{}", width, height,
-                   name, body);
+  for (const auto& [terminal, extension] : {std::pair{"pngcairo", "png"}, std::pair{"svg", "svg"}})
+    s += fmt::format("set terminal {} size {},{}{} font 'DejaVu Sans,10'\nset output '{}.{}'\n{}", terminal, width,
+                     height, std::string_view(extension) == "svg" ? " dynamic" : "", name, extension, body);
   return s + "unset output\n";
 }
 

@@ -105,15 +105,10 @@ std::string probe_file_of(const std::string& scene) {
 RunSummary read_run_summary(const fs::path& summary_json) {
   const Json json = core::read_json(summary_json);
   const Reader r(json, summary_json);
-  if (r.text("kind") != "ldd") {
-    core::ConfigError::Details d;
-    d.where = core::FileLocation{summary_json.string(), 0, 0};
-    d.key_path = "kind";
-    d.problem = fmt::format("summary.json is of a kind '{}' run", r.text("kind"));
-    d.expected = "the summary of a kind: ldd run";
-    d.hint = "'rheosim report' writes the report of a rheometer or sweep run with the rheometer report";
-    throw core::ConfigError(d);
-  }
+  if (const std::string kind = r.text("kind"); kind != "ldd")
+    core::refuse_summary_kind(
+        summary_json, kind, "the summary of a kind: ldd run",
+        "'rheosim report' writes the report of a rheometer or sweep run with the rheometer report");
   RunSummary s;
   s.case_name = r.text("case");
   s.scene = r.text("scene");
@@ -150,15 +145,7 @@ RunSummary read_run_summary(const fs::path& summary_json) {
 }
 
 ReportFiles write_report(const fs::path& run_dir) {
-  const fs::path summary_path = run_dir / "summary.json";
-  if (!fs::exists(summary_path)) {
-    core::ConfigError::Details d;
-    d.where = core::FileLocation{run_dir.string(), 0, 0};
-    d.problem = "no summary.json in this folder";
-    d.expected = "a folder written by 'rheosim run'";
-    d.hint = "pass the --out folder of a finished run";
-    throw core::ConfigError(d);
-  }
+  const fs::path summary_path = core::run_summary_file(run_dir);
   const RunSummary s = read_run_summary(summary_path);
   ReportFiles files;
   const auto plot = [&](const std::string& name, const std::string& what, const std::string& body) {

@@ -120,25 +120,11 @@ int colour(std::size_t i) { return static_cast<int>(i % 8) + 1; }
 }  // namespace
 
 ReportFiles write_report(const fs::path& run_dir) {
-  const auto summary_path = run_dir / "summary.json";
-  if (!fs::exists(summary_path)) {
-    core::ConfigError::Details d;
-    d.where = core::FileLocation{run_dir.string(), 0, 0};
-    d.problem = "no summary.json in this folder";
-    d.expected = "a folder written by 'rheosim run'";
-    d.hint = "pass the --out folder of a finished run";
-    throw core::ConfigError(d);
-  }
+  const auto summary_path = core::run_summary_file(run_dir);
   const Json summary = core::read_json(summary_path);
-  if (const std::string kind = text(summary, "kind"); kind != "rheometer" && kind != "sweep") {
-    core::ConfigError::Details d;
-    d.where = core::FileLocation{summary_path.string(), 0, 0};
-    d.key_path = "kind";
-    d.problem = fmt::format("summary.json is of a kind '{}' run", kind);
-    d.expected = "the summary of a rheometer or sweep run";
-    d.hint = "'rheosim report' writes the report of an LDD run with the LDD report";
-    throw core::ConfigError(d);
-  }
+  if (const std::string kind = text(summary, "kind"); kind != "rheometer" && kind != "sweep")
+    core::refuse_summary_kind(summary_path, kind, "the summary of a rheometer or sweep run",
+                              "'rheosim report' writes the report of an LDD run with the LDD report");
   const Json& points = array(summary, "points");
   const Json& series_json = array(summary, "series");
   const Json& fits = array(summary, "fits");

@@ -8,6 +8,12 @@
 
 namespace rheosim::core {
 
+// <run_dir>/summary.json, or a ConfigError saying the folder is not that of a finished run.
+[[nodiscard]] std::filesystem::path run_summary_file(const std::filesystem::path& run_dir);
+// A ConfigError at `summary`'s key `kind`: the summary is of a kind this report does not draw.
+[[noreturn]] void refuse_summary_kind(const std::filesystem::path& summary, std::string_view kind,
+                                      std::string_view expected, std::string_view hint);
+
 // "<!DOCTYPE html> … <body>" with the shared style sheet; title is escaped.
 [[nodiscard]] std::string html_page_head(std::string_view title);
 // Closes what html_page_head opened.
