@@ -10,6 +10,7 @@
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/report_page.hpp"
+#include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
 
@@ -94,12 +95,6 @@ int column_of(const core::CsvTable& table, std::string_view name) {
   return 0;
 }
 
-std::string probe_file_of(const std::string& scene) {
-  if (scene == "dam_break") return "front.csv";
-  if (scene == "slump") return "spread.csv";
-  return "column.csv";
-}
-
 }  // namespace
 
 RunSummary read_run_summary(const fs::path& summary_json) {
@@ -158,8 +153,9 @@ ReportFiles write_report(const fs::path& run_dir) {
   std::string body;
   const std::string energy_unit = s.dimension == 2 ? "J/m" : "J";
   const bool table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
+  bool wall_height = false;  // a sloshing column's probe file has the height at the left wall
   if (s.free_surface) {
-    const std::string probes = probe_file_of(s.scene);
+    const std::string probes = probe_file_name(s.scene);
     const core::CsvTable table = core::read_csv(run_dir / probes);
     const auto col = [&](std::string_view name) {
       const int c = column_of(table, name);
@@ -180,6 +176,7 @@ ReportFiles write_report(const fs::path& run_dir) {
                        "'spread (diameter)', '{0}' using 1:{2} with lines lw 2 title 'height'\n",
                        probes, col("diameter"), col("height")));
     } else if (column_of(table, "left_wall_height") > 0) {
+      wall_height = true;
       plot("wall_height", "Free-surface height at the left wall vs time",
            fmt::format("set xlabel 't [s]'\nset ylabel 'height [m]'\nplot '{}' using 1:{} with lines lw 2 title "
                        "'LDD'\n",
@@ -256,9 +253,7 @@ ReportFiles write_report(const fs::path& run_dir) {
     } else if (s.scene == "slump") {
       html += "<h2>Spread</h2>\n";
       html += figure_or_note(files, "spread", "Spread (diameter) and height of the slump against time (spread.csv).");
-    } else if (std::find(files.plots.begin(), files.plots.end(), "wall_height") != files.plots.end() ||
-               std::find(files.missing_plots.begin(), files.missing_plots.end(), "wall_height") !=
-                   files.missing_plots.end()) {
+    } else if (wall_height) {
       html += "<h2>Free surface at the left wall</h2>\n";
       html += figure_or_note(files, "wall_height", "Free-surface height at the left wall (column.csv).");
     }

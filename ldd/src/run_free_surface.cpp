@@ -434,7 +434,7 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
                                            {"max_pbd_shift", ""}})
     columns.push_back(col);
   core::CsvTable history(columns);
-  const std::string probe_file = dam_break ? "front.csv" : slump ? "spread.csv" : "column.csv";
+  const std::string probe_file = probe_file_name(l.scene_type);
   RunRecord run;
 
   const auto record = [&](const FreeSurfaceStats& st) {
@@ -695,6 +695,12 @@ RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::pat
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,
            outcome.steps, solver.time(), outcome.ms_per_step, 100 * run.max_drift, outcome.summary.string());
   return outcome;
+}
+
+std::string probe_file_name(std::string_view scene_type) {
+  if (scene_type == "dam_break") return "front.csv";
+  if (scene_type == "slump") return "spread.csv";
+  return "column.csv";
 }
 
 DamBreakResult simulate_dam_break(const core::DamBreakScene& scene, const FreeSurfaceParams& params, double end_time) {

@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rheosim/core/case.hpp"
@@ -57,6 +58,10 @@ struct RunControl {
 // Throws core::RunError for a scene in a dimension it is not built for (dam_break and column are
 // 2D), core::ConfigError when out_dir holds the checkpoint of another input deck; never throws
 // for divergence (see RunOutcome::status: also "settled" for a slump).
+// The probe file a free-surface scene writes beside summary.json: front.csv (dam_break),
+// spread.csv (slump), column.csv (column).
+[[nodiscard]] std::string probe_file_name(std::string_view scene_type);
+
 RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
                     const RunControl& control = {});
 
