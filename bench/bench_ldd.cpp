@@ -43,8 +43,8 @@
 #include <filesystem>
 
 #include "data/ghia1982.hpp"  // tests/ldd/data
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/operators.hpp"
@@ -64,7 +64,7 @@ std::shared_ptr<const core::Rheology> rheology(const std::string& yaml) {
       "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
       "fluid: {density: 1, rheology: " +
       yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
-  return std::get<core::LddCase>(core::parse_case(text, "bench.yaml").spec).fluid.rheology;
+  return ldd::parse_case(text, "bench.yaml").settings.fluid.rheology;
 }
 
 struct Scenario {
@@ -85,17 +85,6 @@ double cpu_seconds() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-const char* name_of(ldd::Preconditioner p) {
-  switch (p) {
-    case ldd::Preconditioner::jacobi:
-      return "jacobi";
-    case ldd::Preconditioner::sparse_lu:
-      return "lu";
-    default:
-      return "amg";
-  }
 }
 
 // The state after the timed steps, for comparing builds: every node's u, v, p, then u on the
@@ -127,7 +116,7 @@ void dump_state(const std::string& path, const ldd::Cavity& cavity, const ldd::S
 void time_steps(const Scenario& s, int cells, int threads, int steps, const Preconditioners& preconditioners,
                 const std::string& dump_dir) {
   omp_set_num_threads(threads);
-  core::CavityScene scene;
+  ldd::CavityScene scene;
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   scene.skew_angle = s.skew_angle;
@@ -159,9 +148,9 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
   std::printf(
       "| %s | %d² (%zu nodes) | %s / %s | %d | %.1f | %.1f | %.0f | %.2f s | %.1f / %.1f / %.1f / %.1f | %.1f / %.1f "
       "|\n",
-      s.name, cells, solver.node_count(), name_of(preconditioners.pressure), name_of(preconditioners.velocity), threads,
-      1e3 * seconds / steps, 1e3 * cpu / steps, s.gpu_ms, setup, per * (a.rheology - before.rheology),
-      per * (a.pressure - before.pressure), per * (a.momentum - before.momentum),
+      s.name, cells, solver.node_count(), ldd::name_of(preconditioners.pressure).data(),
+      ldd::name_of(preconditioners.velocity).data(), threads, 1e3 * seconds / steps, 1e3 * cpu / steps, s.gpu_ms, setup,
+      per * (a.rheology - before.rheology), per * (a.pressure - before.pressure), per * (a.momentum - before.momentum),
       per * (a.advection - before.advection), static_cast<double>(pressure_iterations) / steps,
       static_cast<double>(velocity_iterations) / steps);
   std::fflush(stdout);
@@ -206,7 +195,7 @@ void accuracy(const AccuracyOptions& o) {
   omp_set_num_threads(o.threads);
   const auto points = ghia();
   const auto probes = accuracy_probes(points);
-  core::CavityScene scene;
+  ldd::CavityScene scene;
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   const char* names[] = {"quadratic", "shepard", "gradient_corrected"};
@@ -336,11 +325,11 @@ void krylov_floor() {
       "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   for (const Scene& scene : scenes) {
-    const core::Case c = core::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/" + scene.case_file);
-    const auto& l = std::get<core::LddCase>(c.spec);
+    const ldd::Case c = ldd::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/" + scene.case_file);
+    const auto& l = c.settings;
     const ldd::FreeSurfaceScene built =
-        l.dimension == 3 ? ldd::slump_scene(std::get<core::SlumpScene>(l.scene), scene.spacing, l.walls)
-                         : ldd::dam_break_scene(std::get<core::DamBreakScene>(l.scene), scene.spacing);
+        l.dimension == 3 ? ldd::slump_scene(std::get<ldd::SlumpScene>(l.scene), scene.spacing, l.walls)
+                         : ldd::dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), scene.spacing);
     const ldd::FreeSurfaceCloud& cloud = built.cloud;
     const numerics::NeighbourList nb = numerics::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
     const std::size_t n = nb.node_count();
@@ -431,7 +420,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if ((argc == 4 || (argc == 6 && std::string(argv[4]) == "--stability-probe")) && std::string(argv[1]) == "run") {
-    const core::Case c = core::load_case(argv[2]);
+    const ldd::Case c = ldd::load_case(argv[2]);
     const auto log = core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
     ldd::RunControl control;
     if (argc == 6) control.stability_probe_iterations = std::stoi(argv[5]);
@@ -446,7 +435,12 @@ int main(int argc, char** argv) {
       if (arg == "--re" && has_value) {
         o.reynolds = std::stoi(argv[++a]);
       } else if (arg == "--interpolation" && has_value) {
-        o.interpolation = ldd::lattice_interpolation_named(argv[++a]);
+        const auto named = ldd::lattice_interpolation_named(argv[++a]);
+        if (!named) {
+          std::fprintf(stderr, "bench_ldd accuracy: unknown interpolation '%s'\n", argv[a]);
+          return 2;
+        }
+        o.interpolation = *named;
       } else if (arg == "--dt" && has_value) {
         o.dt = std::stod(argv[++a]);
       } else if (arg == "--end" && has_value) {
@@ -491,7 +485,12 @@ int main(int argc, char** argv) {
       cell_counts = {std::stoi(argv[++a])};
     } else if ((arg == "--pressure" || arg == "--velocity") && a + 1 < argc) {
       auto& target = arg == "--pressure" ? preconditioners.pressure : preconditioners.velocity;
-      target = ldd::preconditioner_named(argv[++a], target);
+      const auto named = ldd::preconditioner_named(argv[++a]);
+      if (!named) {
+        std::fprintf(stderr, "bench_ldd: unknown preconditioner '%s' (jacobi, lu, amg)\n", argv[a]);
+        return 2;
+      }
+      target = *named;
     } else {
       std::fprintf(
           stderr,

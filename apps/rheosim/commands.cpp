@@ -12,6 +12,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/run_lock.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/report.hpp"
 #include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
@@ -87,9 +88,16 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
   int status = exit_success;
   for (const auto& file : case_files) {
     try {
-      const core::Case c = core::load_case(file);
-      std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind(), core::describe(c));
-      describe_suspension_model(c);
+      // The kind names the module that reads the rest of the file.
+      const core::CaseFile case_file = core::CaseFile::open(file);
+      if (case_file.header().kind == "ldd") {
+        const ldd::Case c = ldd::read_case(case_file);
+        std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind, ldd::describe(c));
+      } else {
+        const core::Case c = core::read_case(case_file);
+        std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind, core::describe(c));
+        describe_suspension_model(c);
+      }
     } catch (const core::ConfigError& e) {
       status = bad_input(log, e);
     }
@@ -99,13 +107,20 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
 
 int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget, double stop_after,
         const core::Log& log) {
-  core::Case c;
+  std::optional<core::CaseFile> file;
+  std::optional<core::Case> rheometer_or_sweep;
+  std::optional<ldd::Case> ldd_case;
   try {
-    c = core::load_case(case_file);
+    // The kind names the module that reads the rest of the file.
+    file.emplace(core::CaseFile::open(case_file));
+    if (file->header().kind == "ldd")
+      ldd_case.emplace(ldd::read_case(*file));
+    else
+      rheometer_or_sweep.emplace(core::read_case(*file));
   } catch (const core::ConfigError& e) {
     return bad_input(log, e);
   }
-  const std::filesystem::path out = out_dir.empty() ? std::filesystem::path("results") / c.name : out_dir;
+  const std::filesystem::path out = out_dir.empty() ? std::filesystem::path("results") / file->header().name : out_dir;
   std::optional<core::RunDirectoryLock> lock;  // one writer per run folder, for the whole run
   try {
     lock.emplace(out);
@@ -113,13 +128,15 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
     log.error("{}", e.what());
     return exit_run_failure;
   }
+  if (ldd_case) return run_ldd(*ldd_case, out, stop_after, log);
+  const core::Case& c = *rheometer_or_sweep;
   if (std::holds_alternative<core::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
-  if (std::holds_alternative<core::LddCase>(c.spec)) return run_ldd(c, out, stop_after, log);
   const auto* rheometer_case = std::get_if<core::RheometerCase>(&c.spec);
   if (rheometer_case && rheometer_case->particles) {
     // A suspension at one φ runs as a two-fraction sweep: the liquid alone (φ = 0, the reference
     // for the torque increase) and the suspension, with resume, analysis and report.
     core::Case as_sweep = c;
+    as_sweep.kind = "sweep";
     const double phi = rheometer_case->particles->volume_fraction;
     as_sweep.spec =
         core::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
@@ -142,7 +159,9 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
                     const std::string& mesh, const std::string& rim, const core::Log& log) {
   try {
-    const core::Case c = core::load_case(case_file);
+    const core::CaseFile file = core::CaseFile::open(case_file);
+    file.require_kind({"rheometer"}, "export-openfoam (OpenFOAM is the single-phase rheometer's peer)");
+    const core::Case c = core::read_case(file);
     if (rim_shear_rate <= 0)
       if (const auto* r = std::get_if<core::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();
     rheometer::OpenFoamExportOptions options;

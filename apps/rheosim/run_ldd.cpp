@@ -10,7 +10,7 @@
 
 namespace rheosim::app {
 
-int run_ldd(const core::Case& c, const std::filesystem::path& out_dir, double stop_after, const core::Log& log) {
+int run_ldd(const ldd::Case& c, const std::filesystem::path& out_dir, double stop_after, const core::Log& log) {
   try {
     const auto log_file = log.with_file(out_dir / "log.txt");
     log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, c.file,

@@ -14,7 +14,7 @@ Vec2 Wall::inward_normal() const {
   return {-ty / length, tx / length};  // left of start → end
 }
 
-Cavity::Cavity(const core::CavityScene& scene, double spacing)
+Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
     : width_(scene.size[0]),
       side_(scene.size[1]),
       angle_(scene.skew_angle > 0 ? scene.skew_angle : std::numbers::pi / 2),

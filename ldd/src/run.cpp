@@ -22,7 +22,7 @@
 
 namespace rheosim::ldd {
 
-RunOutcome run_free_surface_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
                                  const RunControl& control);
 
 namespace {
@@ -177,10 +177,10 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
 
 }  // namespace
 
-RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
                     const RunControl& control) {
-  const auto& l = std::get<core::LddCase>(c.spec);
-  const auto* scene = std::get_if<core::CavityScene>(&l.scene);
+  const auto& l = c.settings;
+  const auto* scene = std::get_if<ldd::CavityScene>(&l.scene);
   if (!scene) return run_free_surface_case(c, out_dir, log, control);
   const auto wall_start = std::chrono::steady_clock::now();
   if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
@@ -200,12 +200,10 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   params.velocity_tolerance = l.solver.velocity_tolerance;
   params.max_iterations = l.solver.max_iterations;
   params.max_courant = l.solver.max_courant;
-  params.reordering = l.solver.reordering == "density" ? Reordering::density : Reordering::lattice;
-  params.interpolation = lattice_interpolation_named(l.solver.interpolation);
-  params.pressure_preconditioner =
-      preconditioner_named(l.solver.pressure_preconditioner, params.pressure_preconditioner);
-  params.velocity_preconditioner =
-      preconditioner_named(l.solver.velocity_preconditioner, params.velocity_preconditioner);
+  params.reordering = l.solver.reordering;
+  params.interpolation = l.solver.interpolation;
+  params.pressure_preconditioner = l.solver.pressure_preconditioner.value_or(params.pressure_preconditioner);
+  params.velocity_preconditioner = l.solver.velocity_preconditioner.value_or(params.velocity_preconditioner);
   params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;
   params.length_scale = cavity.width();
   Solver solver(params, cavity.walls(), cavity.initial_cloud());
@@ -334,7 +332,7 @@ RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, c
   return outcome;
 }
 
-CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams& params, double end_time,
+CavityResult simulate_cavity(const ldd::CavityScene& scene, const SolverParams& params, double end_time,
                              double steady_tolerance, std::span<const double> probe_fractions) {
   const Cavity cavity(scene, params.spacing);
   Solver solver(params, cavity.walls(), cavity.initial_cloud());

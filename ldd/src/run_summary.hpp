@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/solver.hpp"
 
@@ -51,12 +51,12 @@ template <class Solver, class Result>
 // Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps, time,
 // phase_times).
 template <class Solver>
-[[nodiscard]] nlohmann::ordered_json summary_head(const core::Case& c, const core::LddCase& l, const Solver& solver,
+[[nodiscard]] nlohmann::ordered_json summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
                                                   const RunOutcome& outcome, int threads) {
   const PhaseTimes& t = solver.phase_times();
   nlohmann::ordered_json summary;
   summary["case"] = c.name;
-  summary["kind"] = c.kind();
+  summary["kind"] = c.kind;
   summary["scene"] = l.scene_type;
   summary["dimension"] = l.dimension;
   summary["rheosim_version"] = core::version;

@@ -49,7 +49,7 @@ FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, 
 
 }  // namespace
 
-FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing) {
+FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing) {
   const int nx = cells_along(scene.size[0], spacing, "column width");
   const int ny = cells_along(scene.size[1], spacing, "column height");
   const double amplitude = scene.wave_amplitude;
@@ -70,7 +70,7 @@ FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing) {
   return s;
 }
 
-FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacing) {
+FreeSurfaceScene dam_break_scene(const ldd::DamBreakScene& scene, double spacing) {
   const int reservoir = cells_along(scene.reservoir[0], spacing, "reservoir length");
   const int rows = cells_along(scene.reservoir[1], spacing, "reservoir height");
   const int channel = cells_along(scene.channel_length, spacing, "channel length");
@@ -78,7 +78,7 @@ FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacin
   return box_2d(x0, channel, rows + 4, 0, reservoir, rows, spacing);
 }
 
-FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing, std::span<const core::LddWall> walls) {
+FreeSurfaceScene slump_scene(const ldd::SlumpScene& scene, double spacing, std::span<const ldd::WallSettings> walls) {
   const double dx = spacing, height = scene.cone_height;
   const double rb = 0.5 * scene.cone_bottom_diameter, rt = 0.5 * scene.cone_top_diameter;
   cells_along(scene.cone_top_diameter, spacing, "cone top diameter");
@@ -128,7 +128,7 @@ FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing, std:
   return s;
 }
 
-void add_walls(FreeSurfaceScene& s, std::span<const core::LddWall> walls, double spacing,
+void add_walls(FreeSurfaceScene& s, std::span<const ldd::WallSettings> walls, double spacing,
                std::vector<std::size_t> fixed, std::span<const double> region_lower,
                std::span<const double> region_upper) {
   const int dimension = s.cloud.dimension;

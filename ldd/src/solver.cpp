@@ -49,12 +49,6 @@ constexpr double pressure_regularisation = 1e-6;
 
 }  // namespace
 
-LatticeInterpolation lattice_interpolation_named(std::string_view name) {
-  if (name == "shepard") return LatticeInterpolation::shepard;
-  if (name == "gradient_corrected") return LatticeInterpolation::gradient_corrected;
-  return LatticeInterpolation::quadratic;
-}
-
 void SolverParams::check() const {
   require(density > 0, "density", density, "> 0 kg/m³");
   if (!rheology) throw std::invalid_argument("LDD solver: no rheology law");

@@ -611,7 +611,7 @@ namespace {
 
 // A plane's wall nodes: a Δ-lattice of the plane clipped to the region box, Δ/2 behind the
 // physical plane (the same convention as the scenes' floors).
-BuiltWall make_plane(const core::LddWall& spec, int dimension, double spacing, std::span<const double> lower,
+BuiltWall make_plane(const ldd::WallSettings& spec, int dimension, double spacing, std::span<const double> lower,
                      std::span<const double> upper) {
   const auto dim = static_cast<std::size_t>(dimension);
   const Vec3 n = unit(to_vec3(spec.normal));
@@ -649,7 +649,8 @@ BuiltWall make_solid(double spacing, Args&&... args) {
   return built;
 }
 
-using WallFactory = BuiltWall (*)(const core::LddWall&, int, double, std::span<const double>, std::span<const double>);
+using WallFactory = BuiltWall (*)(const ldd::WallSettings&, int, double, std::span<const double>,
+                                  std::span<const double>);
 
 struct RegistryEntry {
   const char* name;
@@ -660,23 +661,23 @@ struct RegistryEntry {
 constexpr RegistryEntry registry[] = {
     {"plane", &make_plane},
     {"box",
-     [](const core::LddWall& w, int, double dx, std::span<const double>, std::span<const double>) {
+     [](const ldd::WallSettings& w, int, double dx, std::span<const double>, std::span<const double>) {
        return make_solid<BoxBoundary>(dx, w.lower, w.upper, w.fluid_inside, 0.5 * dx);
      }},
     {"cylinder",
-     [](const core::LddWall& w, int, double dx, std::span<const double>, std::span<const double>) {
+     [](const ldd::WallSettings& w, int, double dx, std::span<const double>, std::span<const double>) {
        return make_solid<CylinderBoundary>(dx, to_vec3(w.base), to_vec3(w.axis), w.radius, w.height, w.fluid_inside,
                                            0.5 * dx);
      }},
     {"stl",
-     [](const core::LddWall& w, int, double dx, std::span<const double>, std::span<const double>) {
+     [](const ldd::WallSettings& w, int, double dx, std::span<const double>, std::span<const double>) {
        return make_solid<StlBoundary>(dx, read_stl(w.file, w.scale), w.fluid_inside, 0.5 * dx);
      }},
 };
 
 }  // namespace
 
-BuiltWall make_wall(const core::LddWall& spec, int dimension, double spacing, std::span<const double> region_lower,
+BuiltWall make_wall(const ldd::WallSettings& spec, int dimension, double spacing, std::span<const double> region_lower,
                     std::span<const double> region_upper) {
   if (!(spacing > 0)) throw std::invalid_argument("make_wall: spacing must be > 0");
   const auto dim = static_cast<std::size_t>(dimension);

@@ -453,7 +453,7 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
                                const OpenFoamExportOptions& options) {
   const auto* rc = std::get_if<core::RheometerCase>(&c.spec);
   if (rc == nullptr)
-    input_error(c.file, "kind", fmt::format("'{}' cannot be exported to OpenFOAM", c.kind()),
+    input_error(c.file, "kind", fmt::format("'{}' cannot be exported to OpenFOAM", c.kind),
                 "kind: rheometer (single phase)",
                 "OpenFOAM is rheosim's single-phase peer; sweeps and LDD scenes have no OpenFOAM export");
   if (rc->particles)

@@ -160,7 +160,7 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
 
   nlohmann::ordered_json summary;
   summary["case"] = c.name;
-  summary["kind"] = c.kind();
+  summary["kind"] = c.kind;
   summary["rheosim_version"] = core::version;
   summary["git_revision"] = core::git_revision;
   summary["input_sha256"] = c.sha256;

@@ -606,7 +606,7 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
 
   nlohmann::ordered_json summary;
   summary["case"] = c.name;
-  summary["kind"] = c.kind();
+  summary["kind"] = "sweep";  // a one-φ rheometer case runs as a sweep too
   summary["rheosim_version"] = core::version;
   summary["git_revision"] = core::git_revision;
   summary["input_sha256"] = c.sha256;

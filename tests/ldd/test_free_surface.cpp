@@ -17,10 +17,10 @@
 
 #include <fmt/format.h>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
@@ -33,7 +33,7 @@ std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
       "kind: ldd\ndimension: 2\nscene: {type: column, size: [1, 1]}\n"
       "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
       std::to_string(viscosity) + "}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
-  return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
+  return ldd::parse_case(text, "inline.yaml").settings.fluid.rheology;
 }
 
 FreeSurfaceParams column_params(double spacing, double dt, double viscosity) {
@@ -47,8 +47,8 @@ FreeSurfaceParams column_params(double spacing, double dt, double viscosity) {
   return p;
 }
 
-core::ColumnScene column(double width, double height) {
-  core::ColumnScene c;
+ldd::ColumnScene column(double width, double height) {
+  ldd::ColumnScene c;
   c.size = {width, height};
   return c;
 }
@@ -170,7 +170,7 @@ TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
 TEST(FreeSurface, ReusedNeighbourListGivesTheSameRunWithFewerSearches) {
   const double dx = 0.01, dt = 1e-3;
   const auto run = [&](double reuse_skin) {
-    FreeSurfaceScene scene = dam_break_scene(core::DamBreakScene{{0.1, 0.1}, 0.3}, dx);
+    FreeSurfaceScene scene = dam_break_scene(ldd::DamBreakScene{{0.1, 0.1}, 0.3}, dx);
     FreeSurfaceParams p = column_params(dx, dt, 1.0);
     p.neighbour_reuse_skin = reuse_skin;
     FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
@@ -266,7 +266,7 @@ class RecedingGate final : public Boundary {
 // (≈ 1 m/s here); the physical speeds are ρgH²/μ ≈ 0.1 m/s.
 TEST(FreeSurface, RecedingGateReleasesAViscousColumnWithoutPressureCollapse) {
   const double dx = 0.01, dt = 1e-2, rho = 1000, g = 9.81, height = 0.1;
-  FreeSurfaceScene scene = dam_break_scene(core::DamBreakScene{{0.1, height}, 0.3}, dx);
+  FreeSurfaceScene scene = dam_break_scene(ldd::DamBreakScene{{0.1, height}, 0.3}, dx);
   scene.boundaries.push_back(std::make_shared<RecedingGate>(0.5 * dx, 0.1));
   const int gate = static_cast<int>(scene.boundaries.size()) - 1;
   for (int j = 0; j < 14; ++j)
@@ -313,7 +313,7 @@ TEST(ConeMould, DistanceNormalAndLift) {
 }
 
 TEST(SlumpScene, FillsTheConeVolume) {
-  core::SlumpScene scene;
+  ldd::SlumpScene scene;
   scene.cone_height = 0.3;
   scene.cone_bottom_diameter = 0.2;
   scene.cone_top_diameter = 0.1;
@@ -329,7 +329,7 @@ TEST(SlumpScene, FillsTheConeVolume) {
 // The sloshing column: surface H + A cos(πx/W), so the left wall stands A above H, the right A
 // below, and the volume is the flat column's (the cosine integrates to zero over the width).
 TEST(ColumnScene, WaveAmplitudeShapesTheFirstSloshingMode) {
-  core::ColumnScene scene;
+  ldd::ColumnScene scene;
   scene.size = {0.1, 0.05};
   scene.wave_amplitude = 0.005;
   const double dx = 0.001;
@@ -358,7 +358,7 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
       "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
       "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
       "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.1}\n";
-  const core::Case c = core::parse_case(text, "dam_break_small.yaml");
+  const ldd::Case c = ldd::parse_case(text, "dam_break_small.yaml");
   const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_dam_break_run";
   std::filesystem::remove_all(dir);
   const RunOutcome outcome = run_case(c, dir, core::Log::null());
@@ -389,7 +389,7 @@ TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
       "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
       "gravity: [0, -9.81]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.05}\n";
   const auto run = [&](const std::string& fluid, const char* name) {
-    const core::Case c = core::parse_case(base + fluid, std::string(name) + ".yaml");
+    const ldd::Case c = ldd::parse_case(base + fluid, std::string(name) + ".yaml");
     const auto dir = std::filesystem::temp_directory_path() / (std::string("rheosim_ldd_") + name);
     std::filesystem::remove_all(dir);
     EXPECT_EQ(run_case(c, dir, core::Log::null()).status, "end_time");
@@ -420,7 +420,7 @@ TEST(FreeSurfaceRun, RestingWaterColumnStaysAtRestWithoutTheDryWallsInItsGradien
         "resolution: {{spacing: 0.002}}\ntime: {{step: 1.0e-3, end: 0.3}}\n"
         "solver: {{threads: 1, velocity_tolerance: 1.0e-6, dry_walls: {}}}\n",
         dry_walls);
-    const core::Case c = core::parse_case(text, std::string("resting_water_") + dry_walls + ".yaml");
+    const ldd::Case c = ldd::parse_case(text, std::string("resting_water_") + dry_walls + ".yaml");
     const auto dir = std::filesystem::temp_directory_path() / (std::string("rheosim_resting_water_") + dry_walls);
     std::filesystem::remove_all(dir);
     run_case(c, dir, core::Log::null());
@@ -438,7 +438,7 @@ TEST(FreeSurfaceRun, RestingWaterColumnStaysAtRestWithoutTheDryWallsInItsGradien
 // checkpoint (as written when it stopped) for further checks.
 void expect_resumed_run_matches_the_straight_one(const std::string& text, const std::string& name, std::size_t stop_at,
                                                  std::size_t steps, int last_frame) {
-  const core::Case c = core::parse_case(text, name + ".yaml");
+  const ldd::Case c = ldd::parse_case(text, name + ".yaml");
   const auto straight = std::filesystem::temp_directory_path() / ("rheosim_" + name + "_straight");
   const auto resumed = std::filesystem::temp_directory_path() / ("rheosim_" + name + "_twice");
   std::filesystem::remove_all(straight);
@@ -519,12 +519,12 @@ TEST(FreeSurfaceRun, CheckpointOfAnotherDeckIsRefused) {
   std::filesystem::remove_all(dir);
   RunControl stop;
   stop.step_limit = 5;
-  EXPECT_EQ(run_case(core::parse_case(text, "a.yaml"), dir, core::Log::null(), stop).status, "interrupted");
+  EXPECT_EQ(run_case(ldd::parse_case(text, "a.yaml"), dir, core::Log::null(), stop).status, "interrupted");
   const auto before = std::filesystem::last_write_time(dir / "checkpoint.h5");
   std::string other = text;
   other.replace(other.find("end: 0.1"), 8, "end: 0.2");
   try {
-    (void)run_case(core::parse_case(other, "b.yaml"), dir, core::Log::null());
+    (void)run_case(ldd::parse_case(other, "b.yaml"), dir, core::Log::null());
     ADD_FAILURE() << "another deck's checkpoint was taken";
   } catch (const core::ConfigError& e) {
     EXPECT_EQ(e.details().key_path, "input_sha256");

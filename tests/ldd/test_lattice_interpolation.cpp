@@ -62,13 +62,6 @@ double fit_error(const Cloud& c) {
   return error;  // exact second derivatives: the fluid nodes did not fall back to a linear fit
 }
 
-TEST(LatticeInterpolationNamed, MapsTheCaseFileNames) {
-  EXPECT_EQ(lattice_interpolation_named("quadratic"), LatticeInterpolation::quadratic);
-  EXPECT_EQ(lattice_interpolation_named("shepard"), LatticeInterpolation::shepard);
-  EXPECT_EQ(lattice_interpolation_named("gradient_corrected"), LatticeInterpolation::gradient_corrected);
-  EXPECT_EQ(lattice_interpolation_named("anything else"), LatticeInterpolation::quadratic);
-}
-
 TEST(QuadraticFit, ExactForQuadraticsOnSquareSkewedAndJitteredClouds) {
   EXPECT_LT(fit_error(lattice(8, std::acos(0.0), 0.0)), 1e-9);
   EXPECT_LT(fit_error(lattice(8, std::acos(0.5), 0.0)), 1e-9);  // 60°: six neighbours within h

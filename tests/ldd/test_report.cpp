@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/report.hpp"
 #include "rheosim/ldd/run.hpp"
 
@@ -39,7 +39,7 @@ class LddReport : public ::testing::Test {
     const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
     dir_ = std::filesystem::temp_directory_path() / (std::string("rheosim_ldd_report_") + test->name());
     std::filesystem::remove_all(dir_);
-    ASSERT_EQ(run_case(core::parse_case(text, "report_dam_break.yaml"), dir_, core::Log::null()).status, "end_time");
+    ASSERT_EQ(run_case(ldd::parse_case(text, "report_dam_break.yaml"), dir_, core::Log::null()).status, "end_time");
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }

@@ -10,8 +10,8 @@
 #include <numbers>
 #include <string>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/solver.hpp"
@@ -24,11 +24,11 @@ std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
       "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
       "fluid: {density: 1, rheology: {model: newtonian, viscosity: " +
       std::to_string(viscosity) + "}}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
-  return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
+  return ldd::parse_case(text, "inline.yaml").settings.fluid.rheology;
 }
 
-core::CavityScene square(double lid) {
-  core::CavityScene s;
+ldd::CavityScene square(double lid) {
+  ldd::CavityScene s;
   s.size = {1.0, 1.0};
   s.lid_velocity = lid;
   return s;
@@ -54,7 +54,7 @@ TEST(Cavity, SquareCloudHasWallsCornersAndALid) {
 }
 
 TEST(Cavity, SkewedWallsHaveInwardUnitNormals) {
-  core::CavityScene s = square(1.0);
+  ldd::CavityScene s = square(1.0);
   s.skew_angle = std::numbers::pi / 3;
   const Cavity cavity(s, 0.1);
   EXPECT_NEAR(cavity.area(), std::sin(std::numbers::pi / 3), 1e-12);
@@ -168,7 +168,7 @@ TEST(RunCase, WritesSummaryCenterlinesFramesAndResiduals) {
       "kind: ldd\ndimension: 2\nscene: {type: skewed_cavity, size: [1, 1], lid_velocity: 1, skew_angle: 60}\n"
       "fluid: {density: 1, rheology: {model: power_law, consistency: 0.002, index: 1.5}}\ngravity: [0, 0]\n"
       "resolution: {spacing: 0.0625}\ntime: {step: 0.01, end: 0.5}\nsolver: {threads: 1}\n";
-  const core::Case c = core::parse_case(text, "skewed.yaml");
+  const ldd::Case c = ldd::parse_case(text, "skewed.yaml");
   const auto dir = std::filesystem::temp_directory_path() / "rheosim_test_ldd_run";
   std::filesystem::remove_all(dir);
   const RunOutcome outcome = run_case(c, dir, core::Log::null());

@@ -11,8 +11,8 @@
 #include <random>
 #include <string>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
 #include "rheosim/ldd/walls.hpp"
@@ -205,7 +205,7 @@ TEST(WallNodes, LieOnTheWallLayer) {
 
 TEST(WallRegistry, BuildsEveryTypeByNameAndRejectsUnknownOnes) {
   EXPECT_EQ(wall_types(), (std::vector<std::string>{"plane", "box", "cylinder", "stl"}));
-  core::LddWall w;
+  ldd::WallSettings w;
   w.type = "cylinder";
   w.base = {0, 0, 0};
   w.axis = {0, 0, 1};
@@ -237,7 +237,7 @@ std::string slump_case(const std::string& walls) {
 TEST(WallCaseFile, BadEntriesNameLineKeyAndRange) {
   const auto message = [](const std::string& walls) {
     try {
-      (void)core::parse_case(slump_case(walls), "walls.yaml");
+      (void)ldd::parse_case(slump_case(walls), "walls.yaml");
     } catch (const core::ConfigError& e) {
       return std::string(e.what());
     }
@@ -258,10 +258,10 @@ TEST(WallCaseFile, BadEntriesNameLineKeyAndRange) {
 
 // `rheosim validate` shows the walls and the free-surface solver settings it read.
 TEST(WallCaseFile, DescribeListsTheWalls) {
-  const auto c = core::parse_case(slump_case("    - {type: cylinder, base: [0, 0, 0], radius: 0.07, height: 0.15}\n"
-                                             "    - {type: box, lower: [-1, -1, 0], upper: [1, 1, 1]}\n"),
-                                  "walls.yaml");
-  const std::string text = core::describe(c);
+  const auto c = ldd::parse_case(slump_case("    - {type: cylinder, base: [0, 0, 0], radius: 0.07, height: 0.15}\n"
+                                            "    - {type: box, lower: [-1, -1, 0], upper: [1, 1, 1]}\n"),
+                                 "walls.yaml");
+  const std::string text = ldd::describe(c);
   EXPECT_NE(text.find("wall: cylinder base [0, 0, 0] m"), std::string::npos) << text;
   EXPECT_NE(text.find("radius 0.07 m, height 0.15 m, fluid inside"), std::string::npos) << text;
   EXPECT_NE(text.find("wall: box"), std::string::npos) << text;
@@ -271,10 +271,10 @@ TEST(WallCaseFile, DescribeListsTheWalls) {
 // The case file cases/ldd_slump_cylinder.yaml: the liquid spreads to the container wall and no
 // fluid node crosses it (all stay ≥ Δ/2 − tolerance inside the wall layer, i.e. within the
 // physical radius); volume kept within 1 %. The same container as an STL cylinder behaves alike.
-void run_in_container(const core::Case& c, double radius) {
+void run_in_container(const ldd::Case& c, double radius) {
   omp_set_num_threads(1);  // seconds on a loaded 2-core machine; results are per-thread-count anyway
-  const auto& l = std::get<core::LddCase>(c.spec);
-  FreeSurfaceScene scene = slump_scene(std::get<core::SlumpScene>(l.scene), l.spacing, l.walls);
+  const auto& l = c.settings;
+  FreeSurfaceScene scene = slump_scene(std::get<ldd::SlumpScene>(l.scene), l.spacing, l.walls);
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));
   const double volume0 = solver.fluid_volume();
   double reach = 0;
@@ -293,14 +293,14 @@ void run_in_container(const core::Case& c, double radius) {
 }
 
 TEST(WallCaseFile, SlumpInACylindricalContainerStaysInside) {
-  const core::Case c = core::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_slump_cylinder.yaml");
+  const ldd::Case c = ldd::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_slump_cylinder.yaml");
   run_in_container(c, 0.07);
 }
 
 TEST(WallCaseFile, SlumpInAnStlContainerStaysInside) {
   const auto file = temp_file("rheosim_container.stl");
   write_stl_binary(file, cylinder_mesh({0, 0, 0}, 0.07, 0.15, 32));
-  const core::Case c = core::parse_case(slump_case("    - {type: stl, file: " + file.string() + "}\n"), "stl.yaml");
+  const ldd::Case c = ldd::parse_case(slump_case("    - {type: stl, file: " + file.string() + "}\n"), "stl.yaml");
   run_in_container(c, 0.07);
   std::filesystem::remove(file);
 }

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "data/ghia1982.hpp"
-#include "rheosim/core/case.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
@@ -39,7 +39,7 @@ class RheologyFromYaml {
         "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
         "fluid: {density: 1, rheology: " +
         rheology_yaml + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n";
-    return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec).fluid.rheology;
+    return ldd::parse_case(text, "inline.yaml").settings.fluid.rheology;
   }
 };
 
@@ -51,7 +51,7 @@ struct GhiaRun {
 GhiaRun run_against_ghia(int cells, double dt, double end, double steady_tolerance, bool re1000) {
   omp_set_num_threads(1);
   const auto points = ghia();
-  core::CavityScene scene;
+  ldd::CavityScene scene;
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   SolverParams params;
@@ -99,7 +99,7 @@ TEST(CavityValidation, Re1000ReachesSteadyStateNearGhia) {
 TEST(CavityValidation, BinghamNumber10RunsWithoutNaN) {
   // Bn = τ₀L/(μ∞U) = 10 at Re = 100: μ∞ = 0.01 Pa·s, τ₀ = 0.1 Pa (LDD eqs. 7, 21–22).
   omp_set_num_threads(1);
-  core::CavityScene scene;
+  ldd::CavityScene scene;
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   SolverParams params;

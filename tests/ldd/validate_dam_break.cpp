@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
 
@@ -56,21 +56,21 @@ std::vector<double> lubrication_front(double rho, double g, double mu, double le
   return fronts;
 }
 
-core::LddCase coarse_case(const char* time_step, const char* gradient = "auto") {
+ldd::CaseSettings coarse_case(const char* time_step, const char* gradient = "auto") {
   const std::string text =
       std::string(
           "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [2.0, 0.1], channel_length: 3.0}\n"
           "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
           "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.01}\ntime: {step: ") +
       time_step + ", end: 1.14}\nsolver: {velocity_tolerance: 1.0e-6, gradient: " + gradient + "}\n";
-  return std::get<core::LddCase>(core::parse_case(text, "inline.yaml").spec);
+  return ldd::parse_case(text, "inline.yaml").settings;
 }
 
 DamBreakResult run_coarse(const char* time_step) {
   // One thread: the run is bit-identical per thread count.
   omp_set_num_threads(1);
-  const core::LddCase l = coarse_case(time_step);
-  return simulate_dam_break(std::get<core::DamBreakScene>(l.scene), free_surface_params(l), l.end_time);
+  const ldd::CaseSettings l = coarse_case(time_step);
+  return simulate_dam_break(std::get<ldd::DamBreakScene>(l.scene), free_surface_params(l), l.end_time);
 }
 
 TEST(DamBreakValidation, CoarseBinghamFrontStaysBelowTheNewtonianLubricationModelAndKeepsItsVolume) {
@@ -113,8 +113,8 @@ TEST(DamBreakValidation, SmallerTimeStepGivesTheSameFrontsAndGainsNoEnergy) {
 // Growth per step of the linearised step map, probed at t = 0.25 s (the collapsing front).
 double step_map_growth(const char* gradient, std::size_t& node, FreeNode& kind) {
   omp_set_num_threads(1);
-  const core::LddCase l = coarse_case("1.0e-3", gradient);
-  FreeSurfaceScene scene = dam_break_scene(std::get<core::DamBreakScene>(l.scene), l.spacing);
+  const ldd::CaseSettings l = coarse_case("1.0e-3", gradient);
+  FreeSurfaceScene scene = dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), l.spacing);
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));
   for (int k = 0; k < 249; ++k) solver.step();
   solver.set_stability_probe(120);

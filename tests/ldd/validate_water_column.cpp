@@ -12,9 +12,9 @@
 #include <string>
 #include <utility>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
@@ -26,8 +26,8 @@ std::string shipped_deck() {
   std::stringstream stream;
   stream << in.rdbuf();
   std::string text = stream.str();
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"solver: {", "solver: {threads: 1, "},
-                                 {"end: 0.3", "end: 0.2"}}) {
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{"solver: {", "solver: {threads: 1, "}, {"end: 0.3", "end: 0.2"}}) {
     const auto at = text.find(from);
     EXPECT_NE(at, std::string::npos) << from;
     if (at != std::string::npos) text.replace(at, from.size(), to);
@@ -36,7 +36,7 @@ std::string shipped_deck() {
 }
 
 nlohmann::json run(const std::string& text, const std::string& name, RunOutcome& outcome) {
-  const core::Case c = core::parse_case(text, name + ".yaml");
+  const ldd::Case c = ldd::parse_case(text, name + ".yaml");
   const auto dir = std::filesystem::temp_directory_path() / ("rheosim_" + name);
   std::filesystem::remove_all(dir);
   outcome = run_case(c, dir, core::Log::null());

@@ -1,14 +1,18 @@
 #pragma once
-// Typed, validated case files (docs/case-files.md). load_case() is the only way in: it parses the
-// YAML, validates every key (SI units, ranges, cross-key checks), rejects unknown keys, and
-// returns plain structs. Solvers take these structs and never see YAML.
+// Typed, validated case files (docs/case-files.md). CaseFile parses the YAML and reads the header
+// every kind shares; the module that owns the kind reads the rest from its Section, validating
+// every key (SI units, ranges, cross-key checks) and rejecting unknown ones, and returns plain
+// structs. Solvers take these structs and never see YAML. The rheometer and sweep kinds are read
+// here (read_case); the LDD kind by the ldd module.
 #include <array>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "rheosim/core/config.hpp"
 #include "rheosim/core/rheology.hpp"
 
 namespace rheosim::core {
@@ -145,112 +149,54 @@ struct SweepCase {                       // kind: sweep — every (φ, γ̇_R) o
   std::vector<double> volume_fractions;  // φ [-], increasing; 0 is single phase
 };
 
-// ------------------------------------------------------------------------------ LDD cases
-
-struct CavityScene {             // cavity | skewed_cavity
-  std::array<double, 2> size{};  // width, height [m] (skewed: side length along the walls)
-  double lid_velocity = 0;       // [m/s]
-  double skew_angle = 0;         // [rad]; YAML gives degrees; 0 for a square cavity
-};
-struct DamBreakScene {
-  std::array<double, 2> reservoir{};  // length, height [m]
-  double channel_length = 0;          // [m], from the reservoir's outer wall
-};
-struct SlumpScene {
-  double cone_height = 0;           // H₀ [m]
-  double cone_bottom_diameter = 0;  // D₀ [m]
-  double cone_top_diameter = 0;     // d₀ [m], < D₀
-  double lift_velocity = 0;         // mould lift speed [m/s]
-};
-struct ColumnScene {             // a resting column (hydrostatics), or a sloshing one
-  std::array<double, 2> size{};  // width W, mean height H [m]
-  // Initial surface y = H + wave_amplitude·cos(πx/W) (the first sloshing mode) [m]; 0: flat.
-  double wave_amplitude = 0;
-};
-using LddScene = std::variant<CavityScene, DamBreakScene, SlumpScene, ColumnScene>;
-
-// scene.walls: — extra solid walls of a 3D free-surface scene, one Boundary each, built by type
-// through the registry in ldd/walls.hpp. Box, cylinder and STL are closed solids; the fluid is
-// inside them (a container) or outside (an obstacle).
-struct LddWall {
-  std::string type;                   // plane | box | cylinder | stl
-  bool fluid_inside = true;           // box, cylinder, stl
-  std::vector<double> point, normal;  // plane: a point on it [m], normal pointing into the fluid
-  std::vector<double> lower, upper;   // box: opposite corners [m]
-  std::vector<double> base, axis;     // cylinder: centre of the bottom cap [m], axis direction
-  double radius = 0, height = 0;      // cylinder [m]
-  std::string file;                   // stl: path, resolved against the case file's directory
-  double scale = 1;                   // stl: metres per file unit
-};
-
-// solver: — numerical settings of the LDD solver (all optional; ldd/solver.hpp documents them).
-struct LddSolverSettings {
-  int threads = 0;                          // OpenMP threads; 0: OMP_NUM_THREADS or all cores
-  double pressure_tolerance = 1e-6;         // BiCGStab relative residual of the PPE (LDD eq. 17)
-  double velocity_tolerance = 1e-8;         // BiCGStab relative residual of LDD eq. 19
-  int max_iterations = 2000;                // per linear solve
-  std::string reordering = "lattice";       // lattice | density (experimental)
-  std::string interpolation = "quadratic";  // lattice reordering: quadratic | shepard | gradient_corrected
-  double max_courant = 1.0;                 // stop (diverged) when max|u|δt/Δ exceeds this
-  int pbd_sweeps = 3;                       // free-surface scenes: volume-keeping PBD sweeps per step
-  double moment_rcond = 0.03;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
-  double surface_moment_rcond = 0.01;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
-  // auto | centred | renormalised | surface_anchored (auto: centred for free-surface scenes, eq. 14
-  // for cavities; surface_anchored: centred in the interior, eq. 14 on free-surface nodes)
-  std::string gradient = "auto";
-  // Free-surface scenes: taylor (a PBD shift δx changes the velocity by ⟨∇u⟩·δx) | none
-  std::string pbd_velocity = "taylor";
-  // Free-surface scenes: include | exclude wall nodes above the surface (no interior fluid node
-  // within h) from the fluid nodes' gradients
-  std::string dry_walls = "include";
-  std::string pressure_preconditioner = "auto";  // auto | jacobi | lu | amg (auto: the scene's default)
-  std::string velocity_preconditioner = "auto";  // auto | jacobi | lu | amg (lu: free-surface scenes only)
-  // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain
-  // (piecewise-constant) aggregation, which keeps the PPE's iterations flat when the flow has
-  // thinned into a spread-out layer (docs/ldd.md, the dam break's late steps).
-  std::string pressure_amg = "smoothed";  // smoothed | plain
-};
-
-// output: — what a run writes and how often (all optional).
-struct LddOutputSettings {
-  double frame_interval = 0;  // [s] between VTK frames; 0: end/20
-  double probe_interval = 0;  // [s] between centre-line samples (residual history); 0: end/200
-};
-
-struct LddCase {  // kind: ldd
-  int dimension = 2;
-  std::string scene_type;  // cavity | skewed_cavity | dam_break | slump | column
-  LddScene scene;
-  FluidProperties fluid;
-  std::vector<double> gravity;   // [m/s²], one entry per dimension
-  double spacing = 0;            // Δ [m]
-  double smoothing_ratio = 1.6;  // h/Δ [-]
-  double time_step = 0;          // δt [s]
-  // How time.step: auto chose time_step (empty when the case gives a number).
-  std::string time_step_rule;
-  double end_time = 0;          // [s]
-  double steady_tolerance = 0;  // stop when the centre-line residual drops below; 0: never
-  LddSolverSettings solver;
-  LddOutputSettings output;
-  std::vector<LddWall> walls;  // scene.walls (slump only so far)
-};
-
 // ---------------------------------------------------------------------------- the case
 
-struct Case {
+// The part every case file shares, read here: who the case is and which module reads the rest.
+struct CaseHeader {
   std::string file;    // path as given
   std::string text;    // the exact input deck
   std::string sha256;  // of text, for reports and resume checks
   std::string name;    // optional `name:`, else the file's stem
   std::string description;
-  std::variant<RheometerCase, SweepCase, LddCase> spec;
-
-  [[nodiscard]] std::string kind() const;  // "rheometer" | "sweep" | "ldd"
+  std::string kind;  // "rheometer" | "sweep" | "ldd"
 };
 
-// Parses and validates; throws ConfigError naming file:line:col, key, expectation and fix.
+// A parsed case file: its header, and the root Section from which the module that owns the kind
+// reads the rest (core::read_case for rheometer and sweep, ldd::read_case for ldd), the way each
+// OpenFOAM model reads its own sub-dictionary. The reader ends with check_all_keys_known().
+class CaseFile {
+ public:
+  // Parses the YAML and reads the header; throws ConfigError naming file:line:col and key.
+  [[nodiscard]] static CaseFile open(const std::string& path);
+  [[nodiscard]] static CaseFile parse(std::string_view text, const std::string& name);
+
+  [[nodiscard]] const CaseHeader& header() const { return header_; }
+  [[nodiscard]] Section root() const { return document_.root(); }
+  // The case file's directory: relative paths in the case (an STL wall) resolve against it.
+  [[nodiscard]] std::filesystem::path directory() const;
+  // A reader's first check: `kind` is one it reads, or a ConfigError at `kind` names the reader.
+  void require_kind(const std::vector<std::string>& kinds, std::string_view reader) const;
+  // After the reader: every key of the file was asked for, or a ConfigError names the stray one.
+  void check_all_keys_known() const { document_.check_all_keys_known(); }
+
+ private:
+  CaseFile(Document document, CaseHeader header) : document_(std::move(document)), header_(std::move(header)) {}
+  Document document_;
+  CaseHeader header_;
+};
+
+// A rheometer or sweep case (an LDD case is an ldd::Case, rheosim/ldd/case.hpp).
+struct Case : CaseHeader {
+  std::variant<RheometerCase, SweepCase> spec;
+};
+
+// Reads a rheometer or sweep case; throws ConfigError naming file:line:col, key, expectation and fix.
+[[nodiscard]] Case read_case(const CaseFile& file);
 [[nodiscard]] Case load_case(const std::string& path);
 [[nodiscard]] Case parse_case(std::string_view text, const std::string& name);
+
+// `fluid: {density, rheology}` under `section`: the liquid of every kind of case.
+[[nodiscard]] FluidProperties read_fluid(const Section& section);
 
 // SHA-256 (FIPS 180-4) of a byte string, lower-case hex.
 [[nodiscard]] std::string sha256_hex(std::string_view bytes);
@@ -260,4 +206,6 @@ struct Case {
 namespace rheosim::core {
 // A human-readable listing of a validated case: every value with its SI unit.
 [[nodiscard]] std::string describe(const Case& c);
+// The `fluid:` lines of such a listing ("  fluid: density …, rheology …\n").
+[[nodiscard]] std::string describe_fluid(const FluidProperties& fluid);
 }  // namespace rheosim::core

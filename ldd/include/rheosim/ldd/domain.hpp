@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/ldd/scene.hpp"
 
 namespace rheosim::ldd {
 
@@ -42,7 +42,7 @@ class Cavity {
  public:
   // scene.skew_angle == 0 means a square cavity (α = 90°). Throws std::invalid_argument for a
   // spacing that leaves fewer than 4 cells along a side.
-  Cavity(const core::CavityScene& scene, double spacing);
+  Cavity(const ldd::CavityScene& scene, double spacing);
 
   [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
   [[nodiscard]] const NodeCloud& initial_cloud() const { return cloud_; }

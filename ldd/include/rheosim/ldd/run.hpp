@@ -27,8 +27,8 @@
 #include <string_view>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/solver.hpp"
 
@@ -62,7 +62,7 @@ struct RunControl {
 // spread.csv (slump), column.csv (column).
 [[nodiscard]] std::string probe_file_name(std::string_view scene_type);
 
-RunOutcome run_case(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
                     const RunControl& control = {});
 
 // A cavity run without files, for validation tests and benchmarks: steps until end_time or until
@@ -77,7 +77,7 @@ struct CavityResult {
   std::vector<double> probe_velocity;  // u, v per probe [m/s]
   PhaseTimes phases;
 };
-[[nodiscard]] CavityResult simulate_cavity(const core::CavityScene& scene, const SolverParams& params, double end_time,
+[[nodiscard]] CavityResult simulate_cavity(const ldd::CavityScene& scene, const SolverParams& params, double end_time,
                                            double steady_tolerance, std::span<const double> probe_fractions);
 
 // ---------------------------------------------------------------- free-surface scenes
@@ -116,7 +116,7 @@ struct DamBreakReference {
   static constexpr double ldd_2mm_dt1e4[6] = {0.044, 0.191, 0.308, 0.407, 0.486, 0.625};
 };
 
-FreeSurfaceParams free_surface_params(const core::LddCase& l);
+FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l);
 
 struct DamBreakResult {
   std::size_t nodes = 0, fluid_nodes = 0, steps = 0;
@@ -129,7 +129,7 @@ struct DamBreakResult {
   PhaseTimes phases;
 };
 // A dam-break run without files (tests, benchmarks), to end_time.
-[[nodiscard]] DamBreakResult simulate_dam_break(const core::DamBreakScene& scene, const FreeSurfaceParams& params,
+[[nodiscard]] DamBreakResult simulate_dam_break(const ldd::DamBreakScene& scene, const FreeSurfaceParams& params,
                                                 double end_time);
 
 }  // namespace rheosim::ldd

@@ -17,8 +17,8 @@
 #include <span>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/ldd/scene.hpp"
 
 namespace rheosim::ldd {
 
@@ -28,17 +28,17 @@ struct FreeSurfaceScene {
 };
 
 // Throws std::invalid_argument when the spacing leaves fewer than 4 cells across the fluid.
-[[nodiscard]] FreeSurfaceScene column_scene(const core::ColumnScene& scene, double spacing);
-[[nodiscard]] FreeSurfaceScene dam_break_scene(const core::DamBreakScene& scene, double spacing);
+[[nodiscard]] FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing);
+[[nodiscard]] FreeSurfaceScene dam_break_scene(const ldd::DamBreakScene& scene, double spacing);
 // `walls` (scene.walls of the case): extra walls built through make_wall() (walls.hpp); floor
 // nodes behind them are removed, and the cone must lie on their fluid side.
-[[nodiscard]] FreeSurfaceScene slump_scene(const core::SlumpScene& scene, double spacing,
-                                           std::span<const core::LddWall> walls = {});
+[[nodiscard]] FreeSurfaceScene slump_scene(const ldd::SlumpScene& scene, double spacing,
+                                           std::span<const ldd::WallSettings> walls = {});
 // Adds walls to a scene: each wall's Boundary, and its wall nodes except those within Δ/2 of a
 // node already there or more than Δ/2 behind one of `fixed` boundaries (indices into
 // scene.boundaries); existing wall nodes of `fixed` boundaries more than Δ/2 behind a new wall
 // are removed. Throws std::invalid_argument when a fluid node lies behind a new wall.
-void add_walls(FreeSurfaceScene& scene, std::span<const core::LddWall> walls, double spacing,
+void add_walls(FreeSurfaceScene& scene, std::span<const ldd::WallSettings> walls, double spacing,
                std::vector<std::size_t> fixed, std::span<const double> region_lower,
                std::span<const double> region_upper);
 

@@ -79,9 +79,6 @@ enum class Reordering { lattice, density };
 //   gradient_corrected — eq. 12 plus ⟨∇u⟩_j·(X_i − x'_j), clamped (anti-diffusive ∝ Δ²/δt:
 //                        diverged at Re = 1000). Kept for the comparison in docs/ldd.md.
 enum class LatticeInterpolation { quadratic, shepard, gradient_corrected };
-// "quadratic" | "shepard" | "gradient_corrected" as in case files (solver.interpolation); any
-// other name gives quadratic, the default.
-[[nodiscard]] LatticeInterpolation lattice_interpolation_named(std::string_view name);
 
 struct SolverParams {
   double density = 1.0;                            // ρ [kg/m³], > 0

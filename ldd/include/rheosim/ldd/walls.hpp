@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/ldd/scene.hpp"
 
 namespace rheosim::ldd {
 
@@ -129,7 +129,7 @@ struct BuiltWall {
 // The registry: builds `spec` by its type name (plane, box, cylinder, stl) for node spacing Δ.
 // Unbounded planes get wall nodes only inside the axis-aligned box [region_lower, region_upper]
 // (the scene's extent). Throws std::invalid_argument for an unknown type, or naming the STL file.
-[[nodiscard]] BuiltWall make_wall(const core::LddWall& spec, int dimension, double spacing,
+[[nodiscard]] BuiltWall make_wall(const ldd::WallSettings& spec, int dimension, double spacing,
                                   std::span<const double> region_lower, std::span<const double> region_upper);
 // The names make_wall() accepts.
 [[nodiscard]] std::vector<std::string> wall_types();

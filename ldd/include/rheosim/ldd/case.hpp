@@ -1,0 +1,97 @@
+#pragma once
+// A `kind: ldd` case (docs/case-files.md, "LDD cases"), read by this module from its part of the
+// case file: core::CaseFile gives the header and the root Section, read_case() validates every
+// LDD key (ranges, the scene's own keys, the keys a cavity does not read) into these structs,
+// choosing time.step: auto and refusing a case that cannot fit the machine before anything is
+// allocated. Choices arrive as enums; the name tables below are the one mapping between a case
+// file's words and them, for the reader, describe() and the benchmarks' command lines.
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/ldd/preconditioner.hpp"
+#include "rheosim/ldd/scene.hpp"
+#include "rheosim/ldd/solver.hpp"
+
+namespace rheosim::ldd {
+
+// solver.gradient: the gradient operator (auto: centred for free-surface scenes, LDD eq. 14 for
+// cavities; surface_anchored: centred in the interior, eq. 14 on free-surface nodes).
+enum class GradientChoice { automatic, centred, renormalised, surface_anchored };
+
+// solver: — numerical settings of the LDD solver (all optional; solver.hpp and free_surface.hpp
+// document them).
+struct SolverSettings {
+  int threads = 0;                              // OpenMP threads; 0: OMP_NUM_THREADS or all cores
+  double pressure_tolerance = 1e-6;             // BiCGStab relative residual of the PPE (LDD eq. 17)
+  double velocity_tolerance = 1e-8;             // BiCGStab relative residual of LDD eq. 19
+  int max_iterations = 2000;                    // per linear solve
+  Reordering reordering = Reordering::lattice;  // cavities; density is experimental
+  LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice reordering
+  double max_courant = 1.0;    // stop (diverged) when max|u|δt/Δ exceeds this
+  int pbd_sweeps = 3;          // free-surface scenes: volume-keeping PBD sweeps per step
+  double moment_rcond = 0.03;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
+  double surface_moment_rcond = 0.01;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which a node is surface
+  GradientChoice gradient = GradientChoice::automatic;
+  // Free-surface scenes: a PBD shift δx changes the velocity by ⟨∇u⟩·δx (pbd_velocity: taylor),
+  // or leaves it (none).
+  bool pbd_velocity_correction = true;
+  // Free-surface scenes: wall nodes above the surface (no interior fluid node within h) left out
+  // of the fluid nodes' gradients (dry_walls: exclude) or kept (include).
+  bool exclude_dry_walls = false;
+  // Empty: auto, the scene's default (lu: free-surface scenes only).
+  std::optional<Preconditioner> pressure_preconditioner, velocity_preconditioner;
+  // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain
+  // (piecewise-constant) aggregation, which keeps the PPE's iterations flat when the flow has
+  // thinned into a spread-out layer (docs/ldd.md, the dam break's late steps).
+  bool pressure_amg_smoothed = true;
+};
+
+// output: — what a run writes and how often (all optional).
+struct OutputSettings {
+  double frame_interval = 0;  // [s] between VTK frames; 0: end/20
+  double probe_interval = 0;  // [s] between centre-line samples (residual history); 0: end/200
+};
+
+struct CaseSettings {
+  int dimension = 2;
+  std::string scene_type;  // cavity | skewed_cavity | dam_break | slump | column
+  SceneSettings scene;
+  core::FluidProperties fluid;
+  std::vector<double> gravity;   // [m/s²], one entry per dimension
+  double spacing = 0;            // Δ [m]
+  double smoothing_ratio = 1.6;  // h/Δ [-]
+  double time_step = 0;          // δt [s]
+  // How time.step: auto chose time_step (empty when the case gives a number).
+  std::string time_step_rule;
+  double end_time = 0;          // [s]
+  double steady_tolerance = 0;  // stop when the centre-line residual drops below; 0: never
+  SolverSettings solver;
+  OutputSettings output;
+  std::vector<WallSettings> walls;  // scene.walls (slump only so far)
+};
+
+struct Case : core::CaseHeader {  // kind: ldd
+  CaseSettings settings;
+};
+
+// Reads the LDD part of a case file; throws core::ConfigError naming file:line:col, key,
+// expectation and fix (also for a kind other than ldd).
+[[nodiscard]] Case read_case(const core::CaseFile& file);
+[[nodiscard]] Case load_case(const std::string& path);
+[[nodiscard]] Case parse_case(std::string_view text, const std::string& name);
+
+// The settings as a human reads them, every value with its SI unit (`rheosim validate`).
+[[nodiscard]] std::string describe(const Case& c);
+
+// The case file's words for the choices: nullopt for a word that is not one of them.
+[[nodiscard]] std::optional<Preconditioner> preconditioner_named(std::string_view name);
+[[nodiscard]] std::optional<LatticeInterpolation> lattice_interpolation_named(std::string_view name);
+[[nodiscard]] std::string_view name_of(Preconditioner p);
+[[nodiscard]] std::string_view name_of(LatticeInterpolation i);
+[[nodiscard]] std::string_view name_of(Reordering r);
+[[nodiscard]] std::string_view name_of(GradientChoice g);
+
+}  // namespace rheosim::ldd

@@ -1,0 +1,190 @@
+// LDD case files: the ldd module reads its part of a case file into typed settings, and every
+// kind of bad input is a ConfigError naming file:line:column, the key path and the valid choices.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <numbers>
+#include <set>
+#include <string>
+
+#include "rheosim/core/case.hpp"
+#include "rheosim/core/error.hpp"
+#include "rheosim/ldd/case.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+using core::ConfigError;
+using ::testing::HasSubstr;
+
+ConfigError parse_error(const std::string& text) {
+  try {
+    (void)parse_case(text, "case.yaml");
+  } catch (const ConfigError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected a ConfigError for:\n" << text;
+  return ConfigError({});
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+const std::string cavity_case = R"(kind: ldd
+dimension: 2
+scene: {type: skewed_cavity, size: [1.0, 1.0], lid_velocity: 1.0, skew_angle: 60}
+fluid:
+  density: 1.0
+  rheology: {model: power_law, consistency: 0.002, index: 1.5}
+gravity: [0, 0]
+resolution: {spacing: 0.02}
+time: {step: 1.0e-3, end: 20.0}
+)";
+
+TEST(Case, LddSkewAngleIsConvertedToRadians) {
+  const Case c = parse_case(cavity_case, "skew.yaml");
+  const auto& l = c.settings;
+  EXPECT_EQ(l.scene_type, "skewed_cavity");
+  EXPECT_NEAR(std::get<CavityScene>(l.scene).skew_angle, std::numbers::pi / 3, 1e-15);
+  EXPECT_DOUBLE_EQ(l.smoothing_ratio, 1.6);
+}
+
+// time.step: auto keeps the advective Courant number at 0.25 for the scene's velocity scale:
+// the lid speed of a cavity (0.25 · 0.02 / 1 = 5e-3 s), the collapse front 2√(gH) of a dam break
+// (0.25 · 0.002 / (2√(9.81 · 0.2)) = 1.785e-4, rounded down to 1.7e-4 s); a word other than auto
+// is refused with the alternatives.
+TEST(Case, LddAutomaticTimeStepFollowsTheSceneVelocityScale) {
+  const CaseSettings cavity = parse_case(replace(cavity_case, "step: 1.0e-3", "step: auto"), "auto.yaml").settings;
+  EXPECT_DOUBLE_EQ(cavity.time_step, 5e-3);
+  EXPECT_THAT(cavity.time_step_rule, HasSubstr("lid speed"));
+  const std::string dam_break =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.1, 0.2], channel_length: 0.6}\n"
+      "fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\ngravity: [0, -9.81]\n"
+      "resolution: {spacing: 0.002}\ntime: {step: auto, end: 0.3}\n";
+  const CaseSettings water = parse_case(dam_break, "water.yaml").settings;
+  EXPECT_NEAR(water.time_step, 1.7e-4, 1e-12);
+  EXPECT_THAT(water.time_step_rule, HasSubstr("2√(|g|H)"));
+  EXPECT_TRUE(parse_case(cavity_case, "given.yaml").settings.time_step_rule.empty());
+  const auto e = parse_error(replace(cavity_case, "step: 1.0e-3", "step: fast"));
+  EXPECT_EQ(e.details().key_path, "time.step");
+  EXPECT_THAT(e.details().expected, HasSubstr("or auto"));
+}
+
+TEST(Case, LddGravityNeedsOneEntryPerDimension) {
+  const auto e = parse_error(replace(cavity_case, "gravity: [0, 0]", "gravity: [0, 0, -9.81]"));
+  EXPECT_EQ(e.details().key_path, "gravity");
+  EXPECT_THAT(e.details().expected, HasSubstr("exactly 2"));
+}
+
+TEST(Case, LddSceneKeysDependOnTheType) {
+  // skew_angle belongs to skewed cavities only.
+  const auto e = parse_error(replace(cavity_case, "type: skewed_cavity", "type: cavity"));
+  EXPECT_EQ(e.details().key_path, "scene.skew_angle");
+  EXPECT_THAT(e.details().problem, HasSubstr("unknown key"));
+}
+
+TEST(Case, LddPreconditionersAreCheckedWithTheirLine) {
+  const Case c = parse_case(cavity_case + "solver: {pressure_preconditioner: amg}\n", "amg.yaml");
+  EXPECT_EQ(c.settings.solver.pressure_preconditioner, Preconditioner::amg);
+  EXPECT_FALSE(c.settings.solver.velocity_preconditioner.has_value());  // auto
+  const auto typo = parse_error(cavity_case + "solver: {pressure_preconditioner: multigrid}\n");
+  EXPECT_EQ(typo.details().key_path, "solver.pressure_preconditioner");
+  EXPECT_EQ(typo.details().where.line, 10);
+  // A cavity's velocity solve has no sparse-LU preconditioner.
+  const auto lu = parse_error(cavity_case + "solver: {velocity_preconditioner: lu}\n");
+  EXPECT_EQ(lu.details().key_path, "solver.velocity_preconditioner");
+  EXPECT_EQ(lu.details().where.line, 10);
+}
+
+// A cavity refuses `solver: {key: value}` with an error at that line naming what is valid.
+void expect_cavity_refuses(const std::string& key, const std::string& value, const std::string& valid) {
+  const auto e = parse_error(cavity_case + "solver: {" + key + ": " + value + "}\n");
+  EXPECT_EQ(e.details().key_path, "solver." + key);
+  EXPECT_EQ(e.details().where.line, 10);
+  EXPECT_THAT(e.details().expected, HasSubstr(valid));
+}
+
+TEST(Case, LddGradientIsCheckedAgainstTheScene) {
+  EXPECT_EQ(parse_case(cavity_case, "c.yaml").settings.solver.gradient, GradientChoice::automatic);
+  EXPECT_EQ(parse_case(cavity_case + "solver: {gradient: renormalised}\n", "c.yaml").settings.solver.gradient,
+            GradientChoice::renormalised);
+  // A cavity's wall rows need the wall node's own value in its gradient.
+  expect_cavity_refuses("gradient", "centred", "renormalised");
+  const auto typo = parse_error(cavity_case + "solver: {gradient: centered}\n");
+  EXPECT_EQ(typo.details().key_path, "solver.gradient");
+}
+
+TEST(Case, LddCavityRefusesTheDivergingDensityReordering) {
+  EXPECT_EQ(parse_case(cavity_case + "solver: {reordering: lattice}\n", "c.yaml").settings.solver.reordering,
+            Reordering::lattice);
+  expect_cavity_refuses("reordering", "density", "lattice");
+}
+
+TEST(Case, LddCavityRefusesTheFreeSurfaceSolverKeys) {
+  // Keys only the free-surface solver reads are refused for a cavity, not ignored.
+  expect_cavity_refuses("pressure_amg", "plain", "leave it out");
+  expect_cavity_refuses("pbd_sweeps", "3", "leave it out");
+  expect_cavity_refuses("moment_rcond", "0.01", "leave it out");
+  expect_cavity_refuses("surface_moment_rcond", "0.01", "leave it out");
+}
+
+TEST(Case, LddChoicesArriveAsEnums) {
+  const CaseSettings c = parse_case(cavity_case +
+                                        "solver: {interpolation: shepard, pressure_preconditioner: jacobi, "
+                                        "velocity_preconditioner: amg}\n",
+                                    "c.yaml")
+                             .settings;
+  EXPECT_EQ(c.solver.interpolation, LatticeInterpolation::shepard);
+  EXPECT_EQ(c.solver.pressure_preconditioner, Preconditioner::jacobi);
+  EXPECT_EQ(c.solver.velocity_preconditioner, Preconditioner::amg);
+  const std::string dam_break =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.1, 0.2], channel_length: 0.6}\n"
+      "fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\ngravity: [0, -9.81]\n"
+      "resolution: {spacing: 0.002}\ntime: {step: 1.0e-4, end: 0.3}\n";
+  const CaseSettings d = parse_case(dam_break +
+                                        "solver: {gradient: surface_anchored, pbd_velocity: none, dry_walls: exclude, "
+                                        "pressure_amg: plain, velocity_preconditioner: lu}\n",
+                                    "d.yaml")
+                             .settings;
+  EXPECT_EQ(d.solver.gradient, GradientChoice::surface_anchored);
+  EXPECT_FALSE(d.solver.pbd_velocity_correction);
+  EXPECT_TRUE(d.solver.exclude_dry_walls);
+  EXPECT_FALSE(d.solver.pressure_amg_smoothed);
+  EXPECT_EQ(d.solver.velocity_preconditioner, Preconditioner::sparse_lu);
+  EXPECT_FALSE(d.solver.pressure_preconditioner.has_value());  // auto: the scene's own
+  // The names the benchmarks' command lines use are the case file's, and nothing else.
+  EXPECT_EQ(preconditioner_named("lu"), Preconditioner::sparse_lu);
+  EXPECT_FALSE(preconditioner_named("multigrid").has_value());
+  EXPECT_EQ(lattice_interpolation_named("gradient_corrected"), LatticeInterpolation::gradient_corrected);
+  EXPECT_FALSE(lattice_interpolation_named("anything else").has_value());
+  EXPECT_EQ(name_of(Preconditioner::sparse_lu), "lu");
+}
+
+TEST(Case, TheLddReaderRefusesARheometerCase) {
+  const auto e = parse_error("kind: rheometer\n");
+  EXPECT_EQ(e.details().key_path, "kind");
+  EXPECT_THAT(e.details().problem, HasSubstr("not 'rheometer'"));
+}
+
+// Every shipped case is read by the module its kind names, as `rheosim validate` does.
+TEST(Case, EveryShippedCaseValidates) {
+  const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
+  std::set<std::string> kinds;
+  for (const auto& entry : std::filesystem::directory_iterator(cases)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const core::CaseFile file = core::CaseFile::open(entry.path().string());
+    if (file.header().kind == "ldd")
+      kinds.insert(ldd::read_case(file).kind);
+    else
+      kinds.insert(core::read_case(file).kind);
+  }
+  EXPECT_EQ(kinds, (std::set<std::string>{"rheometer", "sweep", "ldd"}));
+}
+
+}  // namespace
+}  // namespace rheosim::ldd
