@@ -72,15 +72,16 @@ DragRegistry builtin_drag_models() {
   return registry;
 }
 
-std::unique_ptr<const DragModel> make_drag_model(const core::Section& section) {
+namespace {
+const DragRegistry& drag_registry() {
   // Built once (thread-safe static init) and only read afterwards.
   static const DragRegistry registry = builtin_drag_models();
-  return registry.make(section);
+  return registry;
 }
+}  // namespace
 
-std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law) {
-  const auto document = core::Document::from_string(fmt::format("model: {}\n", core::name_of(law)), "drag");
-  return make_drag_model(document.root());
-}
+std::unique_ptr<const DragModel> make_drag_model(const core::Section& section) { return drag_registry().make(section); }
+
+std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law) { return drag_registry().make(core::name_of(law)); }
 
 }  // namespace rheosim::coupling

@@ -67,16 +67,27 @@ void ViscousForce::add(const FluidConstants& /*fluid*/, std::span<const Particle
     }
 }
 
+namespace {
+// A force without settings, from a section (which holds only `model`) or by name.
+template <class Force>
+void add_force_without_settings(ForceRegistry& registry) {
+  const auto make = []() -> std::unique_ptr<ForceModel> { return std::make_unique<Force>(); };
+  registry.add(
+      std::string(Force::model_name), [make](const core::Section&) { return make(); }, make);
+}
+}  // namespace
+
 void add_builtin_force_models(ForceRegistry& registry) {
-  for (const std::string& law : builtin_drag_models().names())
-    registry.add(law, [](const core::Section& section) -> std::unique_ptr<ForceModel> {
-      return std::make_unique<DragForce>(make_drag_model(section));
-    });
-  registry.add(std::string(PressureGradientForce::model_name), [](const core::Section&) -> std::unique_ptr<ForceModel> {
-    return std::make_unique<PressureGradientForce>();
-  });
-  registry.add(std::string(ViscousForce::model_name),
-               [](const core::Section&) -> std::unique_ptr<ForceModel> { return std::make_unique<ViscousForce>(); });
+  const DragRegistry drag_laws = builtin_drag_models();
+  for (const std::string& law : drag_laws.names())
+    registry.add(
+        law,
+        [](const core::Section& section) -> std::unique_ptr<ForceModel> {
+          return std::make_unique<DragForce>(make_drag_model(section));
+        },
+        [law, drag_laws]() -> std::unique_ptr<ForceModel> { return std::make_unique<DragForce>(drag_laws.make(law)); });
+  add_force_without_settings<PressureGradientForce>(registry);
+  add_force_without_settings<ViscousForce>(registry);
 }
 
 ForceRegistry builtin_force_models() {
@@ -85,15 +96,18 @@ ForceRegistry builtin_force_models() {
   return registry;
 }
 
-std::unique_ptr<const ForceModel> make_force_model(const core::Section& section) {
+namespace {
+const ForceRegistry& force_registry() {
   static const ForceRegistry registry = builtin_force_models();
-  return registry.make(section);
+  return registry;
+}
+}  // namespace
+
+std::unique_ptr<const ForceModel> make_force_model(const core::Section& section) {
+  return force_registry().make(section);
 }
 
-std::unique_ptr<const ForceModel> make_force_model(std::string_view name) {
-  const auto doc = core::Document::from_string(fmt::format("model: {}\n", name), "forces");
-  return make_force_model(doc.root());
-}
+std::unique_ptr<const ForceModel> make_force_model(std::string_view name) { return force_registry().make(name); }
 
 std::vector<std::string> seed_force_models() { return force_models(core::DragLaw::di_felice); }
 

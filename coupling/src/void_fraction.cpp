@@ -127,14 +127,19 @@ VoidFractionRegistry builtin_void_fraction_schemes() {
   return registry;
 }
 
-std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(const core::Section& section) {
+namespace {
+const VoidFractionRegistry& void_fraction_registry() {
   static const VoidFractionRegistry registry = builtin_void_fraction_schemes();
-  return registry.make(section);
+  return registry;
+}
+}  // namespace
+
+std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(const core::Section& section) {
+  return void_fraction_registry().make(section);
 }
 
 std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(std::string_view name) {
-  const auto doc = core::Document::from_string(fmt::format("model: {}\n", name), "void_fraction");
-  return make_void_fraction_scheme(doc.root());
+  return void_fraction_registry().make(name);
 }
 
 VoidFractionField::VoidFractionField(const fluid::CylindricalGrid& grid, double floor, int max_floor_passes,

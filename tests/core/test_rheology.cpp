@@ -137,6 +137,24 @@ TEST(RheologyRegistry, RegisteringALawTwiceIsAnError) {
   EXPECT_THROW(core::add<core::Bingham>(registry), std::logic_error);
 }
 
+// Built by name, a law with settings is refused (its parameters come from a case file), and an
+// unknown name is an error listing the valid ones; nothing is made up for either.
+TEST(RheologyRegistry, ALawWithSettingsIsNotBuiltByName) {
+  const core::RheologyRegistry registry = core::builtin_rheologies();
+  try {
+    (void)registry.make(std::string_view("bingham"));
+    ADD_FAILURE() << "a Bingham law was built without its parameters";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(contains(e.what(), "has settings")) << e.what();
+  }
+  try {
+    (void)registry.make(std::string_view("bingam"));
+    ADD_FAILURE() << "an unknown law was built";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(contains(e.what(), "herschel_bulkley")) << e.what();
+  }
+}
+
 // Every reported parameter is a YAML key of its law: feeding parameters() back as YAML rebuilds
 // the same law (check_all_keys_known rejects any name that is not a key).
 TEST(RheologyParameters, RoundTripThroughYaml) {

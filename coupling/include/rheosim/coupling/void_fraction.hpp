@@ -134,7 +134,7 @@ void add_builtin_void_fraction_schemes(VoidFractionRegistry& registry);  // cent
 [[nodiscard]] VoidFractionRegistry builtin_void_fraction_schemes();
 // From a `void_fraction:` section ({model: name}).
 [[nodiscard]] std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(const core::Section& section);
-// By name, e.g. "divided" (throws core::ConfigError listing the valid names).
+// By name, e.g. "divided" (throws std::invalid_argument listing the valid names).
 [[nodiscard]] std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(std::string_view name);
 
 struct VoidFractionReport {
