@@ -45,26 +45,6 @@ namespace {
 constexpr double pi = std::numbers::pi;
 constexpr double infinity = std::numeric_limits<double>::infinity();
 
-// The term names and what each switches on. One explicit list (STYLE: no self-registration).
-struct Terms {
-  bool lubrication = false;
-  bool single_particle = false;  // torque + stresslet
-  bool stokes_drag = false;
-  bool repulsion = false;
-};
-using TermSetter = void (*)(Terms&);
-const std::map<std::string, TermSetter, std::less<>>& term_table() {
-  static const std::map<std::string, TermSetter, std::less<>> table{
-      {"none", [](Terms&) {}},
-      {"lubrication", [](Terms& t) { t.lubrication = true; }},
-      {"stresslet", [](Terms& t) { t.single_particle = true; }},
-      {"single_particle", [](Terms& t) { t.single_particle = true; }},
-      {"stokes_drag", [](Terms& t) { t.stokes_drag = true; }},
-      {"repulsion", [](Terms& t) { t.repulsion = true; }},
-  };
-  return table;
-}
-
 void check_settings(const NearFieldSettings& s) {
   if (!(s.roughness >= 1e-6 && s.roughness <= 0.1))
     throw std::invalid_argument(
@@ -209,14 +189,8 @@ class PairFinder {
 // All enabled terms in one resistance system F_H = −R V + F₀ (V: 6 per particle).
 class CombinedNearField final : public NearFieldModel {
  public:
-  CombinedNearField(NearFieldSettings settings, Terms terms, std::shared_ptr<const core::Rheology> matrix)
-      : settings_(std::move(settings)), terms_(terms), matrix_(std::move(matrix)) {
-    for (const auto& m : settings_.models) {
-      if (!name_.empty()) name_ += "+";
-      name_ += m;
-    }
-    if (name_.empty()) name_ = "none";
-  }
+  CombinedNearField(NearFieldSettings settings, std::shared_ptr<const core::Rheology> matrix)
+      : settings_(std::move(settings)), terms_(settings_.terms), matrix_(std::move(matrix)), name_(terms_.name()) {}
 
   [[nodiscard]] std::string_view name() const override { return name_; }
 
@@ -250,7 +224,7 @@ class CombinedNearField final : public NearFieldModel {
   }
 
   NearFieldSettings settings_;
-  Terms terms_;
+  NearFieldTerms terms_;
   std::shared_ptr<const core::Rheology> matrix_;
   std::string name_;
 };
@@ -534,10 +508,10 @@ double CombinedNearField::stable_time_step(const ParticleSnapshot& p, double par
 
 NearFieldSettings near_field_settings(const core::Hydrodynamics& h) {
   NearFieldSettings s;
-  if (h.lubrication) s.models.emplace_back("lubrication");
-  if (h.single_particle) s.models.emplace_back("stresslet");
-  if (h.stokes_drag) s.models.emplace_back("stokes_drag");
-  if (h.repulsion) s.models.emplace_back("repulsion");
+  s.terms = {.lubrication = h.lubrication,
+             .single_particle = h.single_particle,
+             .stokes_drag = h.stokes_drag,
+             .repulsion = h.repulsion};
   s.roughness = h.roughness;
   s.lubrication_cutoff = h.lubrication_cutoff;
   s.repulsion_force = h.repulsion_force;
@@ -546,25 +520,25 @@ NearFieldSettings near_field_settings(const core::Hydrodynamics& h) {
   return s;
 }
 
-std::vector<std::string> near_field_model_names() {
-  std::vector<std::string> names;
-  for (const auto& [name, setter] : term_table()) names.push_back(name);
-  return names;
+std::string NearFieldTerms::name() const {
+  std::string out;
+  const auto add = [&](bool on, std::string_view term) {
+    if (!on) return;
+    if (!out.empty()) out += '+';
+    out += term;
+  };
+  add(lubrication, "lubrication");
+  add(single_particle, "stresslet");
+  add(stokes_drag, "stokes_drag");
+  add(repulsion, "repulsion");
+  return out.empty() ? "none" : out;
 }
 
 std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSettings& settings,
                                                             std::shared_ptr<const core::Rheology> matrix) {
   check_settings(settings);
   if (!matrix) throw std::invalid_argument("make_near_field_model: no matrix rheology given");
-  Terms terms;
-  const auto& table = term_table();
-  for (const auto& name : settings.models) {
-    const auto it = table.find(name);
-    if (it == table.end())
-      throw std::invalid_argument(fmt::format("hydrodynamics: unknown model '{}', expected any of [{}]", name,
-                                              fmt::join(near_field_model_names(), ", ")));
-    it->second(terms);
-  }
+  const NearFieldTerms& terms = settings.terms;
   // The repulsion settings only bind when the term is on (its length is bounded by the cutoff).
   if (terms.repulsion) {
     if (!terms.lubrication)
@@ -579,7 +553,7 @@ std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSetti
           "evaluated on the lubrication gap list, so it must have decayed to e⁻⁵ by the cutoff)",
           settings.repulsion_length, settings.lubrication_cutoff / 5.0));
   }
-  return std::make_unique<CombinedNearField>(settings, terms, std::move(matrix));
+  return std::make_unique<CombinedNearField>(settings, std::move(matrix));
 }
 
 }  // namespace rheosim::coupling

@@ -51,7 +51,7 @@ TEST(ValidateLubricationSqueeze, TwoEqualSpheresFollowJeffreyOnishi) {
   const std::vector<dem::ParticleId> ids{1, 2};
   engine.set_external_forces(ids, std::vector<double>{force, 0, 0, -force, 0, 0});
   NearFieldSettings settings;
-  settings.models = {"lubrication"};
+  settings.terms = {.lubrication = true};
   NearFieldStepHook hook(engine, make_near_field_model(settings, testing::newtonian(mu)), {}, {});
 
   const auto closing_speed = [](double h) {
@@ -96,7 +96,7 @@ TEST(ValidateLubricationSqueeze, SphereOntoPlateFollowsCoxBrenner) {
   engine.run(0);
   engine.set_external_forces(std::vector<double>{0, 0, -force});
   NearFieldSettings settings;
-  settings.models = {"lubrication"};
+  settings.terms = {.lubrication = true};
   NearFieldScene scene;
   scene.plates.push_back({.z = 0.0, .faces_up = true, .velocity_at = {}});
   NearFieldStepHook hook(engine, make_near_field_model(settings, testing::newtonian(mu)), scene, {});

@@ -53,7 +53,7 @@ struct CellSettings {
   double strain = 6.0;        // total strain
   double skip_strain = 2.0;   // transient left out of the means
   double friction = 0.3;
-  std::vector<std::string> models{"stokes_drag", "stresslet", "lubrication"};
+  NearFieldTerms terms{.lubrication = true, .single_particle = true, .stokes_drag = true};
   bool plate_lubrication = true;  // false: the plates bound the cell for contacts only
   double lubrication_cutoff = NearFieldSettings{}.lubrication_cutoff;  // h_c/ā
   double repulsion_ratio = 0.0;  // F_R0 / (6πμa²γ̇); > 0 adds the `repulsion` term (λ = 0.05 ā)
@@ -104,11 +104,11 @@ CellResult run_cell(const CellSettings& c) {
                    "fix rheosim_nf_virial all ave/time 1 50 50 c_rheosim_nf_pressure[5]"});
 
   NearFieldSettings settings;
-  settings.models = c.models;
+  settings.terms = c.terms;
   settings.lubrication_cutoff = c.lubrication_cutoff;
   settings.stresslet_viscosity = c.stresslet_viscosity;
   if (c.repulsion_force > 0.0 || c.repulsion_ratio > 0.0) {
-    settings.models.emplace_back("repulsion");
+    settings.terms.repulsion = true;
     settings.repulsion_force =
         c.repulsion_force > 0.0 ? c.repulsion_force : c.repulsion_ratio * 6.0 * pi * c.viscosity * a * a * c.rate;
   }
@@ -228,7 +228,7 @@ TEST(ValidateNearFieldShearCell, BookkeepingAddsUpAndTheNearFieldLiftsTheStress)
   const CellResult full = run_cell(c);
   print("lubrication+stresslet", full);
   CellSettings drag_only = c;
-  drag_only.models = {"stokes_drag"};
+  drag_only.terms = {.stokes_drag = true};
   drag_only.strain = 2.0;
   const CellResult seed_model = run_cell(drag_only);
   print("stokes_drag only", seed_model);

@@ -78,7 +78,7 @@ DiluteResult run_dilute(double phi_target, std::shared_ptr<const core::Rheology>
                             .time_step = 1e-6},
                            spheres);
   NearFieldSettings settings;
-  settings.models = {"stokes_drag", "stresslet", "lubrication"};
+  settings.terms = {.lubrication = true, .single_particle = true, .stokes_drag = true};
   settings.stresslet_viscosity = stresslet_viscosity;
   NearFieldScene scene;
   scene.periodic = {true, true, false};

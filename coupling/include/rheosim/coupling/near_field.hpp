@@ -137,19 +137,27 @@ class NearFieldModel {
 };
 
 // Settings of `particles: {hydrodynamics: {...}}` (core::HydrodynamicsSettings mirrors them).
+// The near-field terms switched on (a case file's particles.hydrodynamics.model, terms joined by
+// '+', read by the case reader).
+struct NearFieldTerms {
+  bool lubrication = false;  // pair and plate lubrication (Jeffrey & Onishi 1984, Kim & Karrila 1991)
+  // single-particle torque −8πμa³(Ω − ω∞) and stresslet (20/3)πμa³E∞ (stresslet | single_particle)
+  bool single_particle = false;
+  // −6πμa(U − u∞): drag on the imposed ambient flow, for cells without a fluid solver (with
+  // CFD-DEM the coupling's Di Felice drag does this)
+  bool stokes_drag = false;
+  // short-range repulsion F_R = F_R0 exp(−h/λ) along the line of centres (F_R0 for h < 0), pairs
+  // and plates: an electrostatic double layer or a polymer brush (Mari, Seto, Morris & Denn,
+  // J. Rheol. 2014). It keeps pairs apart below the stress scale F_R0/(6πa²) (the frictionless
+  // branch) and needs `lubrication` (it uses its gap list).
+  bool repulsion = false;
+  [[nodiscard]] bool any() const { return lubrication || single_particle || stokes_drag || repulsion; }
+  // "lubrication+stresslet+stokes_drag+repulsion" for those on, in this order; "none" for none.
+  [[nodiscard]] std::string name() const;
+};
+
 struct NearFieldSettings {
-  // Terms, any of near_field_model_names(); empty or {"none"}: drag only.
-  //   lubrication     pair and plate lubrication (Jeffrey & Onishi 1984, Kim & Karrila 1991)
-  //   stresslet       single-particle torque −8πμa³(Ω − ω∞) and stresslet (20/3)πμa³E∞
-  //   single_particle the same as stresslet
-  //   stokes_drag     −6πμa(U − u∞): drag on the imposed ambient flow, for cells without a
-  //                   fluid solver (with CFD-DEM the coupling's Di Felice drag does this)
-  //   repulsion       short-range repulsion F_R = F_R0 exp(−h/λ) along the line of centres
-  //                   (F_R0 for h < 0), pairs and plates: an electrostatic double layer or a
-  //                   polymer brush (Mari, Seto, Morris & Denn, J. Rheol. 2014). It keeps pairs
-  //                   apart below the stress scale F_R0/(6πa²) (the frictionless branch) and
-  //                   needs `lubrication` (it uses its gap list).
-  std::vector<std::string> models;
+  NearFieldTerms terms;       // none on: the model adds nothing (drag only)
   double roughness = 1.0e-3;  // δ/ā: the gap is regularised to max(h, 0) + δ, ā = (a_i + a_j)/2, in [1e-6, 0.1]
   double lubrication_cutoff = 0.5;  // h_c/ā: lubrication acts for h < h_c, in (roughness, 1]
   double repulsion_force = 0.0;     // F_R0 [N], > 0 with `repulsion`
@@ -161,16 +169,12 @@ struct NearFieldSettings {
   int max_solver_iterations = 500;
 };
 
-// The settings of a case file's particles.hydrodynamics (core::Hydrodynamics); models empty
-// when no term is on.
+// The settings of a case file's particles.hydrodynamics (core::Hydrodynamics).
 [[nodiscard]] NearFieldSettings near_field_settings(const core::Hydrodynamics& hydrodynamics);
 
-// The valid term names (sorted), "none" included.
-[[nodiscard]] std::vector<std::string> near_field_model_names();
-
 // Builds the combined model (one implicit solve over all enabled terms); matrix is the liquid's
-// μ(γ̇). Throws std::invalid_argument for an unknown name (listing the valid ones) or settings
-// out of range. With no term (or "none") the model adds nothing.
+// μ(γ̇). Throws std::invalid_argument for settings out of range. With no term on the model adds
+// nothing.
 [[nodiscard]] std::unique_ptr<const NearFieldModel> make_near_field_model(const NearFieldSettings& settings,
                                                                           std::shared_ptr<const core::Rheology> matrix);
 
