@@ -19,6 +19,7 @@
 #include "block_cholesky.hpp"
 #include "box_mean_flow.hpp"
 #include "lubrication.hpp"
+#include "sheared_cell.hpp"
 
 namespace rheosim::coupling {
 namespace {
@@ -42,37 +43,6 @@ using Tensor = std::array<double, 9>;
 void add_dyad(Tensor& t, const Vector3& r, const Vector3& f) {
   for (std::size_t a = 0; a < 3; ++a)
     for (std::size_t b = 0; b < 3; ++b) t[3 * a + b] += r[a] * f[b];
-}
-
-void check(const SuspensionBoxSettings& s) {
-  const auto fail = [](const std::string& what) { throw std::invalid_argument("suspension box: " + what); };
-  if (!(s.volume_fraction > 0.0 && s.volume_fraction <= 0.6))
-    fail(fmt::format("volume fraction {} outside (0, 0.6]", s.volume_fraction));
-  if (s.particles < 20) fail(fmt::format("{} particles, expected >= 20", s.particles));
-  if (s.radii.empty() || s.radii.size() != s.volume_shares.size())
-    fail("radii and volume_shares must be non-empty and of equal length");
-  double share_sum = 0.0;
-  for (std::size_t c = 0; c < s.radii.size(); ++c) {
-    if (!(s.radii[c] > 0.0) || !(s.volume_shares[c] >= 0.0)) fail("radii must be > 0 and shares >= 0");
-    share_sum += s.volume_shares[c];
-  }
-  if (std::abs(share_sum - 1.0) > 1e-6) fail(fmt::format("volume shares sum to {}, expected 1", share_sum));
-  if (!(s.friction >= 0.0)) fail(fmt::format("friction {} < 0", s.friction));
-  if (!(s.stokes_number >= 0.0)) fail(fmt::format("Stokes number {} < 0", s.stokes_number));
-  if (!(s.roughness >= 1e-6 && s.roughness <= 0.1)) fail(fmt::format("roughness {} outside [1e-6, 0.1]", s.roughness));
-  if (!(s.lubrication_cutoff > s.roughness && s.lubrication_cutoff <= 1.0))
-    fail(fmt::format("lubrication cutoff {} outside (roughness, 1]", s.lubrication_cutoff));
-  if (!(s.contact_stiffness >= 0.0)) fail("contact stiffness < 0");
-  if (!(s.repulsion_force >= 0.0) || !(s.repulsion_length > 0.0)) fail("repulsion force < 0 or length <= 0");
-  if (!(s.max_strain > s.warmup_strain + s.min_averaging_strain))
-    fail(fmt::format("max strain {} <= warm-up {} + minimum averaging {}", s.max_strain, s.warmup_strain,
-                     s.min_averaging_strain));
-  if (!(s.block_strain > 0.0) || !(s.relative_tolerance > 0.0)) fail("block strain and tolerance must be > 0");
-  if (s.wall_gap != 0.0) {
-    const double largest = *std::max_element(s.radii.begin(), s.radii.end());
-    if (!(s.wall_gap >= 2.5 * largest) || !std::isfinite(s.wall_gap))
-      fail(fmt::format("wall gap {} a outside [2.5 a_max = {:g}, ∞) (0: Lees–Edwards)", s.wall_gap, 2.5 * largest));
-  }
 }
 
 // One entry of the Verlet list: a pair within the interaction range plus a skin, with the
@@ -105,8 +75,8 @@ class Box {
     }
     wall_spring_.assign(2 * n, Vector3{});
     wall_contact_.assign(2 * n, false);
-    if (walls_ && s_.mean_flow_coupling) {
-      flow_.emplace(height_, length_ * length_, unit_viscosity, s_.stresslet_viscosity_ratio);
+    if (cell_.walls && s_.mean_flow_coupling) {
+      flow_.emplace(cell_.height, cell_.length * cell_.length, unit_viscosity, s_.stresslet_viscosity_ratio);
       for (std::size_t i = 0; i < n; ++i) flow_->add_sphere(position_[i][2], radius_[i], 0.0, 0.0);
       flow_->relax(1.0);  // the placement's solid fraction, no forces yet
     }
@@ -117,9 +87,9 @@ class Box {
     const auto start = std::chrono::steady_clock::now();
     SuspensionBoxResult out;
     out.particles = static_cast<int>(radius_.size());
-    out.box_length = length_;
-    out.box_height = height_;
-    const double volume = length_ * length_ * height_;
+    out.box_length = cell_.length;
+    out.box_height = cell_.height;
+    const double volume = cell_.length * cell_.length * cell_.height;
     out.volume_fraction = solid_volume_ / volume;
     out.strain_step = dt_;
     out.contact_stiffness = stiffness_;
@@ -232,9 +202,9 @@ class Box {
         out.part_lubrication *= scale;
         out.part_contact *= scale;
         out.part_repulsion *= scale;
-        out.core_shear_rate = flow_->mean_shear_rate(height_ / 3.0, 2.0 * height_ / 3.0);
+        out.core_shear_rate = flow_->mean_shear_rate(cell_.height / 3.0, 2.0 * cell_.height / 3.0);
         out.plate_shear_rate =
-            0.5 * (flow_->mean_shear_rate(0.0, 1.0) + flow_->mean_shear_rate(height_ - 1.0, height_));
+            0.5 * (flow_->mean_shear_rate(0.0, 1.0) + flow_->mean_shear_rate(cell_.height - 1.0, cell_.height));
       }
     }
     {
@@ -313,117 +283,50 @@ class Box {
     solid_volume_ = 0.0;
     for (const double a : radius_) solid_volume_ += 4.0 / 3.0 * pi * a * a * a;
     max_radius_ = *std::max_element(radius_.begin(), radius_.end());
-    walls_ = s_.wall_gap > 0.0;
-    if (walls_) {
-      height_ = s_.wall_gap;
-      length_ = std::sqrt(solid_volume_ / (s_.volume_fraction * height_));
+    cell_.walls = s_.wall_gap > 0.0;
+    if (cell_.walls) {
+      cell_.height = s_.wall_gap;
+      cell_.length = std::sqrt(solid_volume_ / (s_.volume_fraction * cell_.height));
     } else {
-      length_ = height_ = std::cbrt(solid_volume_ / s_.volume_fraction);
+      cell_.length = cell_.height = std::cbrt(solid_volume_ / s_.volume_fraction);
     }
     const double range = 2.0 * max_radius_ * (1.0 + 0.5 * s_.lubrication_cutoff) + 0.3 * max_radius_;
-    if (walls_ && length_ < 2.0 * range)
+    if (cell_.walls && cell_.length < 2.0 * range)
       throw std::invalid_argument(fmt::format(
           "suspension box: {} spheres at φ = {:g} between plates {:g} a apart give a side of {:.3g} a, below twice "
           "the interaction range ({:.3g} a); use more spheres",
-          radius_.size(), s_.volume_fraction, height_, length_, 2.0 * range));
+          radius_.size(), s_.volume_fraction, cell_.height, cell_.length, 2.0 * range));
     const std::size_t n = radius_.size();
     std::mt19937_64 random(s_.seed);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     position_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       // Between plates the centres stay a radius clear of them.
-      const double low = walls_ ? radius_[i] : 0.0, span = walls_ ? height_ - 2.0 * radius_[i] : height_;
-      position_[i] = {length_ * uniform(random), length_ * uniform(random), low + span * uniform(random)};
+      const double low = cell_.walls ? radius_[i] : 0.0,
+                   span = cell_.walls ? cell_.height - 2.0 * radius_[i] : cell_.height;
+      position_[i] = {cell_.length * uniform(random), cell_.length * uniform(random), low + span * uniform(random)};
     }
     // Relaxation, pairs pushed apart and centres kept off the plates.
     for (int sweep = 0; sweep < 20000; ++sweep) {
       double worst = 0.0;
-      for_each_near_pair(2.0 * max_radius_, [&](std::size_t i, std::size_t j, const Vector3& r, double d) {
-        const double overlap = radius_[i] + radius_[j] - d;
-        if (overlap <= 0.0) return;
-        worst = std::max(worst, overlap);
-        const Vector3 push = ((0.5 * overlap * 1.05 + 1e-6) / std::max(d, 1e-12)) * r;
-        position_[i] = position_[i] - push;
-        position_[j] = position_[j] + push;
-      });
-      for (auto& x : position_) wrap(x);
-      if (walls_)
+      cell_.for_each_near_pair(position_, 2.0 * max_radius_,
+                               [&](std::size_t i, std::size_t j, const Vector3& r, double d) {
+                                 const double overlap = radius_[i] + radius_[j] - d;
+                                 if (overlap <= 0.0) return;
+                                 worst = std::max(worst, overlap);
+                                 const Vector3 push = ((0.5 * overlap * 1.05 + 1e-6) / std::max(d, 1e-12)) * r;
+                                 position_[i] = position_[i] - push;
+                                 position_[j] = position_[j] + push;
+                               });
+      for (auto& x : position_) cell_.wrap(x);
+      if (cell_.walls)
         for (std::size_t i = 0; i < n; ++i)
-          position_[i][2] = std::clamp(position_[i][2], radius_[i] * (1.0 + 1e-4), height_ - radius_[i] * (1.0 + 1e-4));
+          position_[i][2] =
+              std::clamp(position_[i][2], radius_[i] * (1.0 + 1e-4), cell_.height - radius_[i] * (1.0 + 1e-4));
       if (worst < 1e-4) return;
     }
     throw std::runtime_error(
         fmt::format("suspension box: could not place {} spheres without overlap at φ = {:g}", n, s_.volume_fraction));
-  }
-
-  void wrap(Vector3& x) const {
-    // Lees–Edwards: leaving through z = L re-enters at z = 0 shifted back by the offset.
-    if (!walls_ && x[2] >= length_) {
-      x[2] -= length_;
-      x[0] -= offset_;
-    } else if (!walls_ && x[2] < 0.0) {
-      x[2] += length_;
-      x[0] += offset_;
-    }
-    for (const std::size_t d : {0UL, 1UL}) x[d] -= length_ * std::floor(x[d] / length_);
-  }
-
-  // Minimum-image separation x_j − x_i under the Lees–Edwards offset.
-  [[nodiscard]] Vector3 separation(std::size_t i, std::size_t j) const {
-    Vector3 r = position_[j] - position_[i];
-    if (!walls_) {
-      const double k = std::round(r[2] / length_);
-      r[2] -= k * length_;
-      r[0] -= k * offset_;
-    }
-    r[0] -= length_ * std::round(r[0] / length_);
-    r[1] -= length_ * std::round(r[1] / length_);
-    return r;
-  }
-
-  // Every pair closer than range (cell list in the sheared frame: across the Lees–Edwards z
-  // boundary a neighbour row is searched over all x cells, which the offset may shift; between
-  // plates z is not periodic).
-  template <class Visit>
-  void for_each_near_pair(double range, Visit&& visit) const {
-    const std::size_t n = radius_.size();
-    const auto visit_if_near = [&](std::size_t i, std::size_t j) {
-      const Vector3 r = separation(i, j);
-      const double d = norm(r);
-      if (d < range) visit(i, j, r, d);
-    };
-    const int cells = std::max(1, static_cast<int>(length_ / range));
-    const int layers = std::max(1, static_cast<int>(height_ / range));
-    if (cells < 4 || (!walls_ && layers < 4) || n < 64) {
-      for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = i + 1; j < n; ++j) visit_if_near(i, j);
-      return;
-    }
-    const double cell = length_ / cells, layer = height_ / layers;
-    std::vector<std::vector<std::size_t>> grid(static_cast<std::size_t>(cells * cells * layers));
-    const auto id = [&](int x, int y, int z) {
-      const auto m = [](int v, int k) { return ((v % k) + k) % k; };
-      return static_cast<std::size_t>((m(x, cells) * cells + m(y, cells)) * layers + m(z, layers));
-    };
-    std::vector<std::array<int, 3>> where(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      where[i] = {std::clamp(static_cast<int>(position_[i][0] / cell), 0, cells - 1),
-                  std::clamp(static_cast<int>(position_[i][1] / cell), 0, cells - 1),
-                  std::clamp(static_cast<int>(position_[i][2] / layer), 0, layers - 1)};
-      grid[id(where[i][0], where[i][1], where[i][2])].push_back(i);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto [cx, cy, cz] = where[i];
-      for (int dz = -1; dz <= 1; ++dz) {
-        const bool crosses = cz + dz < 0 || cz + dz >= layers;
-        if (crosses && walls_) continue;
-        const int x_from = crosses ? 0 : cx - 1, x_to = crosses ? cells - 1 : cx + 1;
-        for (int x = x_from; x <= x_to; ++x)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (const std::size_t j : grid[id(x, cy + dy, cz + dz)])
-              if (j > i) visit_if_near(i, j);
-      }
-    }
   }
 
   void build_pairs() {
@@ -433,7 +336,7 @@ class Box {
     for (const auto& p : pairs_)
       if (p.in_contact) springs.emplace(p.i * radius_.size() + p.j, p.spring);
     pairs_.clear();
-    for_each_near_pair(range, [&](std::size_t i, std::size_t j, const Vector3&, double) {
+    cell_.for_each_near_pair(position_, range, [&](std::size_t i, std::size_t j, const Vector3&, double) {
       Pair p{.i = i, .j = j};
       if (const auto it = springs.find(i * radius_.size() + j); it != springs.end()) {
         p.spring = it->second;
@@ -515,7 +418,7 @@ class Box {
   [[nodiscard]] Vector3 plate_normal(int plate) const { return {0.0, 0.0, plate == 0 ? -1.0 : 1.0}; }
   [[nodiscard]] std::array<double, 6> plate_local_velocities(std::size_t i, int plate, bool with_fluctuation) const {
     std::array<double, 6> v{};
-    v[0] = position_[i][2] - (plate == 0 ? 0.0 : height_);  // u∞(z_i) − U_plate
+    v[0] = position_[i][2] - (plate == 0 ? 0.0 : cell_.height);  // u∞(z_i) − U_plate
     v[4] = spin_ambient;
     if (with_fluctuation)
       for (std::size_t k = 0; k < 6; ++k) v[k] += velocity_[6 * i + k];
@@ -556,11 +459,11 @@ class Box {
     for (std::size_t i = 0; i < radius_.size(); ++i)
       for (const int plate : {0, 1}) {
         const double a = radius_[i], z = position_[i][2];
-        const double h = plate == 0 ? z - a : height_ - z - a;
+        const double h = plate == 0 ? z - a : cell_.height - z - a;
         const std::size_t slot = 2 * i + static_cast<std::size_t>(plate);
         const Vector3 nrm = plate_normal(plate);
-        const Vector3 r{0.0, 0.0, (plate == 0 ? 0.0 : height_) - z};  // the plate point under i, minus x_i
-        if (h < 2.0 * a) {                                            // the layer whose slip is reported
+        const Vector3 r{0.0, 0.0, (plate == 0 ? 0.0 : cell_.height) - z};  // the plate point under i, minus x_i
+        if (h < 2.0 * a) {                                                 // the layer whose slip is reported
           const double lag = -velocity_[6 * i];
           loads.wall_slip_sum += plate == 0 ? -lag : lag;
           ++loads.wall_layer;
@@ -620,7 +523,7 @@ class Box {
     // Known forces: contacts and repulsion (explicit), the lubrication of the affine motion, inertia.
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
       Pair& p = pairs_[k];
-      const Vector3 r = separation(p.i, p.j);
+      const Vector3 r = cell_.separation(position_[p.i], position_[p.j]);
       separations[k] = r;
       const double d = norm(r);
       const double ai = radius_[p.i], aj = radius_[p.j], mean = 0.5 * (ai + aj);
@@ -683,7 +586,7 @@ class Box {
         rhs[6 * p.j + 3 + c] += torque_j[c];
       }
     }
-    if (walls_) add_plates(rhs, loads);
+    if (cell_.walls) add_plates(rhs, loads);
     if (flow_)
       for (std::size_t i = 0; i < n; ++i) {
         // Drag and rotation relative to the liquid's profile instead of u∞ (V' stays relative to u∞).
@@ -757,7 +660,7 @@ class Box {
         flow_->add_sphere(z, a, a * slip, 4.0 / 3.0 * a * a * a * spin);
       }
       flow_->relax(std::min(1.0, dt_ / s_.mean_flow_relaxation));
-      const double area = length_ * length_;
+      const double area = cell_.length * cell_.length;
       loads.plate_stress = 6.0 * pi * (flow_->liquid_stress() + 0.5 * (plate_force[1] - plate_force[0]) / area);
     }
     // Move: affine + fluctuating, then the Lees–Edwards wrap.
@@ -773,11 +676,11 @@ class Box {
     }
     strain_ += dt_;
     strain_since_build_ += dt_;
-    offset_ = std::fmod(offset_ + dt_ * length_, length_);
-    for (auto& x : position_) wrap(x);
-    if (walls_)
+    cell_.offset = std::fmod(cell_.offset + dt_ * cell_.length, cell_.length);
+    for (auto& x : position_) cell_.wrap(x);
+    if (cell_.walls)
       for (const auto& x : position_)
-        if (!(x[2] > 0.0 && x[2] < height_))
+        if (!(x[2] > 0.0 && x[2] < cell_.height))
           throw std::runtime_error(
               fmt::format("suspension box diverged at strain {:.4g}: a sphere passed through a plate", strain_));
     if (loads.max_overlap > 1.0)
@@ -837,43 +740,16 @@ class Box {
   std::vector<GapSource> gap_source_;
   std::vector<double> factor_, scratch_;
   numerics::ConjugateGradientWorkspace cg_work_;
-  bool walls_ = false;
-  double length_ = 0.0, height_ = 0.0, solid_volume_ = 0.0, max_radius_ = 0.0, skin_ = 0.0;
-  double offset_ = 0.0, strain_ = 0.0, strain_since_build_ = 0.0;
+  ShearedCell cell_;
+  double solid_volume_ = 0.0, max_radius_ = 0.0, skin_ = 0.0;
+  double strain_ = 0.0, strain_since_build_ = 0.0;
   double stiffness_ = 0.0, tangential_ = 0.0, dt_ = 0.0;
 };
 
 }  // namespace
 
-double default_contact_stiffness(double /*volume_fraction*/) {
-  // The practice of LF_DEM (Mari et al. 2014): soft enough that friction acts through sticking
-  // contacts, stiff enough that the mean overlap stays below 1 % of a and the largest below 5 %
-  // up to φ = 0.5 (measured: mean 0.45 %, largest 3.3 % there). Stiffer contacts slide almost
-  // always and lower η_r at φ = 0.5 (−15 % at 3×, −21 % at 6×); at φ <= 0.3 the change is within 1 %
-  // (bench/suspension_box_study.sh, docs/suspension-box.md).
-  return 2000.0;
-}
-
-double default_strain_step(const SuspensionBoxSettings& s) {
-  // The springs are implicit, so the step is set by accuracy: a pair approaching at the
-  // affine rate (~2a γ̇) closes a tenth of the lubrication range in about 0.025 strain.
-  double step = 5e-3;
-  if (s.stokes_number > 0.0) {
-    const double k = s.contact_stiffness > 0.0 ? s.contact_stiffness : default_contact_stiffness(s.volume_fraction);
-    const double smallest = *std::min_element(s.radii.begin(), s.radii.end());
-    const double mass = s.stokes_number * smallest * smallest * smallest;
-    // Resolve the particle relaxation time m/(6πμa) = St (strain units) ...
-    step = std::min(step, 0.5 * s.stokes_number);
-    // ... and a contact's oscillation, a tenth of its period 2π√(m_red/k), where it has one: the
-    // squeeze at contact, a/(4δ) for equal spheres, damps it unless 2√(k m_red) exceeds it.
-    const double damping = smallest / (4.0 * s.roughness);
-    if (2.0 * std::sqrt(k * 0.5 * mass) > damping) step = std::min(step, 0.1 * 2.0 * pi * std::sqrt(0.5 * mass / k));
-  }
-  return step;
-}
-
 SuspensionBoxResult run_suspension_box(const SuspensionBoxSettings& settings) {
-  check(settings);
+  check_suspension_box_settings(settings);
   Box box(settings);
   return box.run();
 }

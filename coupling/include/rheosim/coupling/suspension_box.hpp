@@ -88,8 +88,11 @@ struct SuspensionBoxSettings {
   std::function<void(double)> on_block;
 };
 
-// The normal contact stiffness [6πμaγ̇] at volume fraction φ: 2000 (see suspension_box.cpp for
-// the measured overlaps and the stress's sensitivity to it).
+// Throws std::invalid_argument naming the setting out of range and its valid range.
+void check_suspension_box_settings(const SuspensionBoxSettings& settings);
+
+// The normal contact stiffness [6πμaγ̇] at volume fraction φ: 2000 (see
+// suspension_box_settings.cpp for the measured overlaps and the stress's sensitivity to it).
 [[nodiscard]] double default_contact_stiffness(double volume_fraction);
 // Δγ: 5e-3 (the springs are implicit, so accuracy sets it); with inertia at most half the
 // particle relaxation time St, and a tenth of the contact oscillation period where the squeeze
