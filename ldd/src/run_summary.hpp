@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rheosim/core/version.hpp"
+#include "rheosim/core/run_summary.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/solver.hpp"
@@ -54,14 +54,9 @@ template <class Solver>
 [[nodiscard]] nlohmann::ordered_json summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
                                                   const RunOutcome& outcome, int threads) {
   const PhaseTimes& t = solver.phase_times();
-  nlohmann::ordered_json summary;
-  summary["case"] = c.name;
-  summary["kind"] = c.kind;
+  nlohmann::ordered_json summary = core::summary_head(c, "ldd");
   summary["scene"] = l.scene_type;
   summary["dimension"] = l.dimension;
-  summary["rheosim_version"] = core::version;
-  summary["git_revision"] = core::git_revision;
-  summary["input_sha256"] = c.sha256;
   summary["status"] = outcome.status;
   if (!outcome.message.empty()) summary["message"] = outcome.message;
   summary["nodes"] = solver.node_count();

@@ -9,7 +9,7 @@
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
-#include "rheosim/core/version.hpp"
+#include "rheosim/core/run_summary.hpp"
 #include "rheosim/fluid/swirl.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/report.hpp"
@@ -158,20 +158,8 @@ RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& ou
   core::write_hdf5(out_dir / "fields.h5", fields);
   core::write_csv(out_dir / "torque.csv", table);
 
-  nlohmann::ordered_json summary;
-  summary["case"] = c.name;
-  summary["kind"] = c.kind;
-  summary["rheosim_version"] = core::version;
-  summary["git_revision"] = core::git_revision;
-  summary["input_sha256"] = c.sha256;
-  summary["radius"] = g.radius;
-  summary["gap"] = g.gap;
-  summary["grid"] = {{"radial_cells", r.solver.radial_cells},
-                     {"axial_cells", r.solver.axial_cells},
-                     {"radial_grading", r.solver.radial_grading},
-                     {"axial_stretching", r.solver.axial_stretching},
-                     {"extrapolate", r.solver.extrapolate}};
-  summary["inertia"] = r.solver.inertia;
+  nlohmann::ordered_json summary = core::summary_head(c, "rheometer");
+  add_plates_and_grid(summary, r);
   summary["points_failed"] = outcome.failed_points;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary["points"] = points;

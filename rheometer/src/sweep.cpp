@@ -14,6 +14,7 @@
 
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/progress.hpp"
+#include "rheosim/core/run_summary.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/coupling/forces.hpp"
 #include "rheosim/coupling/near_field.hpp"
@@ -604,22 +605,9 @@ SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core:
     if (!res.converged) ++outcome.failed_points;
   }
 
-  nlohmann::ordered_json summary;
-  summary["case"] = c.name;
-  summary["kind"] = "sweep";  // a one-φ rheometer case runs as a sweep too
-  summary["rheosim_version"] = core::version;
-  summary["git_revision"] = core::git_revision;
-  summary["input_sha256"] = c.sha256;
-  summary["radius"] = r.geometry.radius;
-  summary["gap"] = r.geometry.gap;
-  // The φ = 0 swirl solver's grid; suspension points name theirs in `method`.
-  summary["grid"] = {{"radial_cells", r.solver.radial_cells},
-                     {"axial_cells", r.solver.axial_cells},
-                     {"radial_grading", r.solver.radial_grading},
-                     {"axial_stretching", r.solver.axial_stretching},
-                     {"extrapolate", r.solver.extrapolate},
-                     {"applies_to", "the φ = 0 points (steady swirl solve); a CFD-DEM point names its grid in method"}};
-  summary["inertia"] = r.solver.inertia;
+  nlohmann::ordered_json summary = core::summary_head(c, "sweep");  // a one-φ rheometer case runs as a sweep too
+  add_plates_and_grid(summary, r);
+  summary["grid"]["applies_to"] = "the φ = 0 points (steady swirl solve); a CFD-DEM point names its grid in method";
   summary["volume_fractions"] = sweep.volume_fractions;
   summary["shear_rates"] = r.shear_rates;
   summary["points_total"] = outcome.points;
