@@ -10,6 +10,7 @@
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/report_page.hpp"
+#include "rheosim/core/run_summary.hpp"
 #include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
@@ -19,62 +20,11 @@ using Json = nlohmann::json;
 
 namespace {
 
+constexpr std::string_view summary_hint = "pass the --out folder of a finished 'rheosim run' of a kind: ldd case";
+
 [[noreturn]] void missing(const fs::path& file, std::string_view key, std::string_view expected) {
-  core::ConfigError::Details d;
-  d.where = core::FileLocation{file.string(), 0, 0};
-  d.key_path = std::string(key);
-  d.problem = fmt::format("summary.json has no usable '{}'", key);
-  d.expected = std::string(expected);
-  d.hint = "pass the --out folder of a finished 'rheosim run' of a kind: ldd case";
-  throw core::ConfigError(d);
+  core::refuse_summary_value(file, key, expected, summary_hint);
 }
-
-// Required values of the summary: a missing key, or one of another type, names itself.
-class Reader {
- public:
-  Reader(const Json& json, fs::path file) : json_(json), file_(std::move(file)) {}
-  [[nodiscard]] bool has(std::string_view key) const { return json_.contains(std::string(key)); }
-  [[nodiscard]] const Json& at(std::string_view key) const {
-    if (!has(key)) missing(file_, key, "the key, as every LDD run writes it");
-    return json_.at(std::string(key));
-  }
-  [[nodiscard]] double number(std::string_view key) const {
-    const Json& v = at(key);
-    if (!v.is_number()) missing(file_, key, "a number");
-    return v.get<double>();
-  }
-  [[nodiscard]] std::optional<double> number_or_null(std::string_view key) const {
-    const Json& v = at(key);
-    if (v.is_null()) return std::nullopt;
-    if (!v.is_number()) missing(file_, key, "a number or null");
-    return v.get<double>();
-  }
-  [[nodiscard]] std::size_t count(std::string_view key) const {
-    const Json& v = at(key);
-    if (!v.is_number_unsigned()) missing(file_, key, "a count (an integer >= 0)");
-    return v.get<std::size_t>();
-  }
-  [[nodiscard]] std::string text(std::string_view key) const {
-    const Json& v = at(key);
-    if (!v.is_string()) missing(file_, key, "a string");
-    return v.get<std::string>();
-  }
-  [[nodiscard]] bool boolean(std::string_view key) const {
-    const Json& v = at(key);
-    if (!v.is_boolean()) missing(file_, key, "true or false");
-    return v.get<bool>();
-  }
-  [[nodiscard]] std::vector<std::string> texts(std::string_view key) const {
-    const Json& v = at(key);
-    if (!v.is_array() || !std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_string(); }))
-      missing(file_, key, "a list of strings");
-    return v.get<std::vector<std::string>>();
-  }
-
- private:
-  const Json& json_;
-  fs::path file_;
-};
 
 std::string esc(std::string_view s) { return core::escape_markup(s); }
 
@@ -99,7 +49,7 @@ int column_of(const core::CsvTable& table, std::string_view name) {
 
 RunSummary read_run_summary(const fs::path& summary_json) {
   const Json json = core::read_json(summary_json);
-  const Reader r(json, summary_json);
+  const core::SummaryReader r(json, summary_json, "every LDD run", std::string(summary_hint));
   if (const std::string kind = r.text("kind"); kind != "ldd")
     core::refuse_summary_kind(
         summary_json, kind, "the summary of a kind: ldd run",

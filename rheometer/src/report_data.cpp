@@ -9,6 +9,7 @@
 #include "report_parts.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/report_page.hpp"
+#include "rheosim/core/run_summary.hpp"
 #include "rheosim/rheometer/analysis.hpp"
 #include "rheosim/rheometer/flow_models.hpp"
 
@@ -54,14 +55,41 @@ ReportData read_report_data(const fs::path& run_dir) {
   const auto summary_path = core::run_summary_file(run_dir);
   ReportData d;
   d.summary = core::read_json(summary_path);
-  if (const std::string kind = text(d.summary, "kind"); kind != "rheometer" && kind != "sweep")
+  const core::SummaryReader r(d.summary, summary_path, "every rheometer and sweep run",
+                              "pass the --out folder of a finished 'rheosim run' of a rheometer or sweep case");
+  if (const std::string kind = r.text("kind"); kind != "rheometer" && kind != "sweep")
     core::refuse_summary_kind(summary_path, kind, "the summary of a rheometer or sweep run",
                               "'rheosim report' writes the report of an LDD run with the LDD report");
-  d.points = array(d.summary, "points");
-  d.series_json = array(d.summary, "series");
-  d.fits = array(d.summary, "fits");
-  d.yields = array(d.summary, "yield_stress");
-  d.relative = array(d.summary, "relative_viscosity");
+  // What every page section reads: a missing or mistyped key is an error naming it, not a
+  // table of "–". Per-point values that only some methods have (closed form, validity, normal
+  // force) stay optional and show as "–".
+  for (const char* key : {"case", "rheosim_version", "git_revision", "input_sha256"}) (void)r.text(key);
+  for (const char* key : {"radius", "gap", "wall_time"}) (void)r.number(key);
+  (void)r.count("points_failed");
+  (void)r.boolean("inertia");
+  for (const auto& point : r.objects("points")) {
+    (void)point.text("fluid");
+    (void)point.number("shear_rate");
+    if (point.boolean("converged")) (void)point.number("torque");
+  }
+  for (const auto& series : r.objects("series")) {
+    (void)series.text("label");
+    (void)series.text("fluid");
+    (void)series.number("volume_fraction");
+    (void)series.count("points");
+  }
+  for (const auto& fit : r.objects("fits")) {
+    (void)fit.text("label");
+    (void)fit.text("model");
+    (void)fit.objects("parameters");
+  }
+  (void)r.objects("yield_stress");
+  (void)r.objects("relative_viscosity");
+  d.points = d.summary.at("points");
+  d.series_json = d.summary.at("series");
+  d.fits = d.summary.at("fits");
+  d.yields = d.summary.at("yield_stress");
+  d.relative = d.summary.at("relative_viscosity");
   d.is_sweep = text(d.summary, "kind") == "sweep";
   d.radius = num(d.summary, "radius");
   d.gap = num(d.summary, "gap");

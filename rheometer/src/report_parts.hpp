@@ -46,7 +46,8 @@ struct ReportData {
   [[nodiscard]] std::string label_of(const Json& point) const;
 };
 
-// Reads <run_dir>/summary.json; ConfigError when it is missing or of another kind of run.
+// Reads <run_dir>/summary.json; ConfigError when it is missing, of another kind of run, or lacks
+// (or mistypes) a key the report reads, naming the key.
 [[nodiscard]] ReportData read_report_data(const fs::path& run_dir);
 // flow_curve.csv, speed_error.csv, fits.csv, fit_curves.csv, residuals.csv, torque_lines.csv,
 // yield_stress.csv, relative_viscosity.csv, relative_viscosity_curves.csv, normal_stress.csv.

@@ -2,9 +2,16 @@
 // The head every run's summary.json starts with: which case (its name and the SHA-256 of the
 // exact input deck), which kind of run wrote it (the report reads it to pick its layout), and
 // which rheosim (version and git revision). Each kind appends its own keys after these.
+// SummaryReader reads them back: a report fails loudly on a missing or mistyped key instead of
+// drawing NaN.
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/version.hpp"
@@ -20,5 +27,36 @@ namespace rheosim::core {
   summary["input_sha256"] = header.sha256;
   return summary;
 }
+
+// A ConfigError at summary.json's `key` (a dotted path, "points[3].shear_rate"): it has no
+// usable value; `expected` says what was wanted, `hint` what to pass instead.
+[[noreturn]] void refuse_summary_value(const std::filesystem::path& file, std::string_view key,
+                                       std::string_view expected, std::string_view hint);
+
+// Required values of one object of a summary.json: a missing key, or one of another type, is a
+// ConfigError that names its path in the file.
+class SummaryReader {
+ public:
+  // `writer` completes "the key, as ... writes it" ("every LDD run"); hint: see refuse_summary_value.
+  SummaryReader(const nlohmann::json& json, std::filesystem::path file, std::string writer, std::string hint,
+                std::string path = {});
+
+  [[nodiscard]] bool has(std::string_view key) const { return json_.contains(std::string(key)); }
+  [[nodiscard]] const nlohmann::json& at(std::string_view key) const;
+  [[nodiscard]] double number(std::string_view key) const;
+  [[nodiscard]] std::optional<double> number_or_null(std::string_view key) const;
+  [[nodiscard]] std::size_t count(std::string_view key) const;
+  [[nodiscard]] std::string text(std::string_view key) const;
+  [[nodiscard]] bool boolean(std::string_view key) const;
+  [[nodiscard]] std::vector<std::string> texts(std::string_view key) const;
+  // A list of objects: one reader per element, its path "key[i]".
+  [[nodiscard]] std::vector<SummaryReader> objects(std::string_view key) const;
+
+ private:
+  [[noreturn]] void refuse(std::string_view key, std::string_view expected) const;
+  const nlohmann::json& json_;
+  std::filesystem::path file_;
+  std::string writer_, hint_, path_;
+};
 
 }  // namespace rheosim::core
