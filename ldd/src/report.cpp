@@ -103,6 +103,7 @@ ReportFiles write_report(const fs::path& run_dir) {
   std::string body;
   const std::string energy_unit = s.dimension == 2 ? "J/m" : "J";
   const bool table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
+  const bool martin_moyce = s.scene == "dam_break" && fs::exists(run_dir / "martin_moyce.csv");
   bool wall_height = false;  // a sloshing column's probe file has the height at the left wall
   if (s.free_surface) {
     const std::string probes = probe_file_name(s.scene);
@@ -118,6 +119,8 @@ ReportFiles write_report(const fs::path& run_dir) {
         curves +=
             ", 'table1.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (LDD Table 1)', "
             "'table1.csv' using 1:5 with points pt 6 ps 1.4 title 'seed LDD (same Δ, δt)'";
+      if (martin_moyce)
+        curves += ", 'martin_moyce.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (Martin and Moyce 1952)'";
       plot("front", "Mass front position vs time",
            "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
     } else if (s.scene == "slump") {
@@ -184,9 +187,25 @@ ReportFiles write_report(const fs::path& run_dir) {
   if (s.free_surface) {
     if (s.scene == "dam_break") {
       html += "<h2>Front</h2>\n";
-      html += figure_or_note(files, "front",
-                             "Mass front x(t) of this run; points: the experiment and the seed's LDD column of "
-                             "LDD Table 1 where the case's Δ and δt have one (front.csv, table1.csv).");
+      html += figure_or_note(
+          files, "front",
+          martin_moyce ? "Mass front x(t) from the gate of this run; points: the water column of Martin &amp; Moyce "
+                         "(1952, n² = 2) at the same a and g (front.csv, martin_moyce.csv)."
+                       : "Mass front x(t) of this run; points: the experiment and the seed's LDD column of LDD Table 1 "
+                         "where the case's Δ and δt have one (front.csv, table1.csv).");
+      if (martin_moyce) {
+        const core::CsvTable t = core::read_csv(run_dir / "martin_moyce.csv");
+        html +=
+            "<table>\n<tr><th>T = t√(2g/a)</th><th>Z = x/a, Martin &amp; Moyce</th><th>Z, this run</th>"
+            "<th>difference</th></tr>\n";
+        for (std::size_t i = 0; i < t.row_count(); ++i) {
+          const auto r = t.row(i);  // time, experiment, front, T, Z_experiment, Z, relative_error
+          html += fmt::format("<tr><td>{:.3f}</td><td>{:.3f}</td><td>{}</td><td>{}</td></tr>\n", r[3], r[4],
+                              std::isfinite(r[5]) ? fmt::format("{:.3f}", r[5]) : std::string("not reached"),
+                              std::isfinite(r[6]) ? fmt::format("{:+.1f} %", 100 * r[6]) : std::string("—"));
+        }
+        html += "</table>\n";
+      }
       if (table1) {
         const core::CsvTable t = core::read_csv(run_dir / "table1.csv");
         html +=

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "dam_break_references.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
@@ -77,17 +78,6 @@ double top_height(const FreeSurfaceSolver& s) {
   return top + 0.5 * s.params().spacing;
 }
 
-double interpolate(const std::vector<double>& t, const std::vector<double>& v, double at) {
-  if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
-  if (at <= t.front()) return v.front();
-  if (at > t.back() + 1e-9) return std::numeric_limits<double>::quiet_NaN();  // the run did not get there
-  if (at >= t.back()) return v.back();
-  const auto upper = std::lower_bound(t.begin(), t.end(), at);
-  const auto k = static_cast<std::size_t>(upper - t.begin());
-  const double w = (at - t[k - 1]) / (t[k] - t[k - 1]);
-  return (1 - w) * v[k - 1] + w * v[k];
-}
-
 std::filesystem::path frame_name(std::size_t index) {
   return std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
 }
@@ -111,16 +101,6 @@ void write_frame_indexes(const std::filesystem::path& dir, const std::vector<cor
   for (auto& e : beside_frames) e.file = e.file.filename();
   core::write_vtk_series(dir / "frames" / "nodes.vtk.series", beside_frames);
   core::write_pvd(dir / "nodes.pvd", entries);
-}
-
-// The seed's LDD column for this Δ and δt, if it ran one (Table 1).
-const double* table1_column(double spacing, double dt) {
-  const auto close = [](double a, double b) { return std::abs(a / b - 1) < 1e-6; };
-  if (close(spacing, 1e-3) && close(dt, 1e-3)) return DamBreakReference::ldd_1mm_dt1e3;
-  if (close(spacing, 1e-3) && close(dt, 1e-4)) return DamBreakReference::ldd_1mm_dt1e4;
-  if (close(spacing, 2e-3) && close(dt, 1e-3)) return DamBreakReference::ldd_2mm_dt1e3;
-  if (close(spacing, 2e-3) && close(dt, 1e-4)) return DamBreakReference::ldd_2mm_dt1e4;
-  return nullptr;
 }
 
 FreeSurfaceScene build_scene(const ldd::CaseSettings& l) {
@@ -633,41 +613,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   }
   if (dam_break) {
     summary["front"] = probes;
-    // LDD Table 1 layout: time, experiment, this run, the seed's LDD for the same Δ and δt.
-    const double* paper = table1_column(l.spacing, l.time_step);
-    core::CsvTable table({{"time", "s"}, {"experiment", "m"}, {"front", "m"}, {"error", "m"}, {"ldd_seed", "m"}});
-    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-    std::string text = fmt::format(
-        "Mass front position, LDD Table 1 layout (Δ = {} mm, δt = {:g} s; seed LDD column for the same Δ, δt)\n"
-        "{:>8} {:>10} {:>12} {:>10} {:>10}\n",
-        l.spacing * 1e3, l.time_step, "Time (s)", "Exp. (m)", "this run (m)", "error (m)", "seed (m)");
-    double sum2 = 0, worst = 0;
-    int counted = 0;
-    for (std::size_t q = 0; q < 6; ++q) {
-      const double time = DamBreakReference::times[q], exp = DamBreakReference::experiment[q];
-      const double x = interpolate(run.front_time, run.front, time);
-      const double seed = paper ? paper[q] : std::numeric_limits<double>::quiet_NaN();
-      table.add_row({time, exp, x, x - exp, seed});
-      rows.push_back({{"t", time},
-                      {"experiment", exp},
-                      {"front", x},
-                      {"error", x - exp},
-                      {"ldd_seed", paper ? nlohmann::ordered_json(seed) : nlohmann::ordered_json()}});
-      text += fmt::format("{:>8.2f} {:>10.3f} {:>12.3f} {:>+10.3f} {:>10}\n", time, exp, x, x - exp,
-                          paper ? fmt::format("{:.3f}", seed) : std::string("-"));
-      if (std::isfinite(x)) {
-        sum2 += (x - exp) * (x - exp);
-        worst = std::max(worst, std::abs(x - exp));
-        ++counted;
-      }
-    }
-    const double rms = counted > 0 ? std::sqrt(sum2 / counted) : std::numeric_limits<double>::quiet_NaN();
-    text +=
-        fmt::format("RMS error vs experiment {:.4f} m, max {:.4f} m ({} of 6 times reached)\n", rms, worst, counted);
-    core::write_csv(out_dir / "table1.csv", table);
-    core::write_atomically(out_dir / "table1.txt", [&](std::ostream& os) { os << text; });
-    summary["table1"] = {{"rows", rows}, {"rms_error", rms}, {"max_error", worst}};
-    log.info("{}", text);
+    detail::compare_dam_break_front(l, run.front_time, run.front, out_dir, summary, log);
   }
   if (slump) summary["spread"] = probes;
   if (dam_break || slump) {
@@ -725,7 +671,7 @@ DamBreakResult simulate_dam_break(const ldd::DamBreakScene& scene, const FreeSur
   }
   r.steps = solver.steps();
   r.ms_per_step = r.steps > 0 ? 1e3 * seconds / static_cast<double>(r.steps) : 0.0;
-  for (double t : DamBreakReference::times) r.front_at_table1.push_back(interpolate(r.times, r.front, t));
+  for (double t : DamBreakReference::times) r.front_at_table1.push_back(detail::interpolate(r.times, r.front, t));
   r.phases = solver.phase_times();
   return r;
 }

@@ -94,5 +94,46 @@ TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
   }
 }
 
+// A dam break is compared with the experiment of its material: a Newtonian liquid in a reservoir
+// twice as high as long with Martin & Moyce's water column (front Z = x/a against T = t√(2g/a)),
+// not with LDD Table 1's Bingham experiment; a Newtonian reservoir of another shape with none.
+// (Accuracy is checked by bench/ldd_water_column.sh; this run is a coarse 0.1 s.)
+TEST(LddReportReferences, AWaterColumnIsComparedWithMartinAndMoyce) {
+  const std::string water =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.1, 0.2], channel_length: 0.6}\n"
+      "fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\ngravity: [0, -9.81]\n"
+      "resolution: {spacing: 0.01}\ntime: {step: 1.0e-3, end: 0.1}\n"
+      "solver: {threads: 1, velocity_tolerance: 1.0e-6, gradient: surface_anchored, pbd_velocity: none}\n";
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_report_martin_moyce";
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(run_case(ldd::parse_case(water, "water.yaml"), dir, core::Log::null()).status, "end_time");
+  EXPECT_FALSE(std::filesystem::exists(dir / "table1.csv"));
+  ASSERT_TRUE(std::filesystem::exists(dir / "martin_moyce.csv"));
+  const auto summary = core::read_json(dir / "summary.json");
+  EXPECT_FALSE(summary.contains("table1"));
+  const auto& rows = summary["martin_moyce"]["rows"];
+  ASSERT_EQ(rows.size(), 5u);
+  // T = 0.832 is t = 0.059 s (reached), T = 1.997 is t = 0.143 s (not reached by 0.1 s).
+  EXPECT_DOUBLE_EQ(rows[0]["Z_experiment"].get<double>(), 1.217);
+  ASSERT_TRUE(rows[0]["Z"].is_number());
+  EXPECT_GT(rows[0]["Z"].get<double>(), 1.0);  // the front has left the gate
+  EXPECT_TRUE(rows[2]["Z"].is_null());
+  const std::string html = read_text(write_report(dir).html);
+  EXPECT_NE(html.find("Martin &amp; Moyce"), std::string::npos);
+  EXPECT_NE(html.find("<td>1.217</td>"), std::string::npos);
+  EXPECT_NE(html.find("not reached"), std::string::npos);
+  EXPECT_EQ(html.find("table1.csv"), std::string::npos);  // no Bingham experiment for water
+  std::filesystem::remove_all(dir);
+
+  // The same liquid in a square reservoir: no experiment to compare with.
+  std::string square = water;
+  square.replace(square.find("[0.1, 0.2]"), 10, "[0.1, 0.1]");
+  ASSERT_EQ(run_case(ldd::parse_case(square, "square.yaml"), dir, core::Log::null()).status, "end_time");
+  EXPECT_FALSE(std::filesystem::exists(dir / "table1.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "martin_moyce.csv"));
+  EXPECT_NE(read_text(write_report(dir).html).find("rheosim LDD report"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace rheosim::ldd

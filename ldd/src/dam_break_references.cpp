@@ -1,0 +1,131 @@
+#include "dam_break_references.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "rheosim/core/output.hpp"
+#include "rheosim/ldd/run.hpp"
+
+namespace rheosim::ldd::detail {
+
+namespace {
+
+// The seed's LDD column for this Δ and δt, if it ran one (Table 1).
+const double* table1_column(double spacing, double dt) {
+  const auto close = [](double a, double b) { return std::abs(a / b - 1) < 1e-6; };
+  if (close(spacing, 1e-3) && close(dt, 1e-3)) return DamBreakReference::ldd_1mm_dt1e3;
+  if (close(spacing, 1e-3) && close(dt, 1e-4)) return DamBreakReference::ldd_1mm_dt1e4;
+  if (close(spacing, 2e-3) && close(dt, 1e-3)) return DamBreakReference::ldd_2mm_dt1e3;
+  if (close(spacing, 2e-3) && close(dt, 1e-4)) return DamBreakReference::ldd_2mm_dt1e4;
+  return nullptr;
+}
+
+void compare_with_table1(const CaseSettings& l, const std::vector<double>& front_time, const std::vector<double>& front,
+                         const std::filesystem::path& out_dir, nlohmann::ordered_json& summary, const core::Log& log) {
+  // LDD Table 1 layout: time, experiment, this run, the seed's LDD for the same Δ and δt.
+  const double* paper = table1_column(l.spacing, l.time_step);
+  core::CsvTable table({{"time", "s"}, {"experiment", "m"}, {"front", "m"}, {"error", "m"}, {"ldd_seed", "m"}});
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  std::string text = fmt::format(
+      "Mass front position, LDD Table 1 layout (Δ = {} mm, δt = {:g} s; seed LDD column for the same Δ, δt)\n"
+      "{:>8} {:>10} {:>12} {:>10} {:>10}\n",
+      l.spacing * 1e3, l.time_step, "Time (s)", "Exp. (m)", "this run (m)", "error (m)", "seed (m)");
+  double sum2 = 0, worst = 0;
+  int counted = 0;
+  for (std::size_t q = 0; q < 6; ++q) {
+    const double time = DamBreakReference::times[q], exp = DamBreakReference::experiment[q];
+    const double x = interpolate(front_time, front, time);
+    const double seed = paper ? paper[q] : std::numeric_limits<double>::quiet_NaN();
+    table.add_row({time, exp, x, x - exp, seed});
+    rows.push_back({{"t", time},
+                    {"experiment", exp},
+                    {"front", x},
+                    {"error", x - exp},
+                    {"ldd_seed", paper ? nlohmann::ordered_json(seed) : nlohmann::ordered_json()}});
+    text += fmt::format("{:>8.2f} {:>10.3f} {:>12.3f} {:>+10.3f} {:>10}\n", time, exp, x, x - exp,
+                        paper ? fmt::format("{:.3f}", seed) : std::string("-"));
+    if (std::isfinite(x)) {
+      sum2 += (x - exp) * (x - exp);
+      worst = std::max(worst, std::abs(x - exp));
+      ++counted;
+    }
+  }
+  const double rms = counted > 0 ? std::sqrt(sum2 / counted) : std::numeric_limits<double>::quiet_NaN();
+  text += fmt::format("RMS error vs experiment {:.4f} m, max {:.4f} m ({} of 6 times reached)\n", rms, worst, counted);
+  core::write_csv(out_dir / "table1.csv", table);
+  core::write_atomically(out_dir / "table1.txt", [&](std::ostream& os) { os << text; });
+  summary["table1"] = {{"rows", rows}, {"rms_error", rms}, {"max_error", worst}};
+  log.info("{}", text);
+}
+
+// The front from the gate, x, is the water column's Z = (x + a)/a; T = t√(2g/a).
+void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene, const std::vector<double>& front_time,
+                               const std::vector<double>& front, const std::filesystem::path& out_dir,
+                               nlohmann::ordered_json& summary, const core::Log& log) {
+  const double a = scene.reservoir[0];
+  double g = 0;
+  for (double c : l.gravity) g += c * c;
+  const double time_scale = std::sqrt(a / (2.0 * std::sqrt(g)));  // t = T·√(a/2g)
+  core::CsvTable table({{"time", "s"},
+                        {"experiment", "m"},
+                        {"front", "m"},
+                        {"T", ""},
+                        {"Z_experiment", ""},
+                        {"Z", ""},
+                        {"relative_error", ""}});
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  std::string text = fmt::format(
+      "Front Z = x/a against Martin & Moyce (1952), n² = 2, a = {:g} m (x from the back wall)\n{:>7} {:>8} {:>8} "
+      "{:>10}\n",
+      a, "T", "Z (M&M)", "Z (LDD)", "difference");
+  double worst = 0;
+  int counted = 0;
+  for (std::size_t q = 0; q < std::size(WaterColumnReference::times); ++q) {
+    const double T = WaterColumnReference::times[q], z_exp = WaterColumnReference::fronts[q];
+    const double t = T * time_scale;
+    const double x = interpolate(front_time, front, t);
+    const double z = (x + a) / a, error = z / z_exp - 1.0;
+    table.add_row({t, (z_exp - 1.0) * a, x, T, z_exp, z, error});
+    rows.push_back(
+        {{"T", T},
+         {"Z_experiment", z_exp},
+         {"Z", std::isfinite(z) ? nlohmann::ordered_json(z) : nlohmann::ordered_json()},
+         {"relative_error", std::isfinite(error) ? nlohmann::ordered_json(error) : nlohmann::ordered_json()}});
+    text += std::isfinite(z) ? fmt::format("{:>7.3f} {:>8.3f} {:>8.3f} {:>+9.1f} %\n", T, z_exp, z, 100 * error)
+                             : fmt::format("{:>7.3f} {:>8.3f} {:>8} {:>10}\n", T, z_exp, "-", "not reached");
+    if (std::isfinite(error)) {
+      worst = std::max(worst, std::abs(error));
+      ++counted;
+    }
+  }
+  text += fmt::format("largest difference {:.1f} % ({} of {} times reached)\n", 100 * worst, counted,
+                      std::size(WaterColumnReference::times));
+  core::write_csv(out_dir / "martin_moyce.csv", table);
+  summary["martin_moyce"] = {
+      {"rows", rows}, {"max_relative_error", counted > 0 ? nlohmann::ordered_json(worst) : nlohmann::ordered_json()}};
+  log.info("{}", text);
+}
+
+}  // namespace
+
+void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
+                             const std::vector<double>& front, const std::filesystem::path& out_dir,
+                             nlohmann::ordered_json& summary, const core::Log& log) {
+  const auto& scene = std::get<DamBreakScene>(l.scene);
+  const std::string law(l.fluid.rheology->name());
+  const double aspect = scene.reservoir[1] / scene.reservoir[0];
+  if (law == "bingham") {
+    compare_with_table1(l, front_time, front, out_dir, summary, log);
+  } else if (law == "newtonian" && std::abs(aspect / WaterColumnReference::height_over_width - 1.0) < 1e-6) {
+    compare_with_martin_moyce(l, scene, front_time, front, out_dir, summary, log);
+  } else {
+    log.info(
+        "no experiment for this dam break: LDD Table 1 is for a Bingham material, Martin & Moyce for a Newtonian "
+        "liquid in a reservoir twice as high as long ({} here, height/length {:.3g})",
+        law, aspect);
+  }
+}
+
+}  // namespace rheosim::ldd::detail

@@ -1,0 +1,47 @@
+#pragma once
+// The experiments a dam break's front is compared with (run_free_surface.cpp writes them beside
+// the run and into summary.json; the LDD report draws them):
+//   - a Bingham material: LDD Table 1 (the Bingham dam break of LDD §4.3, its experiment and the
+//     seed's LDD columns for the same Δ and δt), table1.csv and table1.txt, summary "table1";
+//   - a Newtonian liquid in a reservoir twice as high as long: the water column of Martin &
+//     Moyce (1952, Phil. Trans. R. Soc. A 244, 312, Fig. 3, n² = 2), front Z = x/a (x from the
+//     back wall, a the column's width) against T = t√(2g/a), martin_moyce.csv, summary
+//     "martin_moyce";
+//   - anything else: no experiment (the log says so).
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+#include <vector>
+
+#include "rheosim/core/log.hpp"
+#include "rheosim/ldd/case.hpp"
+
+namespace rheosim::ldd::detail {
+
+// Martin & Moyce (1952), Fig. 3, n² = 2 (a = 2.25 in): T = t√(2g/a) and Z = x/a.
+struct WaterColumnReference {
+  static constexpr double height_over_width = 2.0;
+  static constexpr double times[5] = {0.832, 1.219, 1.997, 2.547, 3.345};
+  static constexpr double fronts[5] = {1.217, 1.474, 2.292, 2.995, 4.134};
+};
+
+// v(at) by linear interpolation in the increasing t; NaN beyond the last sample (the run did
+// not get there).
+[[nodiscard]] inline double interpolate(const std::vector<double>& t, const std::vector<double>& v, double at) {
+  if (t.empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (at <= t.front()) return v.front();
+  if (at > t.back() + 1e-9) return std::numeric_limits<double>::quiet_NaN();  // the run did not get there
+  if (at >= t.back()) return v.back();
+  const auto upper = std::lower_bound(t.begin(), t.end(), at);
+  const auto k = static_cast<std::size_t>(upper - t.begin());
+  const double w = (at - t[k - 1]) / (t[k] - t[k - 1]);
+  return (1 - w) * v[k - 1] + w * v[k];
+}
+
+void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
+                             const std::vector<double>& front, const std::filesystem::path& out_dir,
+                             nlohmann::ordered_json& summary, const core::Log& log);
+
+}  // namespace rheosim::ldd::detail
