@@ -649,31 +649,4 @@ std::string probe_file_name(std::string_view scene_type) {
   return "column.csv";
 }
 
-DamBreakResult simulate_dam_break(const ldd::DamBreakScene& scene, const FreeSurfaceParams& params, double end_time) {
-  FreeSurfaceScene built = dam_break_scene(scene, params.spacing);
-  FreeSurfaceSolver solver(params, std::move(built.boundaries), std::move(built.cloud));
-  DamBreakResult r;
-  r.nodes = solver.node_count();
-  r.fluid_nodes = solver.fluid_node_count();
-  const double volume0 = solver.fluid_volume();
-  r.times.push_back(0.0);
-  r.front.push_back(mass_front(solver));
-  r.kinetic_energy.push_back(solver.kinetic_energy());
-  const auto total_steps = static_cast<std::size_t>(std::llround(end_time / params.time_step));
-  double seconds = 0;
-  for (std::size_t k = 1; k <= total_steps; ++k) {
-    if (!detail::timed_step_into(solver, r, seconds)) break;
-    r.times.push_back(solver.time());
-    r.front.push_back(mass_front(solver));
-    r.kinetic_energy.push_back(solver.kinetic_energy());
-    if (k % 20 == 0 || k == total_steps)
-      r.volume_drift = std::max(r.volume_drift, std::abs(solver.fluid_volume() / volume0 - 1));
-  }
-  r.steps = solver.steps();
-  r.ms_per_step = r.steps > 0 ? 1e3 * seconds / static_cast<double>(r.steps) : 0.0;
-  for (double t : DamBreakReference::times) r.front_at_table1.push_back(detail::interpolate(r.times, r.front, t));
-  r.phases = solver.phase_times();
-  return r;
-}
-
 }  // namespace rheosim::ldd

@@ -118,18 +118,4 @@ struct DamBreakReference {
 
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l);
 
-struct DamBreakResult {
-  std::size_t nodes = 0, fluid_nodes = 0, steps = 0;
-  double ms_per_step = 0, volume_drift = 0;  // drift: max |V/V₀ − 1| over the run
-  bool diverged = false;
-  std::string message;
-  std::vector<double> times, front;     // every step [s], [m]
-  std::vector<double> kinetic_energy;   // every step [J/m]
-  std::vector<double> front_at_table1;  // interpolated at DamBreakReference::times
-  PhaseTimes phases;
-};
-// A dam-break run without files (tests, benchmarks), to end_time.
-[[nodiscard]] DamBreakResult simulate_dam_break(const ldd::DamBreakScene& scene, const FreeSurfaceParams& params,
-                                                double end_time);
-
 }  // namespace rheosim::ldd
