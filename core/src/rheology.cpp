@@ -31,16 +31,8 @@ void add_builtin_rheologies(RheologyRegistry& registry) {
   add<Cross>(registry);
 }
 
-RheologyRegistry builtin_rheologies() {
-  RheologyRegistry registry;
-  add_builtin_rheologies(registry);
-  return registry;
-}
+const RheologyRegistry& builtin_rheologies() { return builtin_registry<Rheology, add_builtin_rheologies>(); }
 
-std::shared_ptr<const Rheology> make_rheology(const Section& section) {
-  // Built once (thread-safe static init) and only read afterwards.
-  static const RheologyRegistry registry = builtin_rheologies();
-  return registry.make(section);
-}
+std::shared_ptr<const Rheology> make_rheology(const Section& section) { return builtin_rheologies().make(section); }
 
 }  // namespace rheosim::core

@@ -66,22 +66,14 @@ void add_builtin_drag_models(DragRegistry& registry) {
   core::add<SchillerNaumann>(registry);
 }
 
-DragRegistry builtin_drag_models() {
-  DragRegistry registry;
-  add_builtin_drag_models(registry);
-  return registry;
+const DragRegistry& builtin_drag_models() { return core::builtin_registry<DragModel, add_builtin_drag_models>(); }
+
+std::unique_ptr<const DragModel> make_drag_model(const core::Section& section) {
+  return builtin_drag_models().make(section);
 }
 
-namespace {
-const DragRegistry& drag_registry() {
-  // Built once (thread-safe static init) and only read afterwards.
-  static const DragRegistry registry = builtin_drag_models();
-  return registry;
+std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law) {
+  return builtin_drag_models().make(core::name_of(law));
 }
-}  // namespace
-
-std::unique_ptr<const DragModel> make_drag_model(const core::Section& section) { return drag_registry().make(section); }
-
-std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law) { return drag_registry().make(core::name_of(law)); }
 
 }  // namespace rheosim::coupling

@@ -78,36 +78,26 @@ void add_force_without_settings(ForceRegistry& registry) {
 }  // namespace
 
 void add_builtin_force_models(ForceRegistry& registry) {
-  const DragRegistry drag_laws = builtin_drag_models();
-  for (const std::string& law : drag_laws.names())
+  for (const std::string& law : builtin_drag_models().names())
     registry.add(
         law,
         [](const core::Section& section) -> std::unique_ptr<ForceModel> {
           return std::make_unique<DragForce>(make_drag_model(section));
         },
-        [law, drag_laws]() -> std::unique_ptr<ForceModel> { return std::make_unique<DragForce>(drag_laws.make(law)); });
+        [law]() -> std::unique_ptr<ForceModel> {
+          return std::make_unique<DragForce>(builtin_drag_models().make(law));
+        });
   add_force_without_settings<PressureGradientForce>(registry);
   add_force_without_settings<ViscousForce>(registry);
 }
 
-ForceRegistry builtin_force_models() {
-  ForceRegistry registry;
-  add_builtin_force_models(registry);
-  return registry;
-}
-
-namespace {
-const ForceRegistry& force_registry() {
-  static const ForceRegistry registry = builtin_force_models();
-  return registry;
-}
-}  // namespace
+const ForceRegistry& builtin_force_models() { return core::builtin_registry<ForceModel, add_builtin_force_models>(); }
 
 std::unique_ptr<const ForceModel> make_force_model(const core::Section& section) {
-  return force_registry().make(section);
+  return builtin_force_models().make(section);
 }
 
-std::unique_ptr<const ForceModel> make_force_model(std::string_view name) { return force_registry().make(name); }
+std::unique_ptr<const ForceModel> make_force_model(std::string_view name) { return builtin_force_models().make(name); }
 
 std::vector<std::string> seed_force_models() { return force_models(core::DragLaw::di_felice); }
 

@@ -121,25 +121,16 @@ void add_builtin_void_fraction_schemes(VoidFractionRegistry& registry) {
   core::add<DividedVoidFraction>(registry);
 }
 
-VoidFractionRegistry builtin_void_fraction_schemes() {
-  VoidFractionRegistry registry;
-  add_builtin_void_fraction_schemes(registry);
-  return registry;
+const VoidFractionRegistry& builtin_void_fraction_schemes() {
+  return core::builtin_registry<VoidFractionScheme, add_builtin_void_fraction_schemes>();
 }
-
-namespace {
-const VoidFractionRegistry& void_fraction_registry() {
-  static const VoidFractionRegistry registry = builtin_void_fraction_schemes();
-  return registry;
-}
-}  // namespace
 
 std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(const core::Section& section) {
-  return void_fraction_registry().make(section);
+  return builtin_void_fraction_schemes().make(section);
 }
 
 std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(std::string_view name) {
-  return void_fraction_registry().make(name);
+  return builtin_void_fraction_schemes().make(name);
 }
 
 VoidFractionField::VoidFractionField(const fluid::CylindricalGrid& grid, double floor, int max_floor_passes,

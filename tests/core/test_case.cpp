@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "case_test_support.hpp"
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
@@ -27,20 +28,9 @@ shear_rates: [1, 10, 100]
 )";
 
 ConfigError parse_error(const std::string& text) {
-  try {
-    (void)parse_case(text, "case.yaml");
-  } catch (const ConfigError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected a ConfigError for:\n" << text;
-  return ConfigError({});
+  return test_support::config_error([](const std::string& t) { (void)parse_case(t, "case.yaml"); }, text);
 }
-
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
+using test_support::replace;
 
 TEST(Case, RheometerCaseParsesIntoTypedValues) {
   const Case c = parse_case(plate_case, "cases/plate.yaml");

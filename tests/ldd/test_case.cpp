@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 
+#include "case_test_support.hpp"
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/ldd/case.hpp"
@@ -19,20 +20,9 @@ using core::ConfigError;
 using ::testing::HasSubstr;
 
 ConfigError parse_error(const std::string& text) {
-  try {
-    (void)parse_case(text, "case.yaml");
-  } catch (const ConfigError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected a ConfigError for:\n" << text;
-  return ConfigError({});
+  return test_support::config_error([](const std::string& t) { (void)parse_case(t, "case.yaml"); }, text);
 }
-
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
+using test_support::replace;
 
 const std::string cavity_case = R"(kind: ldd
 dimension: 2

@@ -69,6 +69,18 @@ class Registry {
   std::map<std::string, Entry, std::less<>> entries_;
 };
 
+// The built-in models of one interface: AddBuiltins fills the registry once (thread-safe static
+// initialisation) and it is only read afterwards; each interface's builtin_* returns it.
+template <class Base, void (*AddBuiltins)(Registry<Base>&)>
+[[nodiscard]] const Registry<Base>& builtin_registry() {
+  static const Registry<Base> registry = [] {
+    Registry<Base> r;
+    AddBuiltins(r);
+    return r;
+  }();
+  return registry;
+}
+
 // Registers Model under Model::name; Model::Params::from(section) parses and validates. A model
 // whose Params are empty has no settings and can also be built by name.
 template <class Model, class Base>

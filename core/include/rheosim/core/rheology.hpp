@@ -80,8 +80,8 @@ using RheologyRegistry = Registry<Rheology>;
 // Adds every built-in law: newtonian, power_law, bingham, casson, herschel_bulkley,
 // carreau_yasuda, cross.
 void add_builtin_rheologies(RheologyRegistry& registry);
-// A registry holding the built-in laws.
-[[nodiscard]] RheologyRegistry builtin_rheologies();
+// The registry of the built-in laws, built once (core::builtin_registry).
+[[nodiscard]] const RheologyRegistry& builtin_rheologies();
 // Builds a law from a `rheology:` section ({model: name, ...parameters}).
 [[nodiscard]] std::shared_ptr<const Rheology> make_rheology(const Section& section);
 

@@ -85,8 +85,8 @@ using DragRegistry = core::Registry<DragModel>;
 
 // Adds every built-in law: di_felice, schiller_naumann.
 void add_builtin_drag_models(DragRegistry& registry);
-// A registry holding the built-in laws.
-[[nodiscard]] DragRegistry builtin_drag_models();
+// The registry of the built-in laws, built once (core::builtin_registry).
+[[nodiscard]] const DragRegistry& builtin_drag_models();
 // Builds a law from a `drag:` section ({model: name, ...parameters}).
 [[nodiscard]] std::unique_ptr<const DragModel> make_drag_model(const core::Section& section);
 // The law a case's particles.drag names (core::DragLaw; no parameters).

@@ -135,7 +135,7 @@ class ViscousForce final : public ForceModel {  // CD eq. 35 (sign: see the head
 using ForceRegistry = core::Registry<ForceModel>;
 // pressure_gradient, viscous, and every drag law by its name (di_felice).
 void add_builtin_force_models(ForceRegistry& registry);
-[[nodiscard]] ForceRegistry builtin_force_models();
+[[nodiscard]] const ForceRegistry& builtin_force_models();
 [[nodiscard]] std::unique_ptr<const ForceModel> make_force_model(const core::Section& section);
 [[nodiscard]] std::unique_ptr<const ForceModel> make_force_model(std::string_view name);
 // The seed's set (CD §4): di_felice, pressure_gradient, viscous.

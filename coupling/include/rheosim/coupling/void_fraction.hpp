@@ -131,7 +131,7 @@ class VoidFractionSchemeBase : public VoidFractionScheme {
 
 using VoidFractionRegistry = core::Registry<VoidFractionScheme>;
 void add_builtin_void_fraction_schemes(VoidFractionRegistry& registry);  // centre, divided
-[[nodiscard]] VoidFractionRegistry builtin_void_fraction_schemes();
+[[nodiscard]] const VoidFractionRegistry& builtin_void_fraction_schemes();
 // From a `void_fraction:` section ({model: name}).
 [[nodiscard]] std::unique_ptr<const VoidFractionScheme> make_void_fraction_scheme(const core::Section& section);
 // By name, e.g. "divided" (throws std::invalid_argument listing the valid names).
