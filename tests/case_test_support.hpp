@@ -1,5 +1,5 @@
 #pragma once
-// Helpers of the case-reader tests (tests/core/test_case.cpp, tests/ldd/test_case.cpp).
+// Helpers of the case-reader tests (tests/core, tests/rheometer, tests/ldd, tests/dem and tests/coupling case tests).
 #include <gtest/gtest.h>
 
 #include <string>

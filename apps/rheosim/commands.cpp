@@ -15,6 +15,7 @@
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/report.hpp"
 #include "rheosim/rheometer/box_point.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
 #include "rheosim/rheometer/report.hpp"
 #include "rheosim/rheometer/run.hpp"
@@ -34,13 +35,13 @@ int bad_input(const core::Log& log, const std::exception& e) {
 
 // A sweep runs (or resumes) into `out`: φ = 0 points by the steady swirl solve, φ > 0 points by
 // CFD-DEM, each within the point budget (rheometer/sweep.hpp).
-int run_sweep_case(const core::Case& c, const std::string& case_file, const std::filesystem::path& out,
+int run_sweep_case(const rheometer::Case& c, const std::string& case_file, const std::filesystem::path& out,
                    double point_budget, const core::Log& log) {
   try {
     const auto log_file = log.with_file(out / "log.txt");
     log_file.info("rheosim {} (git {}): running sweep {} into {}", core::version, core::git_revision, case_file,
                   out.string());
-    const auto& sweep = std::get<core::SweepCase>(c.spec);
+    const auto& sweep = std::get<rheometer::SweepCase>(c.spec);
     auto runners = rheometer::default_point_runners(sweep.rheometer);
     runners.suspension =
         rheometer::make_coupled_suspension_runner(sweep.rheometer, out / "dem", point_budget, sweep.volume_fractions);
@@ -61,13 +62,13 @@ int run_sweep_case(const core::Case& c, const std::string& case_file, const std:
 }
 
 // The model each suspension φ of the case would run, and the box's settings where it is chosen.
-void describe_suspension_model(const core::Case& c) {
-  const core::RheometerCase* r = nullptr;
+void describe_suspension_model(const rheometer::Case& c) {
+  const rheometer::RheometerCase* r = nullptr;
   std::vector<double> fractions;
-  if (const auto* sweep = std::get_if<core::SweepCase>(&c.spec)) {
+  if (const auto* sweep = std::get_if<rheometer::SweepCase>(&c.spec)) {
     r = &sweep->rheometer;
     fractions = sweep->volume_fractions;
-  } else if (const auto* single = std::get_if<core::RheometerCase>(&c.spec); single && single->particles) {
+  } else if (const auto* single = std::get_if<rheometer::RheometerCase>(&c.spec); single && single->particles) {
     r = single;
     fractions = {single->particles->volume_fraction};
   }
@@ -75,9 +76,9 @@ void describe_suspension_model(const core::Case& c) {
   for (const double phi : fractions) {
     if (!(phi > 0.0)) continue;
     const auto choice = rheometer::choose_suspension_model(*r, phi, default_point_budget);
-    std::cout << fmt::format("  φ = {:g}: {} — {}\n", phi, rheometer::to_string(choice.model), choice.reason);
-    if (choice.model == core::RheometerCase::SuspensionModel::lees_edwards ||
-        choice.model == core::RheometerCase::SuspensionModel::walled_box)
+    std::cout << fmt::format("  φ = {:g}: {} — {}\n", phi, rheometer::name_of(choice.model), choice.reason);
+    if (choice.model == rheometer::RheometerCase::SuspensionModel::lees_edwards ||
+        choice.model == rheometer::RheometerCase::SuspensionModel::walled_box)
       std::cout << fmt::format("    {}\n", rheometer::describe_box(*r, phi));
   }
 }
@@ -94,8 +95,8 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
         const ldd::Case c = ldd::read_case(case_file);
         std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind, ldd::describe(c));
       } else {
-        const core::Case c = core::read_case(case_file);
-        std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind, core::describe(c));
+        const rheometer::Case c = rheometer::read_case(case_file);
+        std::cout << fmt::format("{}: valid {} case\n{}", file, c.kind, rheometer::describe(c));
         describe_suspension_model(c);
       }
     } catch (const core::ConfigError& e) {
@@ -108,7 +109,7 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log) {
 int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget, double stop_after,
         const core::Log& log) {
   std::optional<core::CaseFile> file;
-  std::optional<core::Case> rheometer_or_sweep;
+  std::optional<rheometer::Case> rheometer_or_sweep;
   std::optional<ldd::Case> ldd_case;
   try {
     // The kind names the module that reads the rest of the file.
@@ -116,7 +117,7 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
     if (file->header().kind == "ldd")
       ldd_case.emplace(ldd::read_case(*file));
     else
-      rheometer_or_sweep.emplace(core::read_case(*file));
+      rheometer_or_sweep.emplace(rheometer::read_case(*file));
   } catch (const core::ConfigError& e) {
     return bad_input(log, e);
   }
@@ -129,17 +130,17 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
     return exit_run_failure;
   }
   if (ldd_case) return run_ldd(*ldd_case, out, stop_after, log);
-  const core::Case& c = *rheometer_or_sweep;
-  if (std::holds_alternative<core::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
-  const auto* rheometer_case = std::get_if<core::RheometerCase>(&c.spec);
+  const rheometer::Case& c = *rheometer_or_sweep;
+  if (std::holds_alternative<rheometer::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
+  const auto* rheometer_case = std::get_if<rheometer::RheometerCase>(&c.spec);
   if (rheometer_case && rheometer_case->particles) {
     // A suspension at one φ runs as a two-fraction sweep: the liquid alone (φ = 0, the reference
     // for the torque increase) and the suspension, with resume, analysis and report.
-    core::Case as_sweep = c;
+    rheometer::Case as_sweep = c;
     as_sweep.kind = "sweep";
     const double phi = rheometer_case->particles->volume_fraction;
     as_sweep.spec =
-        core::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
+        rheometer::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
     return run_sweep_case(as_sweep, case_file, out, point_budget, log);
   }
   try {
@@ -161,9 +162,9 @@ int export_openfoam(const std::string& case_file, const std::filesystem::path& d
   try {
     const core::CaseFile file = core::CaseFile::open(case_file);
     file.require_kind({"rheometer"}, "export-openfoam (OpenFOAM is the single-phase rheometer's peer)");
-    const core::Case c = core::read_case(file);
+    const rheometer::Case c = rheometer::read_case(file);
     if (rim_shear_rate <= 0)
-      if (const auto* r = std::get_if<core::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();
+      if (const auto* r = std::get_if<rheometer::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();
     rheometer::OpenFoamExportOptions options;
     options.mesh = rheometer::OpenFoamMesh::preset(mesh);
     options.rim = rheometer::parse_openfoam_rim(rim);

@@ -92,6 +92,13 @@ std::string Range::phrase() const {
 
 // --------------------------------------------------------------------------- suggestions
 
+void require_increasing(const Section& s, std::string_view key, const std::vector<double>& values) {
+  for (std::size_t i = 1; i < values.size(); ++i)
+    if (!(values[i] > values[i - 1]))
+      s.fail(key, fmt::format("entry {} ({}) does not exceed entry {} ({})", i, values[i], i - 1, values[i - 1]),
+             "a strictly increasing list", "sort the list and remove repeated values");
+}
+
 std::size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> row(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;

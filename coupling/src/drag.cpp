@@ -72,8 +72,6 @@ std::unique_ptr<const DragModel> make_drag_model(const core::Section& section) {
   return builtin_drag_models().make(section);
 }
 
-std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law) {
-  return builtin_drag_models().make(core::name_of(law));
-}
+std::unique_ptr<const DragModel> make_drag_model(DragLaw law) { return builtin_drag_models().make(name_of(law)); }
 
 }  // namespace rheosim::coupling

@@ -99,11 +99,9 @@ std::unique_ptr<const ForceModel> make_force_model(const core::Section& section)
 
 std::unique_ptr<const ForceModel> make_force_model(std::string_view name) { return builtin_force_models().make(name); }
 
-std::vector<std::string> seed_force_models() { return force_models(core::DragLaw::di_felice); }
+std::vector<std::string> seed_force_models() { return force_models(DragLaw::di_felice); }
 
-std::vector<std::string> force_models(core::DragLaw drag) {
-  return {core::name_of(drag), "pressure_gradient", "viscous"};
-}
+std::vector<std::string> force_models(DragLaw drag) { return {name_of(drag), "pressure_gradient", "viscous"}; }
 
 FluidSampler::FluidSampler(const fluid::CylindricalGrid& grid) : fields_(grid) {}
 

@@ -190,7 +190,7 @@ class PairFinder {
 class CombinedNearField final : public NearFieldModel {
  public:
   CombinedNearField(NearFieldSettings settings, std::shared_ptr<const core::Rheology> matrix)
-      : settings_(std::move(settings)), terms_(settings_.terms), matrix_(std::move(matrix)), name_(terms_.name()) {}
+      : settings_(std::move(settings)), matrix_(std::move(matrix)), name_(settings_.terms.name()) {}
 
   [[nodiscard]] std::string_view name() const override { return name_; }
 
@@ -218,13 +218,12 @@ class CombinedNearField final : public NearFieldModel {
   // τ(γ̇)(1 + (0.75 + 1.75 n)φ) with n = 1 + d ln μ/d ln γ̇, i.e. Einstein's 2.5φ with
   // μ_S = 0.3 μ + 0.7 dτ/dγ̇ = μ + 0.7 γ̇ dμ/dγ̇ (a plastic matrix, n → 0: 0.75φ).
   [[nodiscard]] double stresslet_viscosity(double mu, double shear_rate) const {
-    if (settings_.stresslet_viscosity == core::StressletViscosity::secant || !(shear_rate > 0.0)) return mu;
+    if (settings_.stresslet_viscosity == StressletViscosity::secant || !(shear_rate > 0.0)) return mu;
     const double tangent = mu + shear_rate * matrix_->viscosity_derivative(shear_rate);
     return std::isfinite(tangent) ? 0.3 * mu + 0.7 * std::max(tangent, 0.0) : mu;
   }
 
   NearFieldSettings settings_;
-  NearFieldTerms terms_;
   std::shared_ptr<const core::Rheology> matrix_;
   std::string name_;
 };
@@ -247,27 +246,28 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
   System s;
   s.drive.assign(6 * n, 0.0);
   s.blocks.assign(36 * n, 0.0);
-  const bool need_ambient = terms_.single_particle || terms_.stokes_drag || terms_.lubrication;
+  const bool need_ambient =
+      settings_.terms.single_particle || settings_.terms.stokes_drag || settings_.terms.lubrication;
   std::vector<single_particle::AmbientAtParticle> flow(need_ambient && ambient ? n : 0);
   for (std::size_t i = 0; i < flow.size(); ++i) flow[i] = single_particle::decompose(ambient(position(p, i)));
   const auto ambient_shear_rate = [&](std::size_t i) { return flow.empty() ? 0.0 : flow[i].shear_rate; };
 
-  if (terms_.stokes_drag || terms_.single_particle) {
-    s.drag.assign(terms_.stokes_drag ? n : 0, 0.0);
-    s.rotation.assign(terms_.single_particle ? n : 0, 0.0);
-    s.ambient_spin.assign(terms_.single_particle ? 3 * n : 0, 0.0);
+  if (settings_.terms.stokes_drag || settings_.terms.single_particle) {
+    s.drag.assign(settings_.terms.stokes_drag ? n : 0, 0.0);
+    s.rotation.assign(settings_.terms.single_particle ? n : 0, 0.0);
+    s.ambient_spin.assign(settings_.terms.single_particle ? 3 * n : 0, 0.0);
     for (std::size_t i = 0; i < n; ++i) {
       const double a = p.radii[i];
       const double mu = matrix_->viscosity(ambient_shear_rate(i));
       const single_particle::AmbientAtParticle f = flow.empty() ? single_particle::AmbientAtParticle{} : flow[i];
-      if (terms_.stokes_drag) {
+      if (settings_.terms.stokes_drag) {
         s.drag[i] = 6.0 * pi * mu * a;
         for (std::size_t k = 0; k < 3; ++k) {
           s.drive[6 * i + k] += s.drag[i] * f.velocity[k];
           s.blocks[36 * i + 7 * k] += s.drag[i];
         }
       }
-      if (terms_.single_particle) {
+      if (settings_.terms.single_particle) {
         s.rotation[i] = 8.0 * pi * mu * a * a * a;
         for (std::size_t k = 0; k < 3; ++k) {
           s.drive[6 * i + 3 + k] += s.rotation[i] * f.vorticity_half[k];
@@ -284,7 +284,7 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
     }
   }
 
-  if (terms_.lubrication) {
+  if (settings_.terms.lubrication) {
     const double roughness = settings_.roughness;
     double smallest = infinity;
     const auto finish_gap = [&](lubrication::Gap& gap, double ai, double aj, double width, double ambient_rate) {
@@ -335,7 +335,7 @@ CombinedNearField::System CombinedNearField::assemble(const ParticleSnapshot& p,
     for (const auto& gap : s.gaps)
       if (gap.j == lubrication::no_partner) lubrication::add_gap_forces(gap, zero, s.drive, true);
     // Repulsion: a known force, part of F₀ (it does not depend on V).
-    if (terms_.repulsion) {
+    if (settings_.terms.repulsion) {
       s.repulsion.reserve(s.gaps.size());
       for (const auto& gap : s.gaps) {
         const double h = std::max(gap.gap_ratio, 0.0);  // h/ā (h/a at a plate)
@@ -376,7 +376,7 @@ void CombinedNearField::evaluate(const ParticleSnapshot& p, const NearFieldScene
       result.plate_forces.size() != scene.plates.size())
     throw std::invalid_argument(
         "NearFieldModel::evaluate: result not sized by NearFieldResult::reset(particles, plates)");
-  if (!terms_.lubrication && !terms_.single_particle && !terms_.stokes_drag) return;
+  if (!settings_.terms.lubrication && !settings_.terms.single_particle && !settings_.terms.stokes_drag) return;
   const bool implicit = p.time_step > 0.0;
   if (implicit && (p.masses.size() != n || p.other_forces.size() != 3 * n || p.other_torques.size() != 3 * n))
     throw std::invalid_argument(fmt::format(
@@ -505,20 +505,6 @@ double CombinedNearField::stable_time_step(const ParticleSnapshot& p, double par
 }
 
 }  // namespace
-
-NearFieldSettings near_field_settings(const core::Hydrodynamics& h) {
-  NearFieldSettings s;
-  s.terms = {.lubrication = h.lubrication,
-             .single_particle = h.single_particle,
-             .stokes_drag = h.stokes_drag,
-             .repulsion = h.repulsion};
-  s.roughness = h.roughness;
-  s.lubrication_cutoff = h.lubrication_cutoff;
-  s.repulsion_force = h.repulsion_force;
-  s.repulsion_length = h.repulsion_length;
-  s.stresslet_viscosity = h.stresslet_viscosity;
-  return s;
-}
 
 std::string NearFieldTerms::name() const {
   std::string out;

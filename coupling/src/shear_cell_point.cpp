@@ -354,7 +354,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
                                      .axial_cells = settings.axial_cells});
   const CellLocator locator(grid);
   const auto scheme = make_void_fraction_scheme(settings.void_fraction);
-  const auto drag = make_drag_model(settings.particles.drag);
+  const auto drag = make_drag_model(settings.drag);
 
   SteadyStateDetector detector(settings.steady, settings.shear_rate);
   ParticleCellMap map;

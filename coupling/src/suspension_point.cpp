@@ -196,14 +196,14 @@ class DiskAmbientFlow {
   std::vector<double> gradient_;  // 9 per cell, row-major ∂u_i/∂x_j in (r, θ, z)
 };
 
-// The near-field model of particles.hydrodynamics, or null for drag only.
+// The near-field model of the point's hydrodynamics, or null for drag only.
 std::shared_ptr<const NearFieldModel> near_field_model(const SuspensionPointSettings& s) {
-  if (!s.particles.hydrodynamics.any()) return nullptr;
-  if (s.particles.hydrodynamics.stokes_drag)
+  if (!s.hydrodynamics.terms.any()) return nullptr;
+  if (s.hydrodynamics.terms.stokes_drag)
     throw std::invalid_argument(
         "particles.hydrodynamics: stokes_drag is the drag on an imposed flow, for cells without a fluid solver; "
         "the CFD-DEM rheometer already applies the drag law of particles.drag — use lubrication and/or stresslet");
-  return make_near_field_model(near_field_settings(s.particles.hydrodynamics), s.fluid.rheology);
+  return make_near_field_model(s.hydrodynamics, s.fluid.rheology);
 }
 
 // φ = 0: the fluid alone on the same grid and time step (the suspension's reference).
@@ -245,11 +245,11 @@ SuspensionPoint run_fluid_only(const SuspensionPointSettings& s, std::chrono::st
 SuspensionPoint run_point(const SuspensionPointSettings& s) {
   // particles.drag names the law; a different law in the force list would silently win.
   for (const std::string& name : s.coupling.forces)
-    if (builtin_drag_models().contains(name) && name != core::name_of(s.particles.drag))
+    if (builtin_drag_models().contains(name) && name != name_of(s.drag))
       throw std::invalid_argument(
           fmt::format("coupling.forces lists the drag law {} but particles.drag is {} "
                       "(set it with coupling::force_models(particles.drag))",
-                      name, core::name_of(s.particles.drag)));
+                      name, name_of(s.drag)));
   const auto start = std::chrono::steady_clock::now();
   if (!(std::isfinite(s.rim_shear_rate) && s.rim_shear_rate > 0.0))
     throw std::invalid_argument(fmt::format("run_point: rim shear rate {} 1/s must be > 0", s.rim_shear_rate));

@@ -25,7 +25,7 @@ void read_granular_atoms(Engine& engine, std::string_view boundary, const std::f
   engine.command(fmt::format("read_data {}", data_file.string()));
 }
 
-void set_hertz_contacts(Engine& engine, const core::ParticleProperties& particles, int material_types,
+void set_hertz_contacts(Engine& engine, const ParticleProperties& particles, int material_types,
                         std::string_view friction_pairs, double neighbor_skin, double time_step) {
   const auto& q = particles;
   engine.commands({

@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/dem/engine.hpp"
+#include "rheosim/dem/particles.hpp"
 
 namespace rheosim::dem::detail {
 
@@ -23,7 +23,7 @@ void read_granular_atoms(Engine& engine, std::string_view boundary, const std::f
 // E, ν and e; `friction_pairs` is the peratomtypepair list of μ_c (types × types values).
 // LIGGGHTS checks E in SI units against [5e6, 1e9] Pa unless told otherwise: softened particles
 // (contact-stiffness scaling) need soft_particles, the CD §4 ones hard_particles.
-void set_hertz_contacts(Engine& engine, const core::ParticleProperties& particles, int material_types,
+void set_hertz_contacts(Engine& engine, const ParticleProperties& particles, int material_types,
                         std::string_view friction_pairs, double neighbor_skin, double time_step);
 
 // fix gravity along `acceleration` (nothing for nullopt or a zero vector).

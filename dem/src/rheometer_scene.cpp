@@ -63,7 +63,7 @@ void check_params(const RheometerScene::Params& p) {
   if (!(q.diameter < g.gap))
     throw std::invalid_argument(fmt::format(
         "RheometerScene::Params::particles.diameter = {} m is out of range, expected < gap = {} m", q.diameter, g.gap));
-  if (q.size_distribution.type != core::SizeDistribution::Type::none) {
+  if (q.size_distribution.type != SizeDistribution::Type::none) {
     if (p.positions)
       throw std::invalid_argument(
           "RheometerScene::Params: explicit positions take particles.diameter for every particle; drop "
@@ -145,7 +145,7 @@ void check_params(const RheometerScene::Params& p) {
 }
 
 // The smallest sphere: it has the shortest Rayleigh time (t_R ∝ r), which bounds the step.
-ElasticSphere sphere_of(const core::ParticleProperties& q) {
+ElasticSphere sphere_of(const ParticleProperties& q) {
   return {.radius = 0.5 * smallest_diameter(q),
           .density = q.density,
           .youngs_modulus = q.youngs_modulus,
@@ -187,7 +187,7 @@ Placement place_once(const RheometerScene::Params& params, MPI_Comm comm) {
                          .volume_fraction = q.volume_fraction,
                          .seed = params.seed,
                          .shake_sweeps = params.placement_sweeps};
-      if (q.size_distribution.type != core::SizeDistribution::Type::none)
+      if (q.size_distribution.type != SizeDistribution::Type::none)
         pp.diameters =
             sample_diameters(q.size_distribution, q.diameter, q.volume_fraction * pi * g.radius * g.radius * g.gap,
                              params.seed ^ 0x2545f4914f6cdd1dULL);  // a stream apart from the placement's

@@ -48,7 +48,7 @@ void check_params(const ShearCellScene::Params& p) {
     out_of_range("cell_length", p.cell_length, fmt::format(">= 2 d = {} m", 2.0 * q.diameter));
   if (!(positive(p.cell_width) && p.cell_width >= 2.0 * q.diameter))
     out_of_range("cell_width", p.cell_width, fmt::format(">= 2 d = {} m", 2.0 * q.diameter));
-  if (q.size_distribution.type != core::SizeDistribution::Type::none)
+  if (q.size_distribution.type != SizeDistribution::Type::none)
     throw std::invalid_argument(
         "ShearCellScene::Params::particles.size_distribution: the shear cell takes monodisperse particles only; "
         "use model: full_disk for a size distribution");

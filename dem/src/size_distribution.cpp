@@ -12,16 +12,16 @@
 namespace rheosim::dem {
 namespace {
 
-using Type = core::SizeDistribution::Type;
+using Type = SizeDistribution::Type;
 
-void check(const core::SizeDistribution& s, double median, double solid_volume) {
+void check(const SizeDistribution& s, double median, double solid_volume) {
   if (!(std::isfinite(solid_volume) && solid_volume >= 0.0))
     throw std::invalid_argument(
         fmt::format("sample_diameters: solid_volume = {} is out of range, expected >= 0", solid_volume));
   if (s.type == Type::discrete) {
-    if (s.classes < 1 || s.classes > core::SizeDistribution::max_classes)
-      throw std::invalid_argument(fmt::format("size distribution: {} classes, expected 1 to {}", s.classes,
-                                              core::SizeDistribution::max_classes));
+    if (s.classes < 1 || s.classes > SizeDistribution::max_classes)
+      throw std::invalid_argument(
+          fmt::format("size distribution: {} classes, expected 1 to {}", s.classes, SizeDistribution::max_classes));
     double sum = 0.0;
     for (std::size_t k = 0; k < static_cast<std::size_t>(s.classes); ++k) {
       if (!(s.diameters[k] > 0.0) || !(s.volume_fractions[k] >= 0.0))
@@ -52,7 +52,7 @@ void check(const core::SizeDistribution& s, double median, double solid_volume) 
 
 }  // namespace
 
-std::vector<double> sample_diameters(const core::SizeDistribution& s, double median, double solid_volume,
+std::vector<double> sample_diameters(const SizeDistribution& s, double median, double solid_volume,
                                      std::uint64_t seed) {
   check(s, median, solid_volume);
   detail::PortableRandom random(seed);
@@ -92,13 +92,13 @@ std::vector<double> sample_diameters(const core::SizeDistribution& s, double med
   return out;
 }
 
-double smallest_diameter(const core::ParticleProperties& p) {
+double smallest_diameter(const ParticleProperties& p) {
   const auto& s = p.size_distribution;
   if (s.type == Type::none) return p.diameter;
   return s.type == Type::discrete && s.classes > 0 ? s.diameters.front() : s.min_diameter;
 }
 
-double largest_diameter(const core::ParticleProperties& p) {
+double largest_diameter(const ParticleProperties& p) {
   const auto& s = p.size_distribution;
   if (s.type == Type::none) return p.diameter;
   return s.type == Type::discrete && s.classes > 0 ? s.diameters[static_cast<std::size_t>(s.classes - 1)]

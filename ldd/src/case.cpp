@@ -284,7 +284,7 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
       root.fail("dimension", fmt::format("a {} scene is {}D, not {}D", out.scene_type, wanted, out.dimension),
                 fmt::format("dimension: {}", wanted));
   };
-  if (out.scene_type == "cavity" || out.scene_type == "skewed_cavity") {
+  if (is_cavity(out.scene_type)) {
     require_dimension(2);
     CavityScene c;
     c.size = read_pair(scene, {"size", "cavity width and height", "m"});

@@ -104,7 +104,7 @@ void write_frame_indexes(const std::filesystem::path& dir, const std::vector<cor
 }
 
 FreeSurfaceScene build_scene(const ldd::CaseSettings& l) {
-  // The case reader refuses dam_break and column outside 2D (core/src/case.cpp).
+  // The case reader refuses dam_break and column outside 2D (ldd/src/case.cpp).
   if (const auto* d = std::get_if<ldd::DamBreakScene>(&l.scene)) return dam_break_scene(*d, l.spacing);
   if (const auto* s = std::get_if<ldd::SlumpScene>(&l.scene)) return slump_scene(*s, l.spacing, l.walls);
   if (const auto* c = std::get_if<ldd::ColumnScene>(&l.scene)) return column_scene(*c, l.spacing);

@@ -27,20 +27,22 @@ namespace {
 constexpr double pi = std::numbers::pi;
 
 // St and Re_p by the one definition of shear_cell.hpp's dimensionless_groups().
-double stokes_number(const core::RheometerCase& r, double rate) {
+double stokes_number(const RheometerCase& r, double rate) {
   return dimensionless_groups(r, r.fluid, *r.particles, rate).stokes;
 }
 
-// The near field the box runs: the case's block, or the predictive default.
-core::Hydrodynamics box_near_field(const core::RheometerCase& r) {
-  core::Hydrodynamics h = r.particles->hydrodynamics;
-  if (!h.specified || !h.lubrication) {
-    h = core::Hydrodynamics{};
-    h.lubrication = true;
-    h.single_particle = true;
-    h.roughness = 1.0e-3;
-    h.lubrication_cutoff = coupling::SuspensionBoxSettings{}.lubrication_cutoff;
-  }
+// The box runs the case's near field when it has lubrication, else the predictive default.
+bool near_field_from_case(const RheometerCase& r) {
+  return r.particles->hydrodynamics_given && r.particles->hydrodynamics.terms.lubrication;
+}
+
+coupling::NearFieldSettings box_near_field(const RheometerCase& r) {
+  if (near_field_from_case(r)) return r.particles->hydrodynamics;
+  coupling::NearFieldSettings h;
+  h.terms.lubrication = true;
+  h.terms.single_particle = true;
+  h.roughness = 1.0e-3;
+  h.lubrication_cutoff = coupling::SuspensionBoxSettings{}.lubrication_cutoff;
   return h;
 }
 
@@ -52,14 +54,14 @@ struct BoxRun {
 
 }  // namespace
 
-bool box_has_walls(const core::RheometerCase& r) {
-  using Model = core::RheometerCase::SuspensionModel;
+bool box_has_walls(const RheometerCase& r) {
+  using Model = RheometerCase::SuspensionModel;
   if (r.suspension_model == Model::walled_box) return true;
   return r.suspension_model == Model::automatic && r.particles &&
          r.geometry.gap < walled_box_gap_limit * r.particles->diameter;
 }
 
-coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& r, double phi, double rate) {
+coupling::SuspensionBoxSettings box_settings(const RheometerCase& r, double phi, double rate) {
   const auto& p = *r.particles;
   const auto& matrix = *r.fluid.rheology;
   const double a = 0.5 * p.diameter;
@@ -70,10 +72,10 @@ coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& r, doubl
   if (box_has_walls(r)) s.wall_gap = r.geometry.gap / a;
   const double st = stokes_number(r, rate);
   s.stokes_number = st <= overdamped_stokes_limit ? 0.0 : st;
-  const core::Hydrodynamics h = box_near_field(r);
+  const coupling::NearFieldSettings h = box_near_field(r);
   s.roughness = h.roughness;
   s.lubrication_cutoff = h.lubrication_cutoff;
-  if (h.repulsion) {
+  if (h.terms.repulsion) {
     s.repulsion_force = h.repulsion_force / (6.0 * pi * mu * a * a * rate);
     s.repulsion_length = h.repulsion_length;
   }
@@ -81,12 +83,12 @@ coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& r, doubl
     const auto rheology = r.fluid.rheology;
     s.viscosity_ratio = [rheology, rate, mu](double ratio) { return rheology->viscosity(ratio * rate) / mu; };
     // Chateau, Ovarlez & Trung's homogenised stresslet viscosity (near_field.cpp): μ + 0.7 γ̇ dμ/dγ̇.
-    if (h.stresslet_viscosity == core::StressletViscosity::homogenized) {
+    if (h.stresslet_viscosity == coupling::StressletViscosity::homogenized) {
       const double tangent = mu + rate * matrix.viscosity_derivative(rate);
       s.stresslet_viscosity_ratio = std::isfinite(tangent) ? 0.3 + 0.7 * std::max(tangent, 0.0) / mu : 1.0;
     }
   }
-  if (p.size_distribution.type != core::SizeDistribution::Type::none) {
+  if (p.size_distribution.type != dem::SizeDistribution::Type::none) {
     // The case's sizes: sample the spheres of a box of the default count, relative to d.
     const double volume = s.particles * pi / 6.0 * p.diameter * p.diameter * p.diameter;
     const auto diameters = dem::sample_diameters(p.size_distribution, p.diameter, volume, 1);
@@ -103,21 +105,21 @@ coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& r, doubl
   return s;
 }
 
-bool box_is_rate_independent(const core::RheometerCase& r) {
+bool box_is_rate_independent(const RheometerCase& r) {
   if (r.fluid.rheology->name() != "newtonian") return false;
-  if (box_near_field(r).repulsion) return false;
+  if (box_near_field(r).terms.repulsion) return false;
   for (const double rate : r.shear_rates)
     if (stokes_number(r, rate) > overdamped_stokes_limit) return false;
   return true;
 }
 
-std::string describe_box(const core::RheometerCase& r, double phi) {
+std::string describe_box(const RheometerCase& r, double phi) {
   const double low = r.shear_rates.front(), high = r.shear_rates.back();
   const auto s = box_settings(r, phi, high);
   const double st_low = stokes_number(r, low), st_high = stokes_number(r, high);
   const auto& p = *r.particles;
   const double re_high = dimensionless_groups(r, r.fluid, p, high).particle_reynolds;
-  const core::Hydrodynamics h = box_near_field(r);
+  const coupling::NearFieldSettings h = box_near_field(r);
   return fmt::format(
       "{} of {} spheres ({}), {} integrator (St = (2/9)ρ_p a²γ̇/μ = {:.3g}–{:.3g}{} {:g}), near field "
       "{}: lubrication (roughness δ/ā {:g}, cutoff h_c/ā {:g}) + isolated-sphere drag, rotation and stresslet{}, "
@@ -127,12 +129,11 @@ std::string describe_box(const core::RheometerCase& r, double phi) {
                                      r.geometry.gap / p.diameter)
                        : std::string("Lees–Edwards box"),
       s.particles,
-      p.size_distribution.type == core::SizeDistribution::Type::none ? "equal spheres" : "the case's size distribution",
+      p.size_distribution.type == dem::SizeDistribution::Type::none ? "equal spheres" : "the case's size distribution",
       st_high <= overdamped_stokes_limit ? "overdamped (inertialess, strain units)"
                                          : "inertial (implicit, strain units)",
       st_low, st_high, st_high <= overdamped_stokes_limit ? " <=" : ", above", overdamped_stokes_limit,
-      h.specified && r.particles->hydrodynamics.lubrication ? "from particles.hydrodynamics" : "by default",
-      s.roughness, s.lubrication_cutoff,
+      near_field_from_case(r) ? "from particles.hydrodynamics" : "by default", s.roughness, s.lubrication_cutoff,
       s.repulsion_force > 0.0 ? fmt::format(" + repulsion F_R0 = {:g} N", h.repulsion_force) : std::string(),
       s.contact_stiffness > 0.0 ? s.contact_stiffness : coupling::default_contact_stiffness(phi), s.friction, re_high,
       r.geometry.gap / p.diameter,
@@ -215,7 +216,7 @@ class BoxPool {
 
 class BoxRunner {
  public:
-  BoxRunner(core::RheometerCase r, std::vector<double> volume_fractions)
+  BoxRunner(RheometerCase r, std::vector<double> volume_fractions)
       : r_(std::move(r)), volume_fractions_(std::move(volume_fractions)) {}
 
   // No strain progress: a box runs on a worker, perhaps before its point is asked for.
@@ -349,7 +350,7 @@ class BoxRunner {
       jobs.emplace_back(rate, pool_.submit(box_settings(r_, phi, rate > 0.0 ? rate : r_.shear_rates.back())));
   }
 
-  core::RheometerCase r_;
+  RheometerCase r_;
   std::vector<double> volume_fractions_;
   std::mutex mutex_;
   std::map<double, std::vector<std::pair<double, BoxPool::Future>>> queued_;
@@ -359,7 +360,7 @@ class BoxRunner {
 
 }  // namespace
 
-PointRunner make_box_suspension_runner(const core::RheometerCase& rheometer, std::vector<double> volume_fractions) {
+PointRunner make_box_suspension_runner(const RheometerCase& rheometer, std::vector<double> volume_fractions) {
   auto runner = std::make_shared<BoxRunner>(rheometer, std::move(volume_fractions));
   return [runner](const SweepPoint& point, const PointProgressCallback&) { return runner->run(point); };
 }

@@ -449,9 +449,9 @@ std::string pressure_field() {
 
 }  // namespace
 
-OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const std::filesystem::path& dir,
+OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::filesystem::path& dir,
                                const OpenFoamExportOptions& options) {
-  const auto* rc = std::get_if<core::RheometerCase>(&c.spec);
+  const auto* rc = std::get_if<RheometerCase>(&c.spec);
   if (rc == nullptr)
     input_error(c.file, "kind", fmt::format("'{}' cannot be exported to OpenFOAM", c.kind),
                 "kind: rheometer (single phase)",
@@ -474,7 +474,7 @@ OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const
   const core::FluidProperties* chosen = &rc->fluid;  // the first (or only) fluid
   if (!options.fluid.empty()) {
     const auto it = std::find_if(rc->fluids.begin(), rc->fluids.end(),
-                                 [&](const core::NamedFluid& f) { return f.name == options.fluid; });
+                                 [&](const NamedFluid& f) { return f.name == options.fluid; });
     if (it == rc->fluids.end()) {
       std::string names;
       for (const auto& f : rc->fluids) names += (names.empty() ? "" : ", ") + f.name;

@@ -32,8 +32,8 @@ core::Hdf5Dataset dataset(const std::string& path, std::vector<std::size_t> shap
 
 }  // namespace
 
-RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
-  const auto& r = std::get<core::RheometerCase>(c.spec);
+RunOutcome run_single_phase(const Case& c, const std::filesystem::path& out_dir, const core::Log& log) {
+  const auto& r = std::get<RheometerCase>(c.spec);
   const auto start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(out_dir);
   core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });

@@ -44,7 +44,7 @@ struct Series {
   std::vector<std::size_t> point_indices;  // converged, positive torque, by rate
 };
 
-const core::NamedFluid& find_fluid(const RunAnalysisInputs& in, const std::string& name) {
+const NamedFluid& find_fluid(const RunAnalysisInputs& in, const std::string& name) {
   for (const auto& f : in.fluids)
     if (f.name == name) return f;
   return in.fluids.front();

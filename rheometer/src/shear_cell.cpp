@@ -30,24 +30,24 @@ namespace rheosim::rheometer {
 namespace {
 
 namespace fs = std::filesystem;
-using Model = core::RheometerCase::SuspensionModel;
+using Model = RheometerCase::SuspensionModel;
 
 constexpr double regime_limit = 1.0;  // Re_p, St, Re_gap at most this: Stokes regime
 
 // Expected cell cost [s]: particles × DEM steps to max_strain at the rate the cell runs (measured
 // on this machine: about 3e6 particle-steps/s including the coupling, docs/shear-cell.md).
-double cell_cost_seconds(const core::RheometerCase& r, double phi, double rate, double max_strain, double softening) {
+double cell_cost_seconds(const RheometerCase& r, double phi, double rate, double max_strain, double softening) {
   const auto& p = *r.particles;
   const double length = std::max(8.0 * p.diameter, 3.0 * r.geometry.gap);
   const auto n = static_cast<double>(dem::shear_cell_particle_count(r.geometry.gap, length, length, p.diameter, phi));
   const double dt =
       0.3 * dem::rayleigh_time({0.5 * p.diameter, p.density, p.youngs_modulus / softening, p.poisson_ratio});
   // Near field: ×10–25 the DEM time per step with soft particles (docs/performance.md).
-  const double near_field = p.hydrodynamics.any() ? 20.0 : 1.0;
+  const double near_field = p.hydrodynamics.terms.any() ? 20.0 : 1.0;
   return std::max(n, 1.0) * max_strain / (rate * dt) / 3e6 * near_field;
 }
 
-double inertia_effect(const core::RheometerCase& r, const core::FluidProperties& fluid, double rate) {
+double inertia_effect(const RheometerCase& r, const core::FluidProperties& fluid, double rate) {
   if (!r.solver.inertia) return 0.0;
   fluid::SwirlParams p;
   p.grid = {r.geometry.radius,    r.geometry.gap,          r.solver.radial_cells,    1,
@@ -101,7 +101,7 @@ struct PhiStudy {
 
 class ShearCellRunner {
  public:
-  ShearCellRunner(core::RheometerCase rheometer, fs::path work_dir, ShearCellOptions options)
+  ShearCellRunner(RheometerCase rheometer, fs::path work_dir, ShearCellOptions options)
       : r_(std::move(rheometer)), work_(std::move(work_dir)), options_(std::move(options)) {}
 
   PointResult run(const SweepPoint& point, const PointProgressCallback& progress) {
@@ -114,7 +114,7 @@ class ShearCellRunner {
       out.failure = fmt::format("φ = {:g} needs a particles: section", point.volume_fraction);
       return out;
     }
-    if (r_.particles->hydrodynamics.stokes_drag) {
+    if (r_.particles->hydrodynamics.terms.stokes_drag) {
       out.failure =
           "particles.hydrodynamics: stokes_drag is the drag on an imposed flow; the shear cell solves its "
           "fluid column and applies coupling.drag — use lubrication and/or stresslet";
@@ -188,8 +188,9 @@ class ShearCellRunner {
     s.gap = r_.geometry.gap;
     s.cell_length = s.cell_width = length;
     s.fluid = r_.fluid;
-    s.particles = *r_.particles;
+    s.particles = *r_.particles;  // the solid; its drag and near field follow
     s.particles.volume_fraction = phi;
+    s.drag = r_.particles->drag;
     s.particles.youngs_modulus /= softening;
     s.shear_rate = rate;
     s.axial_cells = axial_cells > 0 ? axial_cells : options_.axial_cells;
@@ -198,9 +199,8 @@ class ShearCellRunner {
     s.coupling_interval = std::max(1, static_cast<int>(std::lround(options_.fluid_time_step / dt)));
     s.steady = options_.steady;
     s.run_directory = work_ / fmt::format("cell_phi{:g}", phi) / tag;
-    if (s.particles.hydrodynamics.any()) {
-      s.near_field =
-          coupling::make_near_field_model(coupling::near_field_settings(s.particles.hydrodynamics), s.fluid.rheology);
+    if (const auto& hydrodynamics = r_.particles->hydrodynamics; hydrodynamics.terms.any()) {
+      s.near_field = coupling::make_near_field_model(hydrodynamics, s.fluid.rheology);
       // Lubricated suspensions wander over several strain units (φ = 0.3: ±20 % per unit, measured
       // with coupling_validate_near_field_coupled's seed-cell study), so two 2-unit windows can
       // agree by chance: longer windows and a later first decision.
@@ -378,7 +378,7 @@ class ShearCellRunner {
     return studies_.emplace(phi, std::move(study)).first->second;
   }
 
-  core::RheometerCase r_;
+  RheometerCase r_;
   fs::path work_;
   ShearCellOptions options_;
   std::mutex mutex_;
@@ -392,8 +392,8 @@ bool DimensionlessGroups::stokes_regime() const {
   return particle_reynolds <= limit && stokes <= limit && gap_reynolds <= limit;
 }
 
-DimensionlessGroups dimensionless_groups(const core::RheometerCase& r, const core::FluidProperties& fluid,
-                                         const core::ParticleProperties& p, double rate) {
+DimensionlessGroups dimensionless_groups(const RheometerCase& r, const core::FluidProperties& fluid,
+                                         const coupling::SuspendedParticles& p, double rate) {
   DimensionlessGroups g;
   const double mu = fluid.rheology->viscosity(rate);
   const double a = 0.5 * p.diameter;
@@ -438,23 +438,7 @@ double plate_torque(const LocalFlowCurve& curve, double radius, double rim_rate)
   return 2.0 * core::units::pi * radius * radius * radius / (rim_rate * rim_rate * rim_rate) * integral;
 }
 
-std::string_view to_string(Model model) {
-  switch (model) {
-    case Model::lees_edwards:
-      return "lees_edwards";
-    case Model::walled_box:
-      return "walled_box";
-    case Model::full_disk:
-      return "full_disk";
-    case Model::shear_cell:
-      return "shear_cell";
-    case Model::automatic:
-      return "auto";
-  }
-  return "auto";
-}
-
-double estimate_shear_cell_study_cost(const core::RheometerCase& r, double phi) {
+double estimate_shear_cell_study_cost(const RheometerCase& r, double phi) {
   if (!r.particles || r.shear_rates.empty()) return 0.0;
   const double max_strain = ShearCellOptions{}.steady.max_strain;
   double total = 3.0 * cell_cost_seconds(r, phi, r.shear_rates.back(), max_strain, 1e3);
@@ -462,7 +446,7 @@ double estimate_shear_cell_study_cost(const core::RheometerCase& r, double phi) 
   return total;
 }
 
-ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, double budget_seconds) {
+ModelChoice choose_suspension_model(const RheometerCase& r, double phi, double budget_seconds) {
   const double study = estimate_shear_cell_study_cost(r, phi);
   if (r.suspension_model == Model::lees_edwards)
     return {Model::lees_edwards, "model: lees_edwards in the case file", study};
@@ -472,7 +456,7 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
   if (!r.particles) return {Model::full_disk, "auto: no particles section", study};
   const auto& p = *r.particles;
   const double top_rate = r.shear_rates.back();
-  if (!p.hydrodynamics.specified || p.hydrodynamics.lubrication) {
+  if (!p.hydrodynamics_given || p.hydrodynamics.terms.lubrication) {
     // The predictive model: the near field needs the box, whose cost is fixed in strain.
     std::string limits;
     if (r.geometry.radius < 10.0 * r.geometry.gap)
@@ -491,7 +475,7 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
                                              gap_ratio, walled_box_gap_limit)
                                : fmt::format("Lees–Edwards box (H/d = {:.3g} >= {:g}: the bulk stress)", gap_ratio,
                                              walled_box_gap_limit),
-                        p.hydrodynamics.specified ? "the case's near field with lubrication" : "no hydrodynamics block",
+                        p.hydrodynamics_given ? "the case's near field with lubrication" : "no hydrodynamics block",
                         limits),
             study};
   }
@@ -501,7 +485,7 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
       "full disk ≈ {:.3g} h per point (DEM alone), shear cell ≈ {:.2g} s per run and ≈ {:.2g} s for this φ's study",
       disk.wall_time / 3600.0, cell, study);
   std::string unfit;
-  if (p.size_distribution.type != core::SizeDistribution::Type::none)
+  if (p.size_distribution.type != dem::SizeDistribution::Type::none)
     unfit = "a size distribution (the cell is monodisperse)";
   else if (r.geometry.radius < 10.0 * r.geometry.gap)
     unfit = fmt::format("R/H = {:.3g} < 10 (the rim region, which the cell lacks, is a large part of the torque)",
@@ -526,7 +510,7 @@ ModelChoice choose_suspension_model(const core::RheometerCase& r, double phi, do
           study};
 }
 
-PointRunner make_shear_cell_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
+PointRunner make_shear_cell_suspension_runner(const RheometerCase& rheometer, fs::path work_dir,
                                               ShearCellOptions options) {
   auto runner = std::make_shared<ShearCellRunner>(rheometer, std::move(work_dir), std::move(options));
   return

@@ -44,7 +44,7 @@ core::Hdf5Dataset field(const std::string& name, std::vector<std::size_t> shape,
   return d;
 }
 
-const core::NamedFluid& fluid_named(const core::RheometerCase& r, const std::string& name) {
+const NamedFluid& fluid_named(const RheometerCase& r, const std::string& name) {
   for (const auto& f : r.fluids)
     if (f.name == name) return f;
   throw std::invalid_argument(fmt::format("sweep point names fluid '{}', which the case does not list", name));
@@ -115,7 +115,7 @@ std::string point_label(const SweepPoint& p, bool several_fluids) {
 // ---------------------------------------------------------------------------------------------
 // Point runners
 
-PointRunner make_swirl_point_runner(const core::RheometerCase& rheometer) {
+PointRunner make_swirl_point_runner(const RheometerCase& rheometer) {
   return [r = rheometer](const SweepPoint& point, const PointProgressCallback&) {
     const auto& named = fluid_named(r, point.fluid);
     const auto& fluid = named.properties;
@@ -164,12 +164,12 @@ PointRunner make_unavailable_suspension_runner() {
   };
 }
 
-PointRunners default_point_runners(const core::RheometerCase& rheometer) {
+PointRunners default_point_runners(const RheometerCase& rheometer) {
   return {make_swirl_point_runner(rheometer), make_unavailable_suspension_runner()};
 }
 
-SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, double volume_fraction,
-                                                double rim_shear_rate, double max_strain) {
+SuspensionCostEstimate estimate_suspension_cost(const RheometerCase& r, double volume_fraction, double rim_shear_rate,
+                                                double max_strain) {
   SuspensionCostEstimate e;
   if (!r.particles) return e;
   const auto& p = *r.particles;
@@ -183,14 +183,14 @@ SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& r, do
   constexpr double particle_steps_per_second = 1.5e7;  // one core, CD §4 scene (docs/performance.md)
   constexpr double coupling_overhead = 1.2;            // void fraction + forces + fluid, measured 5–17 %
   // Near field: about ×10 the DEM time per step with the seed's particles (docs/performance.md).
-  const double near_field = p.hydrodynamics.any() ? 10.0 : 1.0;
+  const double near_field = p.hydrodynamics.terms.any() ? 10.0 : 1.0;
   e.wall_time = e.particles * e.dem_steps / particle_steps_per_second * coupling_overhead * near_field;
   return e;
 }
 
-PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
-                                           double budget_seconds, std::vector<double> volume_fractions) {
-  using Model = core::RheometerCase::SuspensionModel;
+PointRunner make_coupled_suspension_runner(const RheometerCase& rheometer, fs::path work_dir, double budget_seconds,
+                                           std::vector<double> volume_fractions) {
+  using Model = RheometerCase::SuspensionModel;
   PointRunner disk = make_full_disk_suspension_runner(rheometer, work_dir, budget_seconds);
   PointRunner cell = make_shear_cell_suspension_runner(rheometer, work_dir);
   PointRunner box = make_box_suspension_runner(rheometer, std::move(volume_fractions));
@@ -212,20 +212,20 @@ PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
     } else {
       out = cell(point, progress);
     }
-    out.model = std::string(to_string(choice.model));
+    out.model = name_of(choice.model);
     out.model_reason = out.model_reason.empty() ? choice.reason : choice.reason + "; " + out.model_reason;
     return out;
   };
 }
 
-PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheometer, fs::path work_dir,
-                                             double budget_seconds) {
+PointRunner make_full_disk_suspension_runner(const RheometerCase& rheometer, fs::path work_dir, double budget_seconds) {
   return [r = rheometer, work = std::move(work_dir), budget_seconds](const SweepPoint& point,
                                                                      const PointProgressCallback& progress) {
     PointResult out;
-    out.method = fmt::format("CFD-DEM (transient 3D fluid + LIGGGHTS, {} drag){}, steady over a strain window",
-                             r.particles ? core::name_of(r.particles->drag) : "no",
-                             r.particles && r.particles->hydrodynamics.any() ? " with near-field hydrodynamics" : "");
+    out.method =
+        fmt::format("CFD-DEM (transient 3D fluid + LIGGGHTS, {} drag){}, steady over a strain window",
+                    r.particles ? coupling::name_of(r.particles->drag) : "no",
+                    r.particles && r.particles->hydrodynamics.terms.any() ? " with near-field hydrodynamics" : "");
     if (!r.particles) {
       out.failure = fmt::format("φ = {:g} needs a particles: section (diameter, density, contact properties)",
                                 point.volume_fraction);
@@ -243,9 +243,11 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
     }
     s.geometry = r.geometry;
     s.fluid = fluid_named(r, point.fluid).properties;
-    s.particles = *r.particles;
+    s.particles = *r.particles;  // the solid; its drag and near field follow
     s.particles.volume_fraction = point.volume_fraction;
-    s.coupling.forces = coupling::force_models(s.particles.drag);
+    s.drag = r.particles->drag;
+    s.hydrodynamics = r.particles->hydrodynamics;
+    s.coupling.forces = coupling::force_models(s.drag);
     s.rim_shear_rate = point.rim_shear_rate;
     s.inertia = r.solver.inertia;
     // The fluid grid is coupling::SuspensionPointSettings' (8 × 8 × 2), not the case's `solver:`
@@ -275,7 +277,7 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
       out.torque = p.torque;
       out.torque_fluid = p.torque_fluid;
       out.torque_contact = p.torque_contact;
-      if (s.particles.hydrodynamics.any()) {
+      if (s.hydrodynamics.terms.any()) {
         out.torque_lubrication = p.torque_lubrication;
         out.torque_stresslet = p.torque_stresslet;
         out.torque_couple = p.torque_couple;
@@ -318,7 +320,7 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
       out.fields.push_back(field("time", {time.size()}, time, "s"));
       out.fields.push_back(field("torque_fluid", {fluid.size()}, fluid, "N m"));
       out.fields.push_back(field("torque_contact", {contact.size()}, contact, "N m"));
-      if (s.particles.hydrodynamics.any()) {
+      if (s.hydrodynamics.terms.any()) {
         out.fields.push_back(field("torque_lubrication", {lubrication.size()}, lubrication, "N m"));
         out.fields.push_back(field("torque_stresslet", {stresslet.size()}, stresslet, "N m"));
         out.fields.push_back(field("torque_couple", {couple.size()}, couple, "N m"));
@@ -335,7 +337,7 @@ PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheomete
   };
 }
 
-std::vector<SweepPoint> sweep_points(const core::SweepCase& sweep) {
+std::vector<SweepPoint> sweep_points(const SweepCase& sweep) {
   std::vector<SweepPoint> points;
   for (const auto& f : sweep.rheometer.fluids)
     for (double phi : sweep.volume_fractions)
@@ -439,9 +441,8 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
 // ---------------------------------------------------------------------------------------------
 // The sweep
 
-SweepOutcome run_sweep(const core::Case& c, const fs::path& out_dir, const core::Log& log,
-                       const PointRunners& runners) {
-  const auto& sweep = std::get<core::SweepCase>(c.spec);
+SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& log, const PointRunners& runners) {
+  const auto& sweep = std::get<SweepCase>(c.spec);
   const auto& r = sweep.rheometer;
   const auto start = std::chrono::steady_clock::now();
   fs::create_directories(out_dir);

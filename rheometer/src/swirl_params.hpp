@@ -7,13 +7,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/fluid/swirl.hpp"
+#include "rheosim/rheometer/case.hpp"
 
 namespace rheosim::rheometer {
 
 // The plates and the swirl solver's grid in a summary.json: radius, gap, grid, inertia.
-inline void add_plates_and_grid(nlohmann::ordered_json& summary, const core::RheometerCase& r) {
+inline void add_plates_and_grid(nlohmann::ordered_json& summary, const RheometerCase& r) {
   summary["radius"] = r.geometry.radius;
   summary["gap"] = r.geometry.gap;
   summary["grid"] = {{"radial_cells", r.solver.radial_cells},
@@ -24,7 +24,7 @@ inline void add_plates_and_grid(nlohmann::ordered_json& summary, const core::Rhe
   summary["inertia"] = r.solver.inertia;
 }
 
-inline fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
+inline fluid::SwirlParams swirl_params(const RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
   fluid::SwirlParams p;
   p.grid = {r.geometry.radius,    r.geometry.gap,          r.solver.radial_cells,    1,
             r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching};
@@ -40,14 +40,14 @@ inline fluid::SwirlParams swirl_params(const core::RheometerCase& r, const core:
 // solve (docs/performance.md: on plate-clustered grids both directions converge at second
 // order from N_z = 8, so T + (T − T_2h)/3 is the accurate value); else this grid's torque.
 // A solve whose half-grid start failed has no extrapolation and keeps its own torque.
-inline double reported_torque(const core::RheometerCase& r, const fluid::SwirlResult& full) {
+inline double reported_torque(const RheometerCase& r, const fluid::SwirlResult& full) {
   const bool extrapolated = r.solver.inertia && r.solver.extrapolate && full.extrapolated_torque != 0.0;
   return extrapolated ? full.extrapolated_torque : full.torque;
 }
 
 // The warnings of a point's solves: each one accepted at its iteration's floor above the
 // tolerance (fluid::SwirlResult::accepted_change) says so.
-inline std::vector<std::string> swirl_warnings(const core::RheometerCase& r, const fluid::SwirlResult& creeping,
+inline std::vector<std::string> swirl_warnings(const RheometerCase& r, const fluid::SwirlResult& creeping,
                                                const fluid::SwirlResult& inertial) {
   std::vector<std::string> out;
   const auto note = [&](const fluid::SwirlResult& s, const char* which) {

@@ -15,6 +15,7 @@
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/rheology.hpp"
+#include "rheosim/coupling/near_field.hpp"
 #include "rheosim/dem/engine.hpp"
 
 namespace rheosim::coupling::testing {
@@ -26,10 +27,10 @@ inline std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
 }
 
 // The near field of the predictive model: pair lubrication and the isolated-sphere terms.
-inline core::Hydrodynamics lubrication_and_stresslet() {
-  core::Hydrodynamics h;
-  h.lubrication = true;
-  h.single_particle = true;
+inline NearFieldSettings lubrication_and_stresslet() {
+  NearFieldSettings h;
+  h.terms.lubrication = true;
+  h.terms.single_particle = true;
   return h;
 }
 

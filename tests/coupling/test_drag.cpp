@@ -57,15 +57,15 @@ TEST(Drag, RegistryHasDiFeliceAndSchillerNaumann) {
   EXPECT_EQ(di_felice()->name(), "di_felice");
 }
 
-// Every law a case file can name (core::DragLaw) is registered under that name, and the disk's
+// Every law a case file can name (DragLaw) is registered under that name, and the disk's
 // force list carries it in place of di_felice.
 TEST(Drag, EveryCaseFileLawIsRegistered) {
-  for (const core::DragLaw law : {core::DragLaw::di_felice, core::DragLaw::schiller_naumann}) {
-    EXPECT_EQ(make_drag_model(law)->name(), core::name_of(law));
-    EXPECT_EQ(force_models(law).front(), core::name_of(law));
-    EXPECT_EQ(make_force_model(force_models(law).front())->name(), core::name_of(law));
+  for (const DragLaw law : {DragLaw::di_felice, DragLaw::schiller_naumann}) {
+    EXPECT_EQ(make_drag_model(law)->name(), name_of(law));
+    EXPECT_EQ(force_models(law).front(), name_of(law));
+    EXPECT_EQ(make_force_model(force_models(law).front())->name(), name_of(law));
   }
-  EXPECT_EQ(force_models(core::DragLaw::di_felice), seed_force_models());
+  EXPECT_EQ(force_models(DragLaw::di_felice), seed_force_models());
 }
 
 TEST(Drag, UnknownModelNameListsTheValidOnes) {

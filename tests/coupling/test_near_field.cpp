@@ -12,16 +12,15 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
-#include <variant>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "coupling_test_support.hpp"
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/coupling/near_field.hpp"
+#include "rheosim/coupling/suspended_particles.hpp"
 
 namespace rheosim::coupling {
 namespace {
@@ -81,40 +80,46 @@ TEST(NearFieldRegistry, ChecksRanges) {
   EXPECT_NO_THROW((void)make_near_field_model(short_cutoff, newtonian(1.0)));
 }
 
-std::string case_with_hydrodynamics(const std::string& block) {
-  return "kind: rheometer\n"
-         "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
-         "fluid:\n  density: 1000\n  rheology: {model: newtonian, viscosity: 1.0}\n"
-         "shear_rates: [10]\n"
-         "particles:\n  volume_fraction: 0.1\n  diameter: 2.0e-4\n  density: 1000\n" +
-         block;
+constexpr double plate_gap = 5e-4;  // [m]
+
+// A `particles:` section with the given hydrodynamics block, read by coupling's own reader as
+// the rheometer case reader does; every key must have been asked for.
+SuspendedParticles particles_with(const std::string& block) {
+  const core::Document doc = core::Document::from_string(
+      "particles:\n  volume_fraction: 0.1\n  diameter: 2.0e-4\n  density: 1000\n" + block, "case.yaml");
+  SuspendedParticles out =
+      read_suspended_particles(doc.root().section({"particles", "the particles", "-"}), plate_gap, true);
+  doc.check_all_keys_known();
+  return out;
 }
 
 TEST(NearFieldCaseKeys, ParsesTheHydrodynamicsBlock) {
-  const auto c = core::parse_case(
-      case_with_hydrodynamics(
-          "  hydrodynamics: {model: lubrication+stresslet, roughness: 2.0e-3, lubrication_cutoff: 0.4}\n"),
-      "case.yaml");
-  const auto& p = *std::get<core::RheometerCase>(c.spec).particles;
-  EXPECT_TRUE(p.hydrodynamics.lubrication);
-  EXPECT_TRUE(p.hydrodynamics.single_particle);
-  EXPECT_FALSE(p.hydrodynamics.stokes_drag);
-  const NearFieldSettings s = near_field_settings(p.hydrodynamics);
+  const SuspendedParticles p =
+      particles_with("  hydrodynamics: {model: lubrication+stresslet, roughness: 2.0e-3, lubrication_cutoff: 0.4}\n");
+  EXPECT_TRUE(p.hydrodynamics_given);
+  const NearFieldSettings& s = p.hydrodynamics;
+  EXPECT_TRUE(s.terms.lubrication);
+  EXPECT_TRUE(s.terms.single_particle);
+  EXPECT_FALSE(s.terms.stokes_drag);
   EXPECT_EQ(s.terms.name(), "lubrication+stresslet");
   EXPECT_DOUBLE_EQ(s.roughness, 2e-3);
   EXPECT_DOUBLE_EQ(s.lubrication_cutoff, 0.4);
   EXPECT_EQ(make_near_field_model(s, newtonian(1.0))->name(), "lubrication+stresslet");
-  EXPECT_NE(core::describe(c).find("near-field hydrodynamics: lubrication stresslet"), std::string::npos);
+  EXPECT_NE(describe(p, plate_gap).find("near-field hydrodynamics: lubrication stresslet"), std::string::npos);
   // Absent: drag only.
-  const auto plain = core::parse_case(case_with_hydrodynamics(""), "case.yaml");
-  EXPECT_FALSE(std::get<core::RheometerCase>(plain.spec).particles->hydrodynamics.any());
-  EXPECT_FALSE(near_field_settings(std::get<core::RheometerCase>(plain.spec).particles->hydrodynamics).terms.any());
+  const SuspendedParticles plain = particles_with("");
+  EXPECT_FALSE(plain.hydrodynamics_given);
+  EXPECT_FALSE(plain.hydrodynamics.terms.any());
+  // `none` is given but switches nothing on: the seed's drag-only model.
+  const SuspendedParticles none = particles_with("  hydrodynamics: {model: none}\n");
+  EXPECT_TRUE(none.hydrodynamics_given);
+  EXPECT_FALSE(none.hydrodynamics.terms.any());
 }
 
 TEST(NearFieldCaseKeys, RejectsUnknownTermsAndOutOfRangeValues) {
   const auto error_of = [](const std::string& block) -> std::string {
     try {
-      (void)core::parse_case(case_with_hydrodynamics(block), "case.yaml");
+      (void)particles_with(block);
     } catch (const core::ConfigError& e) {
       return e.what();
     }
@@ -137,33 +142,23 @@ TEST(NearFieldCaseKeys, RejectsUnknownTermsAndOutOfRangeValues) {
 }
 
 TEST(NearFieldCaseKeys, ParsesTheRepulsion) {
-  const auto c = core::parse_case(
-      case_with_hydrodynamics("  hydrodynamics: {model: lubrication+stresslet+repulsion, repulsion_force: 2.0e-9, "
-                              "repulsion_length: 0.02}\n"),
-      "case.yaml");
-  const auto& h = std::get<core::RheometerCase>(c.spec).particles->hydrodynamics;
-  EXPECT_TRUE(h.repulsion);
-  const NearFieldSettings s = near_field_settings(h);
+  const SuspendedParticles p = particles_with(
+      "  hydrodynamics: {model: lubrication+stresslet+repulsion, repulsion_force: 2.0e-9, repulsion_length: 0.02}\n");
+  const NearFieldSettings& s = p.hydrodynamics;
+  EXPECT_TRUE(s.terms.repulsion);
   EXPECT_EQ(s.terms.name(), "lubrication+stresslet+repulsion");
   EXPECT_DOUBLE_EQ(s.repulsion_force, 2e-9);
   EXPECT_DOUBLE_EQ(s.repulsion_length, 0.02);
-  EXPECT_NE(core::describe(c).find("repulsion F_R0 2e-09 N, λ/ā 0.02"), std::string::npos) << core::describe(c);
+  EXPECT_NE(describe(p, plate_gap).find("repulsion F_R0 2e-09 N, λ/ā 0.02"), std::string::npos)
+      << describe(p, plate_gap);
 }
 
 TEST(NearFieldCaseKeys, ParsesTheStressletViscosity) {
-  const auto parse = [](const std::string& block) {
-    return std::get<core::RheometerCase>(core::parse_case(case_with_hydrodynamics(block), "case.yaml").spec)
-        .particles->hydrodynamics;
-  };
-  EXPECT_EQ(parse("  hydrodynamics: {model: stresslet}\n").stresslet_viscosity, core::StressletViscosity::homogenized);
-  const auto h = parse("  hydrodynamics: {model: stresslet, stresslet_viscosity: secant}\n");
-  EXPECT_EQ(h.stresslet_viscosity, core::StressletViscosity::secant);
-  EXPECT_EQ(near_field_settings(h).stresslet_viscosity, core::StressletViscosity::secant);
-  EXPECT_NE(core::describe(core::parse_case(case_with_hydrodynamics("  hydrodynamics: {model: stresslet, "
-                                                                    "stresslet_viscosity: secant}\n"),
-                                            "case.yaml"))
-                .find("stresslet viscosity secant"),
-            std::string::npos);
+  const auto parse = [](const std::string& block) { return particles_with(block).hydrodynamics; };
+  EXPECT_EQ(parse("  hydrodynamics: {model: stresslet}\n").stresslet_viscosity, StressletViscosity::homogenized);
+  const auto secant = particles_with("  hydrodynamics: {model: stresslet, stresslet_viscosity: secant}\n");
+  EXPECT_EQ(secant.hydrodynamics.stresslet_viscosity, StressletViscosity::secant);
+  EXPECT_NE(describe(secant, plate_gap).find("stresslet viscosity secant"), std::string::npos);
   try {
     (void)parse("  hydrodynamics: {model: stresslet, stresslet_viscosity: tangent}\n");
     ADD_FAILURE() << "an unknown stresslet_viscosity was accepted";
@@ -190,8 +185,8 @@ TEST(NearField, NoneAddsNothing) {
 // μ_S: `secant` μ; `homogenized` 0.3 μ + 0.7 dτ/dγ̇ = (0.3 + 0.7 n) μ (near_field.hpp).
 TEST(NearField, SingleSphereTorqueAndStressletAreStokes) {
   const auto doc = core::Document::from_string("model: power_law\nconsistency: 2.0\nindex: 0.5\n", "rheology");
-  for (const auto& [mode, factor] : {std::pair{core::StressletViscosity::secant, 1.0},
-                                     std::pair{core::StressletViscosity::homogenized, 0.3 + 0.7 * 0.5}}) {
+  for (const auto& [mode, factor] :
+       {std::pair{StressletViscosity::secant, 1.0}, std::pair{StressletViscosity::homogenized, 0.3 + 0.7 * 0.5}}) {
     NearFieldSettings s;
     s.terms = {.single_particle = true};
     s.stresslet_viscosity = mode;
@@ -220,7 +215,7 @@ TEST(NearField, HomogenizedStressletOfAPlasticMatrix) {
   const auto matrix = core::make_rheology(doc.root());
   const double a = 1e-4, rate = 10.0;  // Bn = τ_y/(μ_p γ̇) = 1000
   double secant = 0.0, homogenized = 0.0;
-  for (const auto mode : {core::StressletViscosity::secant, core::StressletViscosity::homogenized}) {
+  for (const auto mode : {StressletViscosity::secant, StressletViscosity::homogenized}) {
     NearFieldSettings s;
     s.terms = {.single_particle = true};
     s.stresslet_viscosity = mode;
@@ -229,7 +224,7 @@ TEST(NearField, HomogenizedStressletOfAPlasticMatrix) {
     const std::vector<double> x{0, 0, 3e-4}, v(3, 0.0), w(3, 0.0), r{a};
     make_near_field_model(s, matrix)->evaluate({.positions = x, .velocities = v, .angular_velocities = w, .radii = r},
                                                {}, simple_shear(rate), res);
-    (mode == core::StressletViscosity::secant ? secant : homogenized) = res.stresslet_sum[4];
+    (mode == StressletViscosity::secant ? secant : homogenized) = res.stresslet_sum[4];
   }
   const double n = 0.01 * rate / (100.0 + 0.01 * rate);  // d ln τ/d ln γ̇
   EXPECT_NEAR(secant, 20.0 / 3.0 * pi * matrix->viscosity(rate) * a * a * a * rate / 2.0, 1e-12 * secant);

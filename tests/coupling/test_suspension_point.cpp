@@ -57,7 +57,7 @@ TEST(SuspensionPoint, ForceListMustCarryTheParticlesDragLaw) {
   s.geometry = {.radius = 0.002, .gap = 0.0005};
   s.fluid = {.density = 1000, .rheology = testing::newtonian(1e-3)};
   s.particles = {.volume_fraction = 0.03, .diameter = 1e-4, .density = 1000};
-  s.particles.drag = core::DragLaw::schiller_naumann;
+  s.drag = DragLaw::schiller_naumann;
   s.rim_shear_rate = 50.0;
   s.run_directory = folder.path();
   try {

@@ -43,7 +43,7 @@ constexpr double rate = 100.0;
 std::shared_ptr<const core::Rheology> newtonian() { return testing::newtonian(mu); }
 using testing::lubrication_and_stresslet;
 
-ShearCellPoint run_cell(const core::Hydrodynamics& hydrodynamics, const char* label) {
+ShearCellPoint run_cell(const NearFieldSettings& hydrodynamics, const char* label) {
   ShearCellPointSettings s;
   s.gap = 5e-4;
   s.cell_length = s.cell_width = 1.6e-3;
@@ -53,7 +53,7 @@ ShearCellPoint run_cell(const core::Hydrodynamics& hydrodynamics, const char* la
   s.shear_rate = rate;
   s.axial_cells = 2;
   s.steady = {.strain_window = 2.0, .relative_tolerance = 0.03, .min_strain = 4.0, .max_strain = 8.0};
-  s.near_field = make_near_field_model(near_field_settings(hydrodynamics), s.fluid.rheology);
+  s.near_field = make_near_field_model(hydrodynamics, s.fluid.rheology);
   s.run_directory = fs::temp_directory_path() / fmt::format("rheosim_validate_nf_cell_{}", ::getpid());
   const auto p = run_shear_cell_point(s);
   fs::remove_all(s.run_directory);
@@ -71,8 +71,8 @@ TEST(NearFieldCoupledValidation, ShearCellStressletGivesEinstein) {
   // Stresslet only: the spheres follow the column and spin with it, so the stresslet part is
   // 2.5 φ μγ̇ and the couple almost vanishes; the rest is drag only, μγ̇ plus the +2–3 % of the
   // occasional collisions (validate_shear_cell_point).
-  core::Hydrodynamics h;
-  h.single_particle = true;
+  NearFieldSettings h;
+  h.terms.single_particle = true;
   const auto p = run_cell(h, "stresslet");
   const double liquid = mu * rate, einstein = 2.5 * p.volume_fraction * liquid;
   EXPECT_NEAR(p.stress_stresslet, einstein, 0.05 * einstein);
@@ -108,7 +108,7 @@ TEST(NearFieldCoupledValidation, DiskTorqueParts) {
   s.geometry = {.radius = 1.5e-3, .gap = 5e-4};
   s.fluid = {.density = 1000.0, .rheology = newtonian()};
   s.particles = {.volume_fraction = 0.1, .diameter = 2e-4, .density = 1000.0, .youngs_modulus = 5.0e6};
-  s.particles.hydrodynamics = lubrication_and_stresslet();
+  s.hydrodynamics = lubrication_and_stresslet();
   s.rim_shear_rate = rate;
   s.radial_cells = 4;
   s.azimuthal_cells = 4;

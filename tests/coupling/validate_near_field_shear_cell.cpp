@@ -58,7 +58,7 @@ struct CellSettings {
   double lubrication_cutoff = NearFieldSettings{}.lubrication_cutoff;  // h_c/ā
   double repulsion_ratio = 0.0;  // F_R0 / (6πμa²γ̇); > 0 adds the `repulsion` term (λ = 0.05 ā)
   double repulsion_force = 0.0;  // F_R0 [N] when > 0 (instead of the ratio): fixed over rates
-  core::StressletViscosity stresslet_viscosity = core::StressletViscosity::homogenized;
+  StressletViscosity stresslet_viscosity = StressletViscosity::homogenized;
   double youngs_modulus = 1e6;  // [Pa] soft: δt = 0.2 t_R = 3.5e-6 s = 3.5e-4/γ̇; overlaps below 1 % of d
   std::uint64_t seed = 1;
 };
@@ -80,7 +80,7 @@ struct CellResult {
 CellResult run_cell(const CellSettings& c) {
   testing::RunFolder folder;
   const double d = c.diameter, a = 0.5 * d;
-  core::ParticleProperties props;
+  dem::ParticleProperties props;
   props.volume_fraction = c.phi;
   props.diameter = d;
   props.density = 1000.0;
@@ -251,9 +251,9 @@ using testing::lubrication_and_stresslet;
 struct SeedCell {
   double gap = 5e-4, cell = 1.6e-3, phi = 0.3, rate = 100.0;  // m, m, -, 1/s
   double softening = 1e4, friction = 0.3, axial_cell_over_d = 1.25, strain = 20.0;
-  double repulsion_ratio = 0.0, repulsion_length = core::Hydrodynamics{}.repulsion_length;
-  core::Hydrodynamics hydrodynamics = lubrication_and_stresslet();
-  core::DragLaw drag = core::DragLaw::di_felice;
+  double repulsion_ratio = 0.0, repulsion_length = NearFieldSettings{}.repulsion_length;
+  NearFieldSettings hydrodynamics = lubrication_and_stresslet();
+  DragLaw drag = DragLaw::di_felice;
 };
 
 ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
@@ -268,7 +268,7 @@ ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
                  .poisson_ratio = 0.33,
                  .restitution = 0.9,
                  .friction = c.friction};
-  s.particles.drag = c.drag;
+  s.drag = c.drag;
   const double dt = 0.3 * dem::rayleigh_time({1e-4, 1000.0, s.particles.youngs_modulus, 0.33});
   s.coupling_interval = std::max(1, static_cast<int>(std::lround(1e-5 / dt)));
   s.shear_rate = c.rate;
@@ -277,11 +277,11 @@ ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
   auto hydrodynamics = c.hydrodynamics;
   if (c.repulsion_ratio > 0.0) {
     const double a = 0.5 * s.particles.diameter;
-    hydrodynamics.repulsion = true;
+    hydrodynamics.terms.repulsion = true;
     hydrodynamics.repulsion_force = c.repulsion_ratio * 6.0 * std::numbers::pi * mu * a * a * s.shear_rate;
     hydrodynamics.repulsion_length = c.repulsion_length;
   }
-  s.near_field = make_near_field_model(near_field_settings(hydrodynamics), s.fluid.rheology);
+  s.near_field = make_near_field_model(hydrodynamics, s.fluid.rheology);
   return s;
 }
 
@@ -292,7 +292,7 @@ ShearCellPointSettings seed_cell_settings(const SeedCell& c) {
 // suspensions (particles.drag auto = the isolated sphere) the two must agree within 4 %; Di
 // Felice's hindrance on each sphere's slip counts the crowding twice (docs/hydrodynamics.md).
 TEST(NearFieldCoupledValidation, ShearCellWithTheIsolatedSphereDragMatchesTheImposedFlowCell) {
-  SeedCell c{.gap = 4e-3, .phi = 0.3, .repulsion_ratio = 10.0, .drag = core::DragLaw::schiller_naumann};
+  SeedCell c{.gap = 4e-3, .phi = 0.3, .repulsion_ratio = 10.0, .drag = DragLaw::schiller_naumann};
   ShearCellPointSettings s = seed_cell_settings(c);
   testing::RunFolder folder;
   s.run_directory = folder.path();

@@ -46,7 +46,7 @@ struct DiluteResult {
 };
 
 DiluteResult run_dilute(double phi_target, std::shared_ptr<const core::Rheology> matrix, std::uint64_t seed,
-                        core::StressletViscosity stresslet_viscosity = core::StressletViscosity::homogenized) {
+                        StressletViscosity stresslet_viscosity = StressletViscosity::homogenized) {
   testing::RunFolder folder;
   const double length = 20 * a, height = 20 * a;
   const int n = static_cast<int>(std::lround(phi_target * length * length * height / (4.0 / 3.0 * pi * a * a * a)));
@@ -153,11 +153,10 @@ TEST(ValidateStressletDilute, NewtonianMatrixGivesEinstein) {
 TEST(ValidateStressletDilute, PowerLawMatrixSecantAndHomogenizedStresslet) {
   const auto doc = core::Document::from_string("model: power_law\nconsistency: 3.0\nindex: 0.5\n", "rheology");
   const auto matrix = core::make_rheology(doc.root());
-  for (const auto& [mode, intrinsic] : {std::pair{core::StressletViscosity::secant, 2.5},
-                                        std::pair{core::StressletViscosity::homogenized, 0.75 + 1.75 * 0.5}}) {
+  for (const auto& [mode, intrinsic] :
+       {std::pair{StressletViscosity::secant, 2.5}, std::pair{StressletViscosity::homogenized, 0.75 + 1.75 * 0.5}}) {
     const DiluteResult r = run_dilute(0.03, matrix, 5, mode);
-    report(mode == core::StressletViscosity::secant ? "power_law n = 0.5, secant" : "power_law n = 0.5, homogenized",
-           r);
+    report(mode == StressletViscosity::secant ? "power_law n = 0.5, secant" : "power_law n = 0.5, homogenized", r);
     EXPECT_NEAR(r.relative_viscosity - 1.0 - r.lubrication_part, intrinsic * r.phi, 1e-3 * intrinsic * r.phi);
     EXPECT_NEAR(r.relative_viscosity, 1.0 + intrinsic * r.phi, 0.1 * intrinsic * r.phi);
     EXPECT_NEAR(r.mean_spin, 0.5, 0.02);

@@ -40,7 +40,7 @@ constexpr double gap = 5e-4;           // H [m]
 constexpr double diameter = 1e-4;      // d [m]
 constexpr double radius = 0.5 * diameter;
 
-core::ParticleProperties particles(double volume_fraction) {
+ParticleProperties particles(double volume_fraction) {
   return {.volume_fraction = volume_fraction, .diameter = diameter, .density = 1000.0};  // E, ν, e, μ_c: CD §4
 }
 

@@ -30,7 +30,7 @@ constexpr double gap = 5e-4;
 constexpr double diameter = 2e-4;
 constexpr double cell = 2e-3;  // L_x = L_y [m]
 
-core::ParticleProperties particles(double volume_fraction) {
+ParticleProperties particles(double volume_fraction) {
   return {.volume_fraction = volume_fraction, .diameter = diameter, .density = 1000.0};
 }
 

@@ -16,10 +16,11 @@
 
 #include <fmt/format.h>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/units.hpp"
 #include "rheosim/dem/mpi_session.hpp"
+#include "rheosim/dem/particles.hpp"
 #include "rheosim/dem/placement.hpp"
 #include "rheosim/dem/rheometer_scene.hpp"
 #include "rheosim/dem/size_distribution.hpp"
@@ -28,7 +29,6 @@ namespace rheosim::dem {
 namespace {
 
 namespace fs = std::filesystem;
-using core::SizeDistribution;
 using core::units::pi;
 using ::testing::HasSubstr;
 
@@ -36,22 +36,19 @@ constexpr double plate_radius = 2e-3;
 constexpr double gap = 5e-4;
 const double gap_volume = pi * plate_radius * plate_radius * gap;
 
-const std::string plate_case = R"(kind: rheometer
-geometry: {type: parallel_plate, radius: 0.002, gap: 0.0005}
-fluid:
-  density: 1000
-  rheology: {model: newtonian, viscosity: 1.0e-3}
-shear_rates: [1, 10]
-)";
-
-core::ParticleProperties particles_of(const std::string& particles_yaml) {
-  const auto c = core::parse_case(plate_case + particles_yaml, "case.yaml");
-  return *std::get<core::RheometerCase>(c.spec).particles;
+// The `particles:` section of a case whose plates are `gap` apart, read by dem's own reader;
+// every key of it must have been asked for.
+ParticleProperties particles_of(const std::string& particles_yaml) {
+  const core::Document doc = core::Document::from_string(particles_yaml, "case.yaml");
+  ParticleProperties out =
+      read_particles(doc.root().section({"particles", "the particles", "-"}), gap, /*with_volume_fraction=*/true);
+  doc.check_all_keys_known();
+  return out;
 }
 
 core::ConfigError parse_error(const std::string& particles_yaml) {
   try {
-    (void)core::parse_case(plate_case + particles_yaml, "case.yaml");
+    (void)particles_of(particles_yaml);
   } catch (const core::ConfigError& e) {
     return e;
   }

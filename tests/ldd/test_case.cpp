@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <numbers>
-#include <set>
 #include <string>
 
 #include "case_test_support.hpp"
@@ -160,20 +159,19 @@ TEST(Case, TheLddReaderRefusesARheometerCase) {
   EXPECT_THAT(e.details().problem, HasSubstr("not 'rheometer'"));
 }
 
-// Every shipped case is read by the module its kind names, as `rheosim validate` does.
-TEST(Case, EveryShippedCaseValidates) {
+// Every shipped LDD case reads (the CLI test validate_shipped_cases runs every kind).
+TEST(Case, EveryShippedLddCaseReads) {
   const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
-  std::set<std::string> kinds;
+  int read = 0;
   for (const auto& entry : std::filesystem::directory_iterator(cases)) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
     const core::CaseFile file = core::CaseFile::open(entry.path().string());
-    if (file.header().kind == "ldd")
-      kinds.insert(ldd::read_case(file).kind);
-    else
-      kinds.insert(core::read_case(file).kind);
+    if (file.header().kind != "ldd") continue;
+    EXPECT_EQ(ldd::read_case(file).kind, "ldd");
+    ++read;
   }
-  EXPECT_EQ(kinds, (std::set<std::string>{"rheometer", "sweep", "ldd"}));
+  EXPECT_GE(read, 10);
 }
 
 }  // namespace

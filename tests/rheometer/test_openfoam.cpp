@@ -16,7 +16,7 @@
 #include <sstream>
 #include <string>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
@@ -27,8 +27,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-core::Case rheometer_case(const std::string& rheology, double density = 1000.0) {
-  return core::parse_case(
+Case rheometer_case(const std::string& rheology, double density = 1000.0) {
+  return parse_case(
       "kind: rheometer\n"
       "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
       "fluid:\n  density: " +
@@ -233,7 +233,7 @@ TEST(OpenFoamExport, BlockMeshDictIsAFiveBlockOGrid) {
 TEST(OpenFoamExport, TransportPropertiesAreKinematic) {
   const double rho = 1250.0;
   const auto fluid = [&](const std::string& rheology) {
-    return std::get<core::RheometerCase>(rheometer_case(rheology, rho).spec).fluid;
+    return std::get<RheometerCase>(rheometer_case(rheology, rho).spec).fluid;
   };
 
   auto t = openfoam_transport(fluid("{model: newtonian, viscosity: 2.5e-3}"));
@@ -296,7 +296,7 @@ TEST(OpenFoamExport, TransportPropertiesAreKinematic) {
 
 TEST(OpenFoamExport, ChoosesOneOfSeveralFluids) {
   TempDir dir("fluids");
-  const auto c = core::parse_case(
+  const auto c = parse_case(
       "kind: rheometer\n"
       "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
       "fluids:\n"
@@ -355,14 +355,14 @@ TEST(OpenFoamExport, RejectsWhatOpenFoamCannotRun) {
   bad.mesh.axial_cells = 0;
   EXPECT_THROW((void)export_openfoam(water, 10.0, dir.path(), bad), core::ConfigError);
 
-  const auto sweep = core::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/suspension_seed.yaml");
+  const auto sweep = load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/suspension_seed.yaml");
   EXPECT_THROW((void)export_openfoam(sweep, 10.0, dir.path()), core::ConfigError);
   // An LDD case never becomes a rheometer case that could be exported: its reader is the ldd module's.
-  EXPECT_THROW((void)core::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_cavity_casson.yaml"),
+  EXPECT_THROW((void)load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_cavity_casson.yaml"),
                core::ConfigError);
 
   auto suspension = water;
-  std::get<core::RheometerCase>(suspension.spec).particles = core::ParticleProperties{0.1, 2e-4, 1000};
+  std::get<RheometerCase>(suspension.spec).particles = coupling::SuspendedParticles{{0.1, 2e-4, 1000}};
   try {
     (void)export_openfoam(suspension, 10.0, dir.path());
     ADD_FAILURE() << "a particle-laden case was exported";

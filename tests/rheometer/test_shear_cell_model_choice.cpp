@@ -7,18 +7,18 @@
 #include <cmath>
 #include <string>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/rheometer/box_point.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
 
 namespace rheosim::rheometer {
 namespace {
 
-using Model = core::RheometerCase::SuspensionModel;
+using Model = RheometerCase::SuspensionModel;
 
 const std::string seed_case = R"(kind: sweep
 geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}
@@ -30,8 +30,8 @@ volume_fractions: [0, 0.1, 0.3]
 particles: {diameter: 2.0e-4, density: 1000}
 )";
 
-core::RheometerCase seed(const std::string& extra = "") {
-  return std::get<core::SweepCase>(core::parse_case(seed_case + extra, "seed.yaml").spec).rheometer;
+RheometerCase seed(const std::string& extra = "") {
+  return std::get<SweepCase>(parse_case(seed_case + extra, "seed.yaml").spec).rheometer;
 }
 
 TEST(ShearCellTorque, LinearCurveGivesTheNewtonianTorque) {
@@ -79,9 +79,9 @@ TEST(ShearCellModelChoice, CaseKeyAndAutomaticChoice) {
   EXPECT_EQ(seed("model: lees_edwards\n").suspension_model, Model::lees_edwards);
   EXPECT_EQ(seed("model: walled_box\n").suspension_model, Model::walled_box);
   EXPECT_THROW((void)seed("model: shearcell\n"), core::ConfigError);
-  EXPECT_EQ(to_string(Model::shear_cell), "shear_cell");
-  EXPECT_EQ(to_string(Model::lees_edwards), "lees_edwards");
-  EXPECT_EQ(to_string(Model::walled_box), "walled_box");
+  EXPECT_STREQ(name_of(Model::shear_cell), "shear_cell");
+  EXPECT_STREQ(name_of(Model::lees_edwards), "lees_edwards");
+  EXPECT_STREQ(name_of(Model::walled_box), "walled_box");
 
   // No hydrodynamics block: the predictive box, and the reason names how to get the seed's model.
   // The seed's gap is 2.5 diameters: the plates are simulated (the walled box); `model:
@@ -103,8 +103,8 @@ TEST(ShearCellModelChoice, CaseKeyAndAutomaticChoice) {
   // A near field with lubrication runs in the box too; a small disk (R/H = 6) is still the box,
   // with the rim named as a limit.
   auto lubricated = seed();
-  lubricated.particles->hydrodynamics.specified = true;
-  lubricated.particles->hydrodynamics.lubrication = true;
+  lubricated.particles->hydrodynamics_given = true;
+  lubricated.particles->hydrodynamics.terms.lubrication = true;
   EXPECT_EQ(choose_suspension_model(lubricated, 0.3, 600).model, Model::walled_box);
   auto small_predictive = seed();
   small_predictive.geometry.radius = 0.003;
@@ -124,7 +124,7 @@ volume_fractions: [0, 0.1, 0.3]
 particles: {diameter: 2.0e-4, density: 1000, hydrodynamics: {model: none}}
 )";
   const auto drag_only = [&](const std::string& extra = "") {
-    return std::get<core::SweepCase>(core::parse_case(drag_only_case + extra, "seed.yaml").spec).rheometer;
+    return std::get<SweepCase>(parse_case(drag_only_case + extra, "seed.yaml").spec).rheometer;
   };
   // The seed's drag-only model: R/H = 30, Re_gap 0.83, monodisperse: the cell, with both costs.
   const auto choice = choose_suspension_model(drag_only(), 0.3, 600);

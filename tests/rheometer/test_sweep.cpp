@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <string>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
@@ -86,8 +86,8 @@ const nlohmann::json* find_yield(const nlohmann::json& summary, double phi, cons
 }  // namespace
 
 TEST(Sweep, PointsAreEveryFluidPhiAndRateInOrder) {
-  const auto c = core::parse_case(deck, "sweep");
-  const auto points = rheometer::sweep_points(std::get<core::SweepCase>(c.spec));
+  const auto c = rheometer::parse_case(deck, "sweep");
+  const auto points = rheometer::sweep_points(std::get<rheometer::SweepCase>(c.spec));
   ASSERT_EQ(points.size(), 18u);
   EXPECT_EQ(points[0].volume_fraction, 0.0);
   EXPECT_EQ(points[0].rim_shear_rate, 10.0);
@@ -97,7 +97,7 @@ TEST(Sweep, PointsAreEveryFluidPhiAndRateInOrder) {
 }
 
 TEST(Sweep, InjectedRunnersFeedTheAnalysisAndResumeSkipsStoredPoints) {
-  const auto c = core::parse_case(deck, "sweep");
+  const auto c = rheometer::parse_case(deck, "sweep");
   const fs::path out = fresh_dir("inject");
   Calls calls;
   const auto first = rheometer::run_sweep(c, out, core::Log::null(), fake_runners(calls));
@@ -153,7 +153,7 @@ TEST(Sweep, InjectedRunnersFeedTheAnalysisAndResumeSkipsStoredPoints) {
 }
 
 TEST(Sweep, AFailingPointIsRecordedNotStoredAndTriedAgain) {
-  const auto c = core::parse_case(deck, "sweep");
+  const auto c = rheometer::parse_case(deck, "sweep");
   const fs::path out = fresh_dir("failure");
   Calls calls;
   auto runners = fake_runners(calls);
@@ -187,11 +187,11 @@ TEST(Sweep, UnavailableSuspensionRunnerSaysWhy) {
 }
 
 TEST(Sweep, StoreRefusesPointsOfAnotherDeck) {
-  const auto c = core::parse_case(deck, "sweep");
+  const auto c = rheometer::parse_case(deck, "sweep");
   const fs::path out = fresh_dir("changed");
   Calls calls;
   (void)rheometer::run_sweep(c, out, core::Log::null(), fake_runners(calls));
-  const auto changed = core::parse_case(std::string(deck) + "description: changed\n", "sweep");
+  const auto changed = rheometer::parse_case(std::string(deck) + "description: changed\n", "sweep");
   EXPECT_THROW((void)rheometer::run_sweep(changed, out, core::Log::null(), fake_runners(calls)), core::ConfigError);
   fs::remove_all(out);
 }

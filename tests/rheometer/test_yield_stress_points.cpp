@@ -9,9 +9,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
@@ -20,7 +20,7 @@ namespace {
 
 TEST(YieldStressPoints, HighBinghamNumbersConvergeAtTheirFloorAndSaySo) {
   // Bingham μ_p = 1 Pa·s, τ_y = 40 Pa: Bingham numbers τ_y/(μ_p γ̇_R) = 40 … 0.4 over 1–100 1/s.
-  const core::Case c = core::parse_case(R"(kind: sweep
+  const rheometer::Case c = rheometer::parse_case(R"(kind: sweep
 name: bingham_sweep
 geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}
 fluid:
@@ -30,8 +30,8 @@ shear_rates: [1, 2.5, 10, 25, 50, 100]
 volume_fractions: [0]
 solver: {inertia: true}
 )",
-                                        "bingham_sweep.yaml");
-  const auto& r = std::get<core::SweepCase>(c.spec).rheometer;
+                                                  "bingham_sweep.yaml");
+  const auto& r = std::get<rheometer::SweepCase>(c.spec).rheometer;
   const std::filesystem::path out = std::filesystem::path("test-runs") / "bingham_sweep";
   std::filesystem::remove_all(out);
   const auto outcome = rheometer::run_sweep(c, out, core::Log::null(), rheometer::default_point_runners(r));

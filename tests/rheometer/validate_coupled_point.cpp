@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
@@ -16,7 +16,7 @@ using namespace rheosim;
 
 TEST(CoupledSuspensionRunner, SmallDiskPointGivesFluidPlusContactTorque) {
   // R = 3 mm keeps the point to tens of seconds (about 340 particles of the CD §4 size at φ = 0.1).
-  const core::Case c = core::parse_case(R"(kind: sweep
+  const rheometer::Case c = rheometer::parse_case(R"(kind: sweep
 geometry: {type: parallel_plate, radius: 0.003, gap: 0.0005}
 fluid:
   density: 1000
@@ -25,8 +25,8 @@ shear_rates: [100]
 volume_fractions: [0]
 particles: {diameter: 2.0e-4, density: 1000, hydrodynamics: {model: none}}
 )",
-                                        "coupled_point");
-  const auto& sweep = std::get<core::SweepCase>(c.spec);
+                                                  "coupled_point");
+  const auto& sweep = std::get<rheometer::SweepCase>(c.spec);
   const fs::path out = fs::path("test-runs") / "coupled_point";
   fs::remove_all(out);
   auto runners = rheometer::default_point_runners(sweep.rheometer);

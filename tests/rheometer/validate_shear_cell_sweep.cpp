@@ -11,16 +11,16 @@
 #include <filesystem>
 #include <string>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
 namespace fs = std::filesystem;
 using namespace rheosim;
 
 TEST(ShearCellSweep, SummaryRecordsModelReasonAndEstimatedError) {
-  const core::Case c = core::parse_case(R"(kind: sweep
+  const rheometer::Case c = rheometer::parse_case(R"(kind: sweep
 model: shear_cell
 geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}
 fluid:
@@ -30,8 +30,8 @@ shear_rates: [25, 50, 100]
 volume_fractions: [0, 0.1]
 particles: {diameter: 2.0e-4, density: 1000}
 )",
-                                        "shear_cell_sweep");
-  const auto& sweep = std::get<core::SweepCase>(c.spec);
+                                                  "shear_cell_sweep");
+  const auto& sweep = std::get<rheometer::SweepCase>(c.spec);
   const fs::path out = fs::path("test-runs") / "shear_cell_sweep";
   fs::remove_all(out);
   auto runners = rheometer::default_point_runners(sweep.rheometer);

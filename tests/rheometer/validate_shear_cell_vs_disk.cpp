@@ -54,7 +54,7 @@ TEST(ShearCellVersusDisk, TorqueWithinThreePercentOfTheDisk) {
   const double radius = 5e-3;
   const double gap = 5e-4;
   const double cell_length = 1.6e-3;
-  core::ParticleProperties particles{
+  dem::ParticleProperties particles{
       .volume_fraction = phi, .diameter = 2e-4, .density = density, .youngs_modulus = 5e6};
   const coupling::SteadyStateSettings steady{
       .strain_window = 2.0, .relative_tolerance = 0.02, .min_strain = 4.0, .max_strain = 20.0};

@@ -29,12 +29,12 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/coupling/suspension_box.hpp"
 #include "rheosim/rheometer/analysis.hpp"
 #include "rheosim/rheometer/box_point.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
@@ -242,7 +242,7 @@ TEST(SuspensionBoxValidation, WalledBoxLayersAtWholeNumbersOfDiameters) {
 TEST(SuspensionBoxValidation, RunnerUsesTheWalledBoxInANarrowGap) {
   // The Stokes-regime case in a gap of 2.5 diameters: auto runs the walled box, and the torque
   // is its η_r times the liquid's.
-  const core::Case c = core::parse_case(R"(kind: sweep
+  const rheometer::Case c = rheometer::parse_case(R"(kind: sweep
 name: walled_runner
 geometry: {type: parallel_plate, radius: 0.02, gap: 1.25e-4}
 fluid:
@@ -252,8 +252,8 @@ shear_rates: [1, 10]
 volume_fractions: [0, 0.3]
 particles: {diameter: 5.0e-5, density: 1050}
 )",
-                                        "walled_runner.yaml");
-  const auto& r = std::get<core::SweepCase>(c.spec).rheometer;
+                                                  "walled_runner.yaml");
+  const auto& r = std::get<rheometer::SweepCase>(c.spec).rheometer;
   ASSERT_TRUE(rheometer::box_has_walls(r));
   const auto runner = rheometer::make_box_suspension_runner(r);
   const rheometer::ParallelPlate plate{0.02, 1.25e-4};
@@ -272,7 +272,7 @@ TEST(SuspensionBoxValidation, RunnerTorqueAndNormalForce) {
   // A Stokes-regime suspension (50 µm spheres in a 1 Pa·s liquid, H/d = 20): one box serves
   // every rate, T = η_r T_liquid and F = πR²(N1 − N2)/3 at every rate, and the sweep's
   // N1 − N2 from F(γ̇_R) returns the box's N1 − N2.
-  const core::Case c = core::parse_case(R"(kind: sweep
+  const rheometer::Case c = rheometer::parse_case(R"(kind: sweep
 name: box_runner
 geometry: {type: parallel_plate, radius: 0.02, gap: 0.001}
 fluid:
@@ -282,8 +282,8 @@ shear_rates: [1, 10, 100]
 volume_fractions: [0, 0.3]
 particles: {diameter: 5.0e-5, density: 1050}
 )",
-                                        "box_runner.yaml");
-  const auto& sweep = std::get<core::SweepCase>(c.spec);
+                                                  "box_runner.yaml");
+  const auto& sweep = std::get<rheometer::SweepCase>(c.spec);
   const auto& r = sweep.rheometer;
   ASSERT_TRUE(rheometer::box_is_rate_independent(r));
   const auto runner = rheometer::make_box_suspension_runner(r);

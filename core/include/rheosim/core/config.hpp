@@ -120,6 +120,10 @@ class Document {
   std::shared_ptr<detail::DocumentState> state_;
 };
 
+// A list of values read from `key` of `section` must be strictly increasing (a repeated point is
+// almost always a typo); else a ConfigError at that key.
+void require_increasing(const Section& section, std::string_view key, const std::vector<double>& values);
+
 // Levenshtein distance, used for "did you mean" suggestions.
 [[nodiscard]] std::size_t edit_distance(std::string_view a, std::string_view b);
 // The closest candidate if it is close enough to be a plausible misspelling.

@@ -14,10 +14,21 @@
 #include <span>
 #include <string_view>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/core/config.hpp"
 #include "rheosim/core/registry.hpp"
 
 namespace rheosim::coupling {
+
+// particles.drag: the law of a suspension point. YAML `drag: {model: auto | di_felice |
+// schiller_naumann}`. auto, the default, is di_felice (the seed's, CD eqs. 30–33) for
+// drag-only suspensions and schiller_naumann (the isolated sphere) when the near field has
+// lubrication: the pair terms then carry the crowding that Di Felice's voidage function would
+// add a second time (docs/hydrodynamics.md, "Which drag goes with the near field").
+enum class DragLaw { di_felice, schiller_naumann };
+// Its YAML name, the registry name in builtin_drag_models().
+[[nodiscard]] constexpr const char* name_of(DragLaw d) {
+  return d == DragLaw::schiller_naumann ? "schiller_naumann" : "di_felice";
+}
 
 using Vector3 = std::array<double, 3>;
 
@@ -89,7 +100,7 @@ void add_builtin_drag_models(DragRegistry& registry);
 [[nodiscard]] const DragRegistry& builtin_drag_models();
 // Builds a law from a `drag:` section ({model: name, ...parameters}).
 [[nodiscard]] std::unique_ptr<const DragModel> make_drag_model(const core::Section& section);
-// The law a case's particles.drag names (core::DragLaw; no parameters).
-[[nodiscard]] std::unique_ptr<const DragModel> make_drag_model(core::DragLaw law);
+// The law a case's particles.drag names (no parameters).
+[[nodiscard]] std::unique_ptr<const DragModel> make_drag_model(DragLaw law);
 
 }  // namespace rheosim::coupling

@@ -141,7 +141,7 @@ void add_builtin_force_models(ForceRegistry& registry);
 // The seed's set (CD §4): di_felice, pressure_gradient, viscous.
 [[nodiscard]] std::vector<std::string> seed_force_models();
 // The seed's set with the drag law `drag` in place of di_felice.
-[[nodiscard]] std::vector<std::string> force_models(core::DragLaw drag);
+[[nodiscard]] std::vector<std::string> force_models(DragLaw drag);
 
 // Interpolates the fluid to every particle (see the header). The particle's cell shares come
 // from the void-fraction map of the same step (same particle order).

@@ -36,7 +36,6 @@
 #include <string_view>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/coupling/particles.hpp"
 #include "rheosim/dem/engine.hpp"
@@ -136,9 +135,18 @@ class NearFieldModel {
   [[nodiscard]] virtual double stable_time_step(const ParticleSnapshot& particles, double particle_density) const = 0;
 };
 
-// Settings of `particles: {hydrodynamics: {...}}` (core::HydrodynamicsSettings mirrors them).
-// The near-field terms switched on (a case file's particles.hydrodynamics.model, terms joined by
-// '+', read by the case reader).
+// The matrix viscosity in the stresslet (docs/hydrodynamics.md): `homogenized` weights the
+// secant and tangent viscosities so that a dilute suspension in a generalized-Newtonian liquid
+// follows Chateau, Ovarlez & Trung (J. Rheol. 52 (2008) 489), η ≈ τ(γ̇)(1 + (0.75 + 1.75 n)φ),
+// n = d ln τ/d ln γ̇; `secant` is the Newtonian stresslet with μ(γ̇) (2.5φ at any n).
+enum class StressletViscosity { homogenized, secant };
+// Its YAML name ("homogenized", "secant"), the one mapping for the reader and describe().
+[[nodiscard]] constexpr const char* name_of(StressletViscosity v) {
+  return v == StressletViscosity::secant ? "secant" : "homogenized";
+}
+
+// Settings of `particles: {hydrodynamics: {...}}` (read by read_suspended_particles).
+// The near-field terms switched on (particles.hydrodynamics.model, terms joined by '+').
 struct NearFieldTerms {
   bool lubrication = false;  // pair and plate lubrication (Jeffrey & Onishi 1984, Kim & Karrila 1991)
   // single-particle torque −8πμa³(Ω − ω∞) and stresslet (20/3)πμa³E∞ (stresslet | single_particle)
@@ -162,15 +170,12 @@ struct NearFieldSettings {
   double lubrication_cutoff = 0.5;  // h_c/ā: lubrication acts for h < h_c, in (roughness, 1]
   double repulsion_force = 0.0;     // F_R0 [N], > 0 with `repulsion`
   double repulsion_length = 0.05;   // λ/ā, in [1e-3, lubrication_cutoff/5] (the force is cut with the gap list)
-  // The matrix viscosity μ_S in the stresslet (20/3)πμ_S a³E∞ (core::StressletViscosity):
+  // The matrix viscosity μ_S in the stresslet (20/3)πμ_S a³E∞ (StressletViscosity):
   // homogenized μ_S = μ + 0.7 γ̇ dμ/dγ̇ (0.3 secant + 0.7 tangent), secant μ_S = μ(γ̇).
-  core::StressletViscosity stresslet_viscosity = core::StressletViscosity::homogenized;
+  StressletViscosity stresslet_viscosity = StressletViscosity::homogenized;
   double solver_tolerance = 1.0e-7;  // residual / |right-hand side| of the implicit solve, in (0, 1e-3]
   int max_solver_iterations = 500;
 };
-
-// The settings of a case file's particles.hydrodynamics (core::Hydrodynamics).
-[[nodiscard]] NearFieldSettings near_field_settings(const core::Hydrodynamics& hydrodynamics);
 
 // Builds the combined model (one implicit solve over all enabled terms); matrix is the liquid's
 // μ(γ̇). Throws std::invalid_argument for settings out of range. With no term on the model adds

@@ -72,10 +72,11 @@ struct ShearCellPointSettings {
   double cell_length = 0.0;  // L_x [m], >= 2 d
   double cell_width = 0.0;   // L_y [m], >= 2 d
   core::FluidProperties fluid{};
-  core::ParticleProperties particles{};  // φ = 0 runs the column alone (no LIGGGHTS)
-  double shear_rate = 0.0;               // γ̇ [1/s] > 0
-  int axial_cells = 2;                   // N_z fluid layers, >= 1
-  bool gravity = true;                   // standard gravity along −z (reduced by buoyancy)
+  dem::ParticleProperties particles{};  // φ = 0 runs the column alone (no LIGGGHTS)
+  DragLaw drag = DragLaw::di_felice;    // particles.drag
+  double shear_rate = 0.0;              // γ̇ [1/s] > 0
+  int axial_cells = 2;                  // N_z fluid layers, >= 1
+  bool gravity = true;                  // standard gravity along −z (reduced by buoyancy)
   std::optional<double> dem_time_step = std::nullopt;
   double time_step_fraction = 0.3;        // δt / t_R
   int coupling_interval = 100;            // DEM steps per fluid step

@@ -15,7 +15,7 @@
 // φ = 0 runs the fluid alone on the same grid and time step (N × the DEM step the particles
 // would have), the same-grid reference for the suspension's torque increase (no LIGGGHTS).
 //
-// Near-field hydrodynamics (particles.hydrodynamics): the model runs on every DEM step
+// Near-field hydrodynamics (`hydrodynamics`, a case's particles.hydrodynamics): the model runs on every DEM step
 // through coupling::NearFieldStepHook (implicit, see near_field.hpp) with the solved fluid as the
 // ambient flow (per cell: the velocity gradient of the cell-centred velocities, with the
 // cylindrical metric terms, in Cartesian components at the particle). The plate torque is then
@@ -33,6 +33,9 @@
 
 #include "rheosim/core/case.hpp"
 #include "rheosim/coupling/coupler.hpp"
+#include "rheosim/coupling/drag.hpp"
+#include "rheosim/coupling/near_field.hpp"
+#include "rheosim/dem/particles.hpp"
 
 namespace rheosim::coupling {
 
@@ -68,8 +71,10 @@ class SteadyStateDetector {
 struct SuspensionPointSettings {
   core::PlateGeometry geometry{};
   core::FluidProperties fluid{};
-  core::ParticleProperties particles{};
-  double rim_shear_rate = 0.0;  // γ̇_R [1/s] > 0
+  dem::ParticleProperties particles{};
+  DragLaw drag = DragLaw::di_felice;  // particles.drag
+  NearFieldSettings hydrodynamics{};  // particles.hydrodynamics; no terms: the seed's drag only
+  double rim_shear_rate = 0.0;        // γ̇_R [1/s] > 0
   // Fluid grid and model.
   int radial_cells = 8, azimuthal_cells = 8, axial_cells = 2;
   bool inertia = true;
@@ -78,7 +83,7 @@ struct SuspensionPointSettings {
   std::optional<double> dem_time_step = std::nullopt;
   double time_step_fraction = 0.3;
   // Coupling: interval, void fraction, forces (fluid_time_step is derived: N × DEM δt). The drag
-  // law in forces must be particles.drag's: force_models(particles.drag) (run_point checks).
+  // law in forces must be `drag`: force_models(drag) (run_point checks).
   CouplerSettings coupling{};
   SteadyStateSettings steady{};
   std::uint64_t seed = 1;

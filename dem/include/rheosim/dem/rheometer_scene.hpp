@@ -82,6 +82,7 @@
 #include "rheosim/core/case.hpp"
 #include "rheosim/core/units.hpp"
 #include "rheosim/dem/engine.hpp"
+#include "rheosim/dem/particles.hpp"
 #include "rheosim/dem/placement.hpp"
 
 namespace rheosim::dem {
@@ -96,7 +97,7 @@ class RheometerScene {
  public:
   struct Params {
     core::PlateGeometry geometry{};                  // R, H [m]: R > 0, 0 < H < R
-    core::ParticleProperties particles{};            // φ in [0, 0.5], d in (0, H), ρ_p, E, ν, e, μ_c
+    ParticleProperties particles{};                  // φ in [0, 0.5], d in (0, H), ρ_p, E, ν, e, μ_c
     double rim_shear_rate = 0.0;                     // γ̇_R [1/s] at the start (finite; < 0 turns backwards)
     double time_step_fraction = 0.3;                 // δt / t_R, in (0, 1]
     std::optional<double> time_step = std::nullopt;  // δt [s] > 0; overrides time_step_fraction

@@ -59,8 +59,8 @@
 #include <span>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/dem/engine.hpp"
+#include "rheosim/dem/particles.hpp"
 
 namespace rheosim::dem {
 
@@ -76,13 +76,13 @@ struct WallStressSample {
 class ShearCellScene {
  public:
   struct Params {
-    double gap = 0.0;          // H [m] > d
-    double cell_length = 0.0;  // L_x [m] (shear direction), >= 2 d (periodic images must not touch themselves)
-    double cell_width = 0.0;   // L_y [m] (vorticity direction), >= 2 d
-    core::ParticleProperties particles{};            // φ in [0, 0.45], d, ρ_p, E, ν, e, μ_c; monodisperse
-    double shear_rate = 0.0;                         // γ̇ [1/s], finite: top plate at U = γ̇ H along +x
-    double time_step_fraction = 0.3;                 // δt / t_R, in (0, 1]
-    std::optional<double> time_step = std::nullopt;  // δt [s] > 0, overrides the fraction
+    double gap = 0.0;                 // H [m] > d
+    double cell_length = 0.0;         // L_x [m] (shear direction), >= 2 d (periodic images must not touch themselves)
+    double cell_width = 0.0;          // L_y [m] (vorticity direction), >= 2 d
+    ParticleProperties particles{};   // φ in [0, 0.45], d, ρ_p, E, ν, e, μ_c; monodisperse
+    double shear_rate = 0.0;          // γ̇ [1/s], finite: top plate at U = γ̇ H along +x
+    double time_step_fraction = 0.3;  // δt / t_R, in (0, 1]
+    std::optional<double> time_step = std::nullopt;               // δt [s] > 0, overrides the fraction
     std::optional<std::array<double, 3>> gravity = std::nullopt;  // [m/s²]; nullopt: none
     std::uint64_t seed = 1;                                       // placement jitter, subset, initial velocities
     std::filesystem::path run_directory{};                        // required; no whitespace or quotes

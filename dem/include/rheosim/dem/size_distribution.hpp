@@ -1,5 +1,5 @@
 #pragma once
-// Particle diameters drawn from the case file's size distribution (core::SizeDistribution,
+// Particle diameters drawn from the case file's size distribution (SizeDistribution,
 // `particles.size_distribution`), for the rheometer scene.
 //
 // What is drawn
@@ -22,18 +22,18 @@
 #include <cstdint>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/dem/particles.hpp"
 
 namespace rheosim::dem {
 
 // Diameters [m] whose spheres fill solid_volume [m³] >= 0. `median` is particles.diameter
 // (the lognormal's volume median). Throws std::invalid_argument for an inconsistent distribution.
-[[nodiscard]] std::vector<double> sample_diameters(const core::SizeDistribution& distribution, double median,
+[[nodiscard]] std::vector<double> sample_diameters(const SizeDistribution& distribution, double median,
                                                    double solid_volume, std::uint64_t seed);
 
 // Smallest and largest diameter a particle set may hold [m]: the distribution's bounds, or
 // particles.diameter for equal spheres.
-[[nodiscard]] double smallest_diameter(const core::ParticleProperties& particles);
-[[nodiscard]] double largest_diameter(const core::ParticleProperties& particles);
+[[nodiscard]] double smallest_diameter(const ParticleProperties& particles);
+[[nodiscard]] double largest_diameter(const ParticleProperties& particles);
 
 }  // namespace rheosim::dem

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "rheosim/core/case.hpp"
+#include "rheosim/ldd/node_reordering.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/scene.hpp"
-#include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd {
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/coupling/suspension_box.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
 namespace rheosim::rheometer {
@@ -34,15 +34,15 @@ inline constexpr double particle_reynolds_limit = 0.1;
 inline constexpr double walled_box_gap_limit = 10.0;
 
 // The box for one φ and rate of the case, in its units (a = d/2, 1/γ̇, μ(γ̇)).
-[[nodiscard]] coupling::SuspensionBoxSettings box_settings(const core::RheometerCase& rheometer, double volume_fraction,
+[[nodiscard]] coupling::SuspensionBoxSettings box_settings(const RheometerCase& rheometer, double volume_fraction,
                                                            double shear_rate);
 // Whether the case's box has the plates (model: walled_box, or auto with H/d < walled_box_gap_limit).
-[[nodiscard]] bool box_has_walls(const core::RheometerCase& rheometer);
+[[nodiscard]] bool box_has_walls(const RheometerCase& rheometer);
 // Whether box_settings gives the same dimensionless problem at every rate of the case.
-[[nodiscard]] bool box_is_rate_independent(const core::RheometerCase& rheometer);
+[[nodiscard]] bool box_is_rate_independent(const RheometerCase& rheometer);
 // One line that states the box's settings for this case (for `rheosim validate`, the log and
 // summary.json): integrator and why, near field, friction, stiffness, particles.
-[[nodiscard]] std::string describe_box(const core::RheometerCase& rheometer, double volume_fraction);
+[[nodiscard]] std::string describe_box(const RheometerCase& rheometer, double volume_fraction);
 
 // Plate normal force [N] of a local normal-stress curve: n12[k] = (N1 − N2) at rates[k] (increasing),
 // linear in each interval and ∝ s below the first rate, constant ratio to s beyond the last.
@@ -55,7 +55,7 @@ inline constexpr double walled_box_gap_limit = 10.0;
 // every later φ, which run on the machine's other cores meanwhile (each box is deterministic,
 // so the results do not depend on the order; a resumed sweep queues only from its first missing
 // point on).
-[[nodiscard]] PointRunner make_box_suspension_runner(const core::RheometerCase& rheometer,
+[[nodiscard]] PointRunner make_box_suspension_runner(const RheometerCase& rheometer,
                                                      std::vector<double> volume_fractions = {});
 
 }  // namespace rheosim::rheometer

@@ -31,7 +31,7 @@
 #include <utility>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/rheometer/case.hpp"
 
 namespace rheosim::rheometer {
 
@@ -139,7 +139,7 @@ struct OpenFoamExport {
 // Every file is written atomically. Throws ConfigError for a case that cannot be exported
 // (another kind, particles, an unknown fluid name, a law without OpenFOAM model, γ̇_R <= 0) and
 // RunError on I/O failure.
-OpenFoamExport export_openfoam(const core::Case& c, double rim_shear_rate, const std::filesystem::path& dir,
+OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::filesystem::path& dir,
                                const OpenFoamExportOptions& options = {});
 
 }  // namespace rheosim::rheometer

@@ -9,8 +9,8 @@
 //                  of each fluid (rheometer/run_analysis.hpp)
 #include <filesystem>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
+#include "rheosim/rheometer/case.hpp"
 
 namespace rheosim::rheometer {
 
@@ -22,6 +22,6 @@ struct RunOutcome {
 
 // Single-phase rheometry (no `particles:`). Throws core::RunError for failures that stop the
 // whole run (I/O); a point that does not converge is recorded as failed and the run goes on.
-RunOutcome run_single_phase(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log);
+RunOutcome run_single_phase(const Case& c, const std::filesystem::path& out_dir, const core::Log& log);
 
 }  // namespace rheosim::rheometer

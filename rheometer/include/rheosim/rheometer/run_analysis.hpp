@@ -23,15 +23,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "rheosim/core/case.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
 
 namespace rheosim::rheometer {
 
 struct RunAnalysisInputs {
   ParallelPlate plate;
-  std::vector<core::NamedFluid> fluids;               // every liquid named by the points
-  std::optional<core::ParticleProperties> particles;  // for the particle validity numbers (φ > 0)
+  std::vector<NamedFluid> fluids;                         // every liquid named by the points
+  std::optional<coupling::SuspendedParticles> particles;  // for the particle validity numbers (φ > 0)
 };
 
 // `summary["points"]` holds objects with fluid (default: the first fluid), volume_fraction

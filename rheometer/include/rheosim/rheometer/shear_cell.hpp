@@ -31,8 +31,8 @@
 #include <string>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/coupling/suspension_point.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
 namespace rheosim::rheometer {
@@ -47,9 +47,9 @@ struct DimensionlessGroups {
   double gap_over_diameter = 0;  // H / d
   [[nodiscard]] bool stokes_regime() const;  // Re_p, St, Re_gap <= 1
 };
-[[nodiscard]] DimensionlessGroups dimensionless_groups(const core::RheometerCase& rheometer,
+[[nodiscard]] DimensionlessGroups dimensionless_groups(const RheometerCase& rheometer,
                                                        const core::FluidProperties& fluid,
-                                                       const core::ParticleProperties& particles,
+                                                       const coupling::SuspendedParticles& particles,
                                                        double rim_shear_rate);
 
 // The local flow curve measured by the cell (rates increasing).
@@ -65,20 +65,19 @@ struct LocalFlowCurve {
 
 // Which scene computes a suspension point, and why.
 struct ModelChoice {
-  core::RheometerCase::SuspensionModel model = core::RheometerCase::SuspensionModel::shear_cell;
+  RheometerCase::SuspensionModel model = RheometerCase::SuspensionModel::shear_cell;
   std::string reason;
   double cell_study_seconds = 0;  // estimated one-core cost of the cell's study of this φ [s]
 };
 // Estimated one-core wall time [s] of the cell's study of one φ (stiffness pair at E/10³, every
 // rate at E/10⁴, cell L₀, to the detector's max strain; ~3e6 particle-steps/s measured with the
 // coupling; ×20 with particles.hydrodynamics) — an upper-side estimate used against --point-budget.
-[[nodiscard]] double estimate_shear_cell_study_cost(const core::RheometerCase& rheometer, double volume_fraction);
-[[nodiscard]] std::string_view to_string(core::RheometerCase::SuspensionModel model);
+[[nodiscard]] double estimate_shear_cell_study_cost(const RheometerCase& rheometer, double volume_fraction);
 // The case's `model:`; for auto: the full disk when the cell cannot represent the case (a size
 // distribution; R < 10 H, where the rim region matters; gap Reynolds number > 1 at the highest
 // rate, where the disk's secondary flow matters) and the disk point fits the budget, or when
 // the disk is cheaper; else the cell. The reason carries both cost estimates.
-[[nodiscard]] ModelChoice choose_suspension_model(const core::RheometerCase& rheometer, double volume_fraction,
+[[nodiscard]] ModelChoice choose_suspension_model(const RheometerCase& rheometer, double volume_fraction,
                                                   double budget_seconds);
 
 struct ShearCellOptions {
@@ -95,7 +94,7 @@ struct ShearCellOptions {
 // size and linearity checks, cell points; files in work_dir/cell_phi<φ>/...) and is charged
 // with that wall time; every point of that φ then gets T from the curve, its estimated error,
 // and the cell's choices in PointResult::model_reason.
-[[nodiscard]] PointRunner make_shear_cell_suspension_runner(const core::RheometerCase& rheometer,
+[[nodiscard]] PointRunner make_shear_cell_suspension_runner(const RheometerCase& rheometer,
                                                             std::filesystem::path work_dir,
                                                             ShearCellOptions options = {});
 

@@ -38,9 +38,9 @@
 #include <string>
 #include <vector>
 
-#include "rheosim/core/case.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/rheometer/case.hpp"
 
 namespace rheosim::rheometer {
 
@@ -113,10 +113,10 @@ struct PointRunners {
 // Every point starts from the creeping profile (no warm start from a neighbour), so a point's
 // result does not depend on which points ran before it in the same process: a resumed sweep
 // ends with the same numbers as an uninterrupted one.
-[[nodiscard]] PointRunner make_swirl_point_runner(const core::RheometerCase& rheometer);
+[[nodiscard]] PointRunner make_swirl_point_runner(const RheometerCase& rheometer);
 // φ > 0 until the CFD-DEM coupling provides a runner: a failed point naming the reason.
 [[nodiscard]] PointRunner make_unavailable_suspension_runner();
-[[nodiscard]] PointRunners default_point_runners(const core::RheometerCase& rheometer);
+[[nodiscard]] PointRunners default_point_runners(const RheometerCase& rheometer);
 // φ > 0 by CFD-DEM (coupling::run_point): LIGGGHTS' files of point N go to
 // work_dir/point_NNNN. The point's torque is fluid + contact, mean ± standard error over the
 // last steady strain window; the torque series and the cost split are stored with the point.
@@ -128,11 +128,11 @@ struct PointRunners {
 // the disk as above; shear_cell runs rheometer::make_shear_cell_suspension_runner
 // (shear_cell.hpp); auto asks choose_suspension_model() and records the reason.
 // volume_fractions: the sweep's, for the box runner to queue later φ on free cores.
-[[nodiscard]] PointRunner make_coupled_suspension_runner(const core::RheometerCase& rheometer,
-                                                         std::filesystem::path work_dir, double budget_seconds,
+[[nodiscard]] PointRunner make_coupled_suspension_runner(const RheometerCase& rheometer, std::filesystem::path work_dir,
+                                                         double budget_seconds,
                                                          std::vector<double> volume_fractions = {});
 // The full-disk CFD-DEM runner alone.
-[[nodiscard]] PointRunner make_full_disk_suspension_runner(const core::RheometerCase& rheometer,
+[[nodiscard]] PointRunner make_full_disk_suspension_runner(const RheometerCase& rheometer,
                                                            std::filesystem::path work_dir, double budget_seconds);
 
 // Estimated one-core wall time [s] of a CFD-DEM point run to `max_strain` (see above).
@@ -141,12 +141,11 @@ struct SuspensionCostEstimate {
   double dem_steps = 0;
   double wall_time = 0;
 };
-[[nodiscard]] SuspensionCostEstimate estimate_suspension_cost(const core::RheometerCase& rheometer,
-                                                              double volume_fraction, double rim_shear_rate,
-                                                              double max_strain);
+[[nodiscard]] SuspensionCostEstimate estimate_suspension_cost(const RheometerCase& rheometer, double volume_fraction,
+                                                              double rim_shear_rate, double max_strain);
 
 // Every point of the case in sweep order.
-[[nodiscard]] std::vector<SweepPoint> sweep_points(const core::SweepCase& sweep);
+[[nodiscard]] std::vector<SweepPoint> sweep_points(const SweepCase& sweep);
 
 // The finished points of one run folder (points/point_NNNN.h5).
 class PointStore {
@@ -180,7 +179,7 @@ struct SweepOutcome {
 // sweep.h5, the plots and report.html. A point that fails is recorded with its reason and the
 // sweep goes on. Throws core::ConfigError when out_dir holds points of another deck and
 // core::RunError for I/O failures.
-SweepOutcome run_sweep(const core::Case& c, const std::filesystem::path& out_dir, const core::Log& log,
+SweepOutcome run_sweep(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
                        const PointRunners& runners);
 
 }  // namespace rheosim::rheometer

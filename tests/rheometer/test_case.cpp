@@ -10,12 +10,16 @@
 #include <utility>
 
 #include "case_test_support.hpp"
-#include "rheosim/core/case.hpp"
-#include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
+#include "rheosim/rheometer/case.hpp"
 
-namespace rheosim::core {
+namespace rheosim::rheometer {
 namespace {
+
+using core::CaseFile;
+using core::ConfigError;
+using core::sha256_hex;
+using coupling::DragLaw;
 
 using ::testing::HasSubstr;
 
@@ -129,19 +133,6 @@ TEST(Case, SolverExtrapolationNeedsCellCountsThatHalve) {
   EXPECT_EQ(parse_error(solver("axial_stretching: -1")).details().key_path, "solver.axial_stretching");
 }
 
-TEST(Case, MalformedYamlNamesTheLine) {
-  const auto e = parse_error("kind: rheometer\ngeometry: {type: parallel_plate, radius: 0.015\nfluid:\n  density: 1\n");
-  EXPECT_GE(e.details().where.line, 2);
-  EXPECT_THAT(e.details().problem, HasSubstr("malformed YAML"));
-}
-
-TEST(Case, UnknownKindSuggestsTheNearest) {
-  const auto e = parse_error(replace(plate_case, "kind: rheometer", "kind: rheomter"));
-  EXPECT_EQ(e.details().key_path, "kind");
-  EXPECT_THAT(e.details().hint, HasSubstr("'rheometer'"));
-  EXPECT_THAT(e.details().expected, HasSubstr("rheometer, sweep, ldd"));
-}
-
 TEST(Case, MissingRequiredKey) {
   const auto e = parse_error(replace(plate_case, "shear_rates: [1, 10, 100]\n", ""));
   EXPECT_THAT(e.details().problem, HasSubstr("missing required key 'shear_rates'"));
@@ -176,11 +167,6 @@ TEST(Case, VolumeFractionRange) {
   EXPECT_THAT(e.details().problem, HasSubstr("[0, 0.5]"));
 }
 
-TEST(Case, DuplicateKeyIsAnError) {
-  const auto e = parse_error(plate_case + "shear_rates: [2]\n");
-  EXPECT_THAT(e.details().problem, HasSubstr("appears twice"));
-}
-
 TEST(Case, SweepNeedsParticlesForNonZeroFractions) {
   const auto e = parse_error(replace(plate_case, "kind: rheometer", "kind: sweep") + "volume_fractions: [0, 0.1]\n");
   EXPECT_EQ(e.details().key_path, "volume_fractions");
@@ -197,8 +183,8 @@ TEST(Case, SweepParticlesRejectAVolumeFraction) {
   EXPECT_EQ(e.details().key_path, "particles.volume_fraction");
 }
 
-// The core reads the header of every kind and refuses to read an LDD case's body: that is the
-// ldd module's (tests/ldd/test_case.cpp).
+// core::CaseFile reads the header of every kind; the rheometer reader refuses an LDD case,
+// whose body the ldd module reads (tests/ldd/test_case.cpp).
 TEST(Case, TheRheometerReaderRefusesAnLddCase) {
   const CaseFile file = CaseFile::parse("kind: ldd\nname: c\n", "c.yaml");
   EXPECT_EQ(file.header().kind, "ldd");
@@ -212,26 +198,19 @@ TEST(Case, TheRheometerReaderRefusesAnLddCase) {
   }
 }
 
-TEST(Sha256, KnownVectors) {
-  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
-            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-}
-
-TEST(Suggestions, NearestFindsPlausibleMisspellings) {
-  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
-  EXPECT_EQ(nearest("viscosty", {"viscosity", "density"}), std::optional<std::string>("viscosity"));
-  EXPECT_EQ(nearest("zzz", {"viscosity", "density"}), std::nullopt);
-}
-
-TEST(Range, Rendering) {
-  EXPECT_EQ(Range::open_closed(0, 2).str(), "(0, 2]");
-  EXPECT_EQ(Range::positive().str(), "> 0");
-  EXPECT_EQ(Range::non_negative().str(), ">= 0");
-  EXPECT_FALSE(Range::open_closed(0, 2).contains(0));
-  EXPECT_TRUE(Range::open_closed(0, 2).contains(2));
+// Every shipped rheometer and sweep case reads (the CLI test validate_shipped_cases runs every kind).
+TEST(Case, EveryShippedRheometerCaseReads) {
+  const std::filesystem::path cases = std::filesystem::path(RHEOSIM_SOURCE_DIR) / "cases";
+  std::set<std::string> kinds;
+  for (const auto& entry : std::filesystem::directory_iterator(cases)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const CaseFile file = CaseFile::open(entry.path().string());
+    if (file.header().kind == "ldd") continue;
+    kinds.insert(read_case(file).kind);
+  }
+  EXPECT_EQ(kinds, (std::set<std::string>{"rheometer", "sweep"}));
 }
 
 }  // namespace
-}  // namespace rheosim::core
+}  // namespace rheosim::rheometer
