@@ -13,6 +13,7 @@
 #include "rheosim/core/run_lock.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/ldd/case.hpp"
+#include "rheosim/ldd/openfoam.hpp"
 #include "rheosim/ldd/report.hpp"
 #include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/case.hpp"
@@ -158,10 +159,21 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
 }
 
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
-                    const std::string& mesh, const std::string& rim, const core::Log& log) {
+                    const std::string& mesh, const std::string& rim, double max_courant, const core::Log& log) {
   try {
     const core::CaseFile file = core::CaseFile::open(case_file);
-    file.require_kind({"rheometer"}, "export-openfoam (OpenFOAM is the single-phase rheometer's peer)");
+    file.require_kind({"rheometer", "ldd"},
+                      "export-openfoam (simpleFoam for a single-phase rheometer case, interFoam "
+                      "for an LDD dam break)");
+    if (file.header().kind == "ldd") {
+      ldd::InterFoamExportOptions options;
+      options.max_courant = max_courant;
+      const auto exported = ldd::export_interfoam(ldd::read_case(file), dir, options);
+      log.info("interFoam case written to {} ({} x {} cells of {} m, {}); run it with:\n{}", dir.string(),
+               exported.cells_x, exported.cells_y, exported.cell_size, exported.transport.model, exported.commands);
+      if (!exported.transport.note.empty()) log.warn("{}", exported.transport.note);
+      return exit_success;
+    }
     const rheometer::Case c = rheometer::read_case(file);
     if (rim_shear_rate <= 0)
       if (const auto* r = std::get_if<rheometer::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();

@@ -21,7 +21,9 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log);
 int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget, double stop_after,
         const core::Log& log);
 int report(const std::filesystem::path& run_dir, const core::Log& log);
+// A single-phase rheometer case as a simpleFoam case (rim_shear_rate, mesh, rim), or an LDD dam
+// break as an interFoam case (max_courant).
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
-                    const std::string& mesh, const std::string& rim, const core::Log& log);
+                    const std::string& mesh, const std::string& rim, double max_courant, const core::Log& log);
 
 }  // namespace rheosim::app

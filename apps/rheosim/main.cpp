@@ -75,8 +75,9 @@ int main(int argc, char** argv) {
   std::string export_dir;
   double export_rate = 0;
   std::string export_mesh = "M2";
-  auto* foam = cli.add_subcommand("export-openfoam", "Write a rheometer case as an OpenFOAM v1912 case directory");
-  foam->add_option("case", export_case, "Case file (kind: rheometer, single phase)")
+  auto* foam = cli.add_subcommand("export-openfoam",
+                                  "Write a rheometer case or an LDD dam break as an OpenFOAM v1912 case directory");
+  foam->add_option("case", export_case, "Case file (kind: rheometer, single phase; or kind: ldd, a dam break)")
       ->required()
       ->check(CLI::ExistingFile);
   foam->add_option("dir", export_dir, "Output case directory")->required();
@@ -84,12 +85,16 @@ int main(int argc, char** argv) {
   foam->add_option("--mesh", export_mesh, "Mesh preset M1 | M2 | M3 (CD §2.3)");
   std::string export_rim = "shear_free";
   foam->add_option("--rim", export_rim, "Rim condition shear_free | slip (docs/openfoam.md §2.2)");
+  double export_courant = 0.5;
+  foam->add_option("--max-courant", export_courant, "LDD dam break: interFoam's maxCo and maxAlphaCo, in (0, 1]");
   foam->footer(
-      "Writes blockMeshDict (O-grid), controlDict with a forces function object, fvSchemes,\n"
-      "fvSolution, transportProperties (kinematic units), 0/U and 0/p; run blockMesh then simpleFoam\n"
-      "with WM_PROJECT_DIR=/usr/share/openfoam.\n"
-      "Example:\n"
-      "  rheosim export-openfoam cases/quickstart.yaml foam/quickstart --shear-rate 100 --mesh M2");
+      "A rheometer case: blockMeshDict (O-grid), controlDict with a forces function object, fvSchemes,\n"
+      "fvSolution, transportProperties (kinematic units), 0/U and 0/p; run blockMesh then simpleFoam.\n"
+      "An LDD dam break: the interFoam case of the same reservoir, channel, fluid and cell size\n"
+      "(docs/ldd.md); run blockMesh, setFields, interFoam. Both with WM_PROJECT_DIR=/usr/share/openfoam.\n"
+      "Examples:\n"
+      "  rheosim export-openfoam cases/quickstart.yaml foam/quickstart --shear-rate 100 --mesh M2\n"
+      "  rheosim export-openfoam cases/ldd_dam_break_bingham.yaml foam/dam_break");
 
   // A first word that names no subcommand: name it and the valid ones (CLI11 would only say
   // that a subcommand is required).
@@ -121,6 +126,7 @@ int main(int argc, char** argv) {
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
   if (*run) return app::run(run_case, run_out, point_budget, stop_after, log);
-  if (*foam) return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, export_rim, log);
+  if (*foam)
+    return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, export_rim, export_courant, log);
   return app::report(report_dir, log);
 }

@@ -23,41 +23,11 @@ namespace rheosim::rheometer {
 
 namespace {
 
-// A parameter of a law by its YAML name (Rheology::parameters()).
-double parameter(const core::Rheology& law, std::string_view name) {
-  for (const auto& p : law.parameters())
-    if (p.name == name) return p.value;
-  throw std::logic_error(fmt::format("rheology '{}' has no parameter '{}'", law.name(), name));
-}
-
 [[noreturn]] void input_error(const std::string& file, std::string key, std::string problem, std::string expected,
                               std::string hint = {}) {
   throw core::ConfigError(
       {core::FileLocation{file, 0, 0}, std::move(key), std::move(problem), std::move(expected), std::move(hint)});
 }
-
-// Shortest text that reads back to the same double (fmt's default for doubles).
-std::string num(double v) { return fmt::format("{}", v); }
-
-std::string foam_header(std::string_view cls, std::string_view location, std::string_view object) {
-  return fmt::format(
-      "/*--------------------------------*- C++ -*----------------------------------*\\\n"
-      "  Written by rheosim {} ({}) for OpenFOAM v1912. SI units.\n"
-      "\\*---------------------------------------------------------------------------*/\n"
-      "FoamFile\n"
-      "{{\n"
-      "    version     2.0;\n"
-      "    format      ascii;\n"
-      "    class       {};\n"
-      "    location    \"{}\";\n"
-      "    object      {};\n"
-      "}}\n"
-      "// * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * * //\n\n",
-      core::version, core::git_revision, cls, location, object);
-}
-
-constexpr std::string_view foam_footer =
-    "\n// ************************************************************************* //\n";
 
 constexpr int max_cells = 100000;  // per direction; far beyond anything a 2-core machine runs
 
@@ -113,21 +83,23 @@ std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const 
   const std::array<std::array<double, 2>, 4> rim_xy{{{d, d}, {-d, d}, {-d, -d}, {d, -d}}};
   const std::array<std::array<double, 2>, 4> arc_mid{{{0, R}, {-R, 0}, {0, -R}, {R, 0}}};  // between k and k+1
 
-  std::string out = foam_header("dictionary", "system", "blockMeshDict");
+  std::string out = core::foam_header("dictionary", "system", "blockMeshDict");
   out += fmt::format(
       "// Parallel-plate gap: radius R = {} m, gap H = {} m. 5-block O-grid: a square core of\n"
       "// half-width {} m and four outer blocks to arcs of radius R. Cells: {} radial (outer\n"
       "// blocks) x {} per quarter of the circumference x {} across the gap = {} cells.\n\n",
-      num(R), num(H), num(s), mesh.radial_cells, mesh.azimuthal_cells, mesh.axial_cells, mesh.cell_count());
+      core::foam_number(R), core::foam_number(H), core::foam_number(s), mesh.radial_cells, mesh.azimuthal_cells,
+      mesh.axial_cells, mesh.cell_count());
   out += "scale   1;\n\nvertices\n(\n";
   for (int layer = 0; layer < 2; ++layer) {
     const double z = layer == 0 ? 0.0 : H;
     for (int k = 0; k < 4; ++k)
-      out += fmt::format("    ({} {} {})  // {}: core corner, z = {}\n", num(core_xy[k][0]), num(core_xy[k][1]), num(z),
-                         8 * layer + k, layer == 0 ? "0" : "H");
+      out += fmt::format("    ({} {} {})  // {}: core corner, z = {}\n", core::foam_number(core_xy[k][0]),
+                         core::foam_number(core_xy[k][1]), core::foam_number(z), 8 * layer + k, layer == 0 ? "0" : "H");
     for (int k = 0; k < 4; ++k)
-      out += fmt::format("    ({} {} {})  // {}: rim, z = {}\n", num(rim_xy[k][0]), num(rim_xy[k][1]), num(z),
-                         8 * layer + 4 + k, layer == 0 ? "0" : "H");
+      out +=
+          fmt::format("    ({} {} {})  // {}: rim, z = {}\n", core::foam_number(rim_xy[k][0]),
+                      core::foam_number(rim_xy[k][1]), core::foam_number(z), 8 * layer + 4 + k, layer == 0 ? "0" : "H");
   }
   out += ");\n\n";
 
@@ -151,7 +123,7 @@ std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const 
     const double z = layer == 0 ? 0.0 : H;
     for (int k = 0; k < 4; ++k)
       out += fmt::format("    arc {} {} ({} {} {})\n", 8 * layer + 4 + k, 8 * layer + 4 + (k + 1) % 4,
-                         num(arc_mid[k][0]), num(arc_mid[k][1]), num(z));
+                         core::foam_number(arc_mid[k][0]), core::foam_number(arc_mid[k][1]), core::foam_number(z));
   }
   out += ");\n\nboundary\n(\n";
   const auto face = [](int a, int b, int c, int e) { return fmt::format("            ({} {} {} {})\n", a, b, c, e); };
@@ -169,106 +141,23 @@ std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const 
   out += "    rim     // r = R, flat shear-free meniscus\n    {\n        type patch;\n        faces\n        (\n" +
          rim + "        );\n    }\n";
   out += ");\n\nmergePatchPairs\n(\n);\n";
-  out += foam_footer;
+  out += core::foam_footer;
   return out;
-}
-
-// ------------------------------------------------------------------------------------ transport
-
-OpenFoamTransport openfoam_transport(const core::FluidProperties& fluid) {
-  if (!fluid.rheology) throw std::invalid_argument("openfoam_transport: fluid without rheology");
-  const core::Rheology& law = *fluid.rheology;
-  const double rho = fluid.density;
-  if (!(rho > 0)) input_error("", "fluid.density", fmt::format("{} is not positive", rho), "density in kg/m³");
-  const std::string name(law.name());
-  const auto p = [&](std::string_view key) { return parameter(law, key); };
-  const double nu_rest = law.viscosity(0.0) / rho;  // rheosim's μ(0)/ρ: finite for every law
-
-  OpenFoamTransport t;
-  if (name == "newtonian") {
-    t.model = "Newtonian";
-    t.coeffs = {{"nu", p("viscosity") / rho}};
-  } else if (name == "power_law") {
-    // rheosim holds μ = k γ̇_min^(n−1) below γ̇_min; OpenFOAM clips ν to [nuMin, nuMax], which
-    // is the same law when the plateau value is the cap on the side the law runs away to.
-    const double n = p("index");
-    constexpr double no_cap = 1e300;
-    t.model = "powerLaw";
-    t.coeffs = {
-        {"k", p("consistency") / rho}, {"n", n}, {"nuMin", n < 1 ? 0.0 : nu_rest}, {"nuMax", n > 1 ? no_cap : nu_rest}};
-  } else if (name == "carreau_yasuda") {
-    t.model = "BirdCarreau";
-    t.coeffs = {{"nu0", p("zero_shear_viscosity") / rho},
-                {"nuInf", p("infinite_shear_viscosity") / rho},
-                {"k", p("time_constant")},
-                {"n", p("n")},
-                {"a", p("a")}};
-  } else if (name == "cross") {
-    t.model = "CrossPowerLaw";
-    t.coeffs = {{"nu0", p("zero_shear_viscosity") / rho},
-                {"nuInf", p("infinite_shear_viscosity") / rho},
-                {"m", p("time_constant")},
-                {"n", p("exponent")}};
-  } else if (name == "herschel_bulkley" || name == "bingham") {
-    const bool bingham = name == "bingham";
-    t.model = "HerschelBulkley";
-    t.coeffs = {{"k", (bingham ? p("plastic_viscosity") : p("consistency")) / rho},
-                {"n", bingham ? 1.0 : p("index")},
-                {"tau0", p("yield_stress") / rho},
-                {"nu0", nu_rest}};
-    t.note = fmt::format(
-        "OpenFOAM's HerschelBulkley is nu = min(nu0, (tau0 + k*gammaDot^n)/gammaDot): the ideal {} law "
-        "with a viscosity cap nu0 = mu(0)/rho = {} m^2/s (rheosim's regularised viscosity at rest), not "
-        "Papanastasiou's smooth 1 - exp(-m*gammaDot) (m = {} s). Both tend to the ideal law for "
-        "gammaDot >> 1/m and differ below it (by up to tau0/e in stress for Bingham, at gammaDot = 1/m).",
-        bingham ? "Bingham" : "Herschel-Bulkley", num(nu_rest), num(p("regularization")));
-  } else if (name == "casson") {
-    t.model = "Casson";
-    t.coeffs = {{"m", p("plastic_viscosity") / rho},
-                {"tau0", p("yield_stress") / rho},
-                {"nuMin", p("plastic_viscosity") / rho},
-                {"nuMax", nu_rest}};
-    t.note = fmt::format(
-        "OpenFOAM's Casson is the ideal law nu = (sqrt(tau0/gammaDot) + sqrt(m))^2 clipped to [nuMin, nuMax] "
-        "with nuMax = mu(0)/rho = {} m^2/s (rheosim's regularised viscosity at rest), not rheosim's "
-        "Papanastasiou-Casson law with exp(-sqrt(m*gammaDot)) (m = {} s). Both tend to the ideal law for "
-        "gammaDot >> 1/m and differ below it.",
-        num(nu_rest), num(p("regularization")));
-  } else {
-    input_error("", "fluid.rheology.model", fmt::format("'{}' has no OpenFOAM v1912 viscosity model", name),
-                "newtonian, power_law, bingham, casson, herschel_bulkley, carreau_yasuda or cross",
-                "OpenFOAM v1912's incompressible transport models are Newtonian, powerLaw, CrossPowerLaw, "
-                "BirdCarreau, HerschelBulkley, Casson (and strainRateFunction, Arrhenius)");
-  }
-  return t;
 }
 
 // --------------------------------------------------------------------------------------- export
 
 namespace {
 
-std::string transport_properties(const OpenFoamTransport& t, const core::FluidProperties& fluid) {
-  std::string out = foam_header("dictionary", "constant", "transportProperties");
-  out += fmt::format("// rheosim law: {} with", fluid.rheology->name());
-  for (const auto& prm : fluid.rheology->parameters())
-    out += fmt::format(" {} = {} {};", prm.name, num(prm.value), prm.unit);
-  out += fmt::format("\n// density {} kg/m^3. OpenFOAM's models are kinematic: nu = mu/rho, k/rho, tau0/rho.\n",
-                     num(fluid.density));
-  if (!t.note.empty()) out += "// Note: " + t.note + "\n";
-  out += fmt::format("\ntransportModel  {};\n\n", t.model);
-  if (t.model == "Newtonian") {
-    out += fmt::format("nu              {};\n", num(t.coeffs.at(0).second));
-  } else {
-    out += t.model + "Coeffs\n{\n";
-    for (const auto& [key, value] : t.coeffs) out += fmt::format("    {:<8}{};\n", key, num(value));
-    out += "}\n";
-  }
-  out += foam_footer;
+std::string transport_properties(const core::OpenFoamTransport& t, const core::FluidProperties& fluid) {
+  std::string out = core::foam_header("dictionary", "constant", "transportProperties");
+  out += core::openfoam_viscosity_entries(t, fluid);
+  out += core::foam_footer;
   return out;
 }
 
 std::string control_dict(const OpenFoamExportOptions& o, double density) {
-  std::string out = foam_header("dictionary", "system", "controlDict");
+  std::string out = core::foam_header("dictionary", "system", "controlDict");
   out += fmt::format(
       "application     simpleFoam;\n\n"
       "startFrom       startTime;\n"
@@ -310,13 +199,13 @@ std::string control_dict(const OpenFoamExportOptions& o, double density) {
       "        patches         (bottom);\n"
       "    }}\n"
       "}}\n",
-      o.max_iterations, num(density));
-  out += foam_footer;
+      o.max_iterations, core::foam_number(density));
+  out += core::foam_footer;
   return out;
 }
 
 std::string fv_schemes() {
-  std::string out = foam_header("dictionary", "system", "fvSchemes");
+  std::string out = core::foam_header("dictionary", "system", "fvSchemes");
   out +=
       "// Second order in space (CD §2.3: least-squares velocity gradient, linear diffusion,\n"
       "// linear-upwind convection); steady.\n"
@@ -328,12 +217,12 @@ std::string fv_schemes() {
       "laplacianSchemes\n{\n    default         Gauss linear corrected;\n}\n\n"
       "interpolationSchemes\n{\n    default         linear;\n}\n\n"
       "snGradSchemes\n{\n    default         corrected;\n}\n";
-  out += foam_footer;
+  out += core::foam_footer;
   return out;
 }
 
 std::string fv_solution(const OpenFoamExportOptions& o) {
-  std::string out = foam_header("dictionary", "system", "fvSolution");
+  std::string out = core::foam_header("dictionary", "system", "fvSolution");
   out += fmt::format(
       "solvers\n{{\n"
       "    p\n    {{\n        solver          GAMG;\n        smoother        GaussSeidel;\n"
@@ -348,17 +237,17 @@ std::string fv_solution(const OpenFoamExportOptions& o) {
       "    pRefValue       0;\n\n"
       "    residualControl\n    {{\n        p               {0};\n        U               {0};\n    }}\n}}\n\n"
       "relaxationFactors\n{{\n    equations\n    {{\n        U               0.9;\n    }}\n}}\n",
-      num(o.residual_tolerance));
-  out += foam_footer;
+      core::foam_number(o.residual_tolerance));
+  out += core::foam_footer;
   return out;
 }
 
 std::string turbulence_properties() {
-  std::string out = foam_header("dictionary", "constant", "turbulenceProperties");
+  std::string out = core::foam_header("dictionary", "constant", "turbulenceProperties");
   out +=
       "// Laminar: the viscous stress comes from transportProperties (generalised Newtonian).\n"
       "simulationType  laminar;\n";
-  out += foam_footer;
+  out += core::foam_footer;
   return out;
 }
 
@@ -416,7 +305,7 @@ std::string velocity_field(double omega, const core::PlateGeometry& g, const Ope
       rim += fmt::format("{:.9g}{}", f[i], (i % 8 == 7 || i + 1 == f.size()) ? "\n" : " ");
     rim += ");\n        value           uniform (0 0 0);\n    }\n";
   }
-  std::string out = foam_header("volVectorField", "0", "U");
+  std::string out = core::foam_header("volVectorField", "0", "U");
   out += fmt::format(
       "dimensions      [0 1 -1 0 0 0 0];\n\n"
       "internalField   uniform (0 0 0);\n\n"
@@ -428,13 +317,13 @@ std::string velocity_field(double omega, const core::PlateGeometry& g, const Ope
       "    bottom\n    {{\n        type            noSlip;\n    }}\n"
       "{}"
       "}}\n",
-      num(omega), rim);
-  out += foam_footer;
+      core::foam_number(omega), rim);
+  out += core::foam_footer;
   return out;
 }
 
 std::string pressure_field() {
-  std::string out = foam_header("volScalarField", "0", "p");
+  std::string out = core::foam_header("volScalarField", "0", "p");
   out +=
       "dimensions      [0 2 -2 0 0 0 0];   // kinematic pressure p/rho\n\n"
       "internalField   uniform 0;\n\n"
@@ -443,7 +332,7 @@ std::string pressure_field() {
       "    bottom\n    {\n        type            zeroGradient;\n    }\n"
       "    rim\n    {\n        type            zeroGradient;\n    }\n"
       "}\n";
-  out += foam_footer;
+  out += core::foam_footer;
   return out;
 }
 
@@ -488,7 +377,7 @@ OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::
 
   OpenFoamExport result;
   result.directory = dir;
-  result.transport = openfoam_transport(fluid);
+  result.transport = core::openfoam_transport(fluid);
   result.mesh = options.mesh;
   result.cells = options.mesh.cell_count();
   result.rim_shear_rate = rim_shear_rate;
@@ -520,18 +409,19 @@ OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::
 
   const std::string closed =
       result.closed_form_torque ? fmt::format("{:.9g} N m", *result.closed_form_torque) : std::string("none");
-  write("README", fmt::format("OpenFOAM v1912 case written by rheosim {} from {} (sha256 {}).\n"
-                              "Parallel plates R = {} m, H = {} m; rim shear rate {} 1/s, Omega = {} rad/s; "
-                              "{} cells ({}x{}x{}); transportModel {}; rim {}.\n"
-                              "Creeping-flow torque: closed form {}, quadrature {:.9g} N m; gap Reynolds number "
-                              "rho Omega H^2/mu(gammaDot_R) = {:.4g} (simpleFoam includes inertia).\n"
-                              "Run, from this directory:\n{}",
-                              core::version, c.file.empty() ? c.name : c.file, c.sha256, num(plate.radius),
-                              num(plate.gap), num(rim_shear_rate), num(omega), result.cells, options.mesh.radial_cells,
-                              options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model,
-                              options.rim == OpenFoamRim::slip ? "slip (du_t/dn = 0)"
-                                                               : "shear-free (partialSlip, tau_r_theta = 0)",
-                              closed, result.creeping_torque, result.gap_reynolds_number, result.commands));
+  write("README",
+        fmt::format(
+            "OpenFOAM v1912 case written by rheosim {} from {} (sha256 {}).\n"
+            "Parallel plates R = {} m, H = {} m; rim shear rate {} 1/s, Omega = {} rad/s; "
+            "{} cells ({}x{}x{}); transportModel {}; rim {}.\n"
+            "Creeping-flow torque: closed form {}, quadrature {:.9g} N m; gap Reynolds number "
+            "rho Omega H^2/mu(gammaDot_R) = {:.4g} (simpleFoam includes inertia).\n"
+            "Run, from this directory:\n{}",
+            core::version, c.file.empty() ? c.name : c.file, c.sha256, core::foam_number(plate.radius),
+            core::foam_number(plate.gap), core::foam_number(rim_shear_rate), core::foam_number(omega), result.cells,
+            options.mesh.radial_cells, options.mesh.azimuthal_cells, options.mesh.axial_cells, result.transport.model,
+            options.rim == OpenFoamRim::slip ? "slip (du_t/dn = 0)" : "shear-free (partialSlip, tau_r_theta = 0)",
+            closed, result.creeping_torque, result.gap_reynolds_number, result.commands));
 
   nlohmann::ordered_json info;
   info["rheosim_version"] = core::version;

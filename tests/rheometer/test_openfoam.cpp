@@ -16,9 +16,9 @@
 #include <sstream>
 #include <string>
 
-#include "rheosim/rheometer/case.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
 #include "rheosim/rheometer/plate.hpp"
 
@@ -26,6 +26,8 @@ namespace rheosim::rheometer {
 namespace {
 
 namespace fs = std::filesystem;
+using core::openfoam_transport;
+using core::OpenFoamTransport;
 
 Case rheometer_case(const std::string& rheology, double density = 1000.0) {
   return parse_case(
@@ -358,8 +360,7 @@ TEST(OpenFoamExport, RejectsWhatOpenFoamCannotRun) {
   const auto sweep = load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/suspension_seed.yaml");
   EXPECT_THROW((void)export_openfoam(sweep, 10.0, dir.path()), core::ConfigError);
   // An LDD case never becomes a rheometer case that could be exported: its reader is the ldd module's.
-  EXPECT_THROW((void)load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_cavity_casson.yaml"),
-               core::ConfigError);
+  EXPECT_THROW((void)load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_cavity_casson.yaml"), core::ConfigError);
 
   auto suspension = water;
   std::get<RheometerCase>(suspension.spec).particles = coupling::SuspendedParticles{{0.1, 2e-4, 1000}};

@@ -21,7 +21,7 @@
 //          forcesBottom, does the same on the fixed plate (postProcessing/forcesBottom/0/
 //          moment.dat, +z): at convergence the two balance, since the slip rim carries no torque.
 //   fluid  constant/transportProperties with the rheology in OpenFOAM's kinematic units:
-//          ν = μ/ρ, k/ρ, τ₀/ρ (see openfoam_transport for each law and where it differs).
+//          ν = μ/ρ, k/ρ, τ₀/ρ (see core::openfoam_transport for each law and where it differs).
 //
 // OpenFOAM's shear rate is strainRate() = √2 |symm(∇U)| = √(2E:E), the same γ̇ as rheosim's.
 #include <filesystem>
@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "rheosim/core/openfoam.hpp"
 #include "rheosim/rheometer/case.hpp"
 
 namespace rheosim::rheometer {
@@ -87,29 +88,6 @@ struct OpenFoamExportOptions {
   double residual_tolerance = 1e-7;
 };
 
-// The transport model OpenFOAM gets for a rheology law, in kinematic units.
-struct OpenFoamTransport {
-  std::string model;                                   // transportModel, e.g. "powerLaw"
-  std::vector<std::pair<std::string, double>> coeffs;  // <model>Coeffs entries, SI kinematic
-  std::string note;                                    // how it differs from rheosim's law ("" if exact)
-};
-
-// Maps the fluid to OpenFOAM v1912's incompressible viscosity models (ρ = fluid.density):
-//   newtonian         Newtonian      nu = μ/ρ                                         exact
-//   power_law         powerLaw       k/ρ, n; nuMax/nuMin from rheosim's plateau        exact
-//   carreau_yasuda    BirdCarreau    nu0, nuInf = μ0/ρ, μ∞/ρ; k = λ; n; a              exact
-//   cross             CrossPowerLaw  nu0, nuInf = μ0/ρ, μ∞/ρ; m = λ; n = exponent      exact
-//   herschel_bulkley  HerschelBulkley k/ρ, n, tau0 = τ₀/ρ, nu0 = μ(0)/ρ               approximate
-//   bingham           HerschelBulkley with n = 1, k = μ∞/ρ, tau0 = τ₀/ρ, nu0 = μ(0)/ρ    approximate
-//   casson            Casson         m = μ∞/ρ, tau0 = τ₀/ρ, nuMin = μ∞/ρ, nuMax = μ(0)/ρ approximate
-// OpenFOAM's HerschelBulkley is ν = min(ν₀, (τ₀ + kγ̇ⁿ)/γ̇) — the ideal law with a viscosity cap —
-// and its Casson is the ideal Casson law clipped to [nuMin, nuMax]; rheosim regularises both
-// with Papanastasiou's exponential. With the cap set to rheosim's μ(0) both agree with the ideal
-// law far above γ̇ = 1/m and differ only below it (for Bingham the cap's stress exceeds
-// Papanastasiou's by at most τ₀/e, at γ̇ = 1/m); the note says so. Any other law has no
-// OpenFOAM counterpart and is a ConfigError naming it.
-[[nodiscard]] OpenFoamTransport openfoam_transport(const core::FluidProperties& fluid);
-
 // system/blockMeshDict for the plate gap (16 vertices, 5 hex blocks, 8 arc edges; patches top,
 // bottom, rim). Throws ConfigError for cell counts < 1 or a core_fraction out of range.
 [[nodiscard]] std::string openfoam_block_mesh_dict(const core::PlateGeometry& geometry, const OpenFoamMesh& mesh,
@@ -119,7 +97,7 @@ struct OpenFoamTransport {
 struct OpenFoamExport {
   std::filesystem::path directory;
   std::vector<std::filesystem::path> files;  // relative to directory, in writing order
-  OpenFoamTransport transport;
+  core::OpenFoamTransport transport;
   OpenFoamMesh mesh;
   long long cells = 0;
   double rim_shear_rate = 0;                 // γ̇_R [1/s]

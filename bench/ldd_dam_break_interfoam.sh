@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# An LDD dam break against OpenFOAM's interFoam, the independent solver (docs/ldd.md, "Dam break
+# against interFoam"): the same reservoir, channel, fluid and cell size, the mass front of each
+# at the experiment's times, beside the experiment (LDD Table 1 for a Bingham material, Martin &
+# Moyce for the water column).
+#
+#   bench/ldd_dam_break_interfoam.sh [BUILD_DIR] [OUT_DIR] [--case FILE] [--spacing M] [--step S]
+#                                    [--max-courant C] [--ldd-run DIR]
+#
+# FILE defaults to cases/ldd_dam_break_bingham.yaml; --spacing and --step replace its
+# `resolution.spacing` and `time.step` (OUT/case.yaml is the deck both solvers run). The interFoam case is written by
+# `rheosim export-openfoam FILE OUT/interfoam` and run there (one core; the 2 mm Bingham case,
+# 112 500 cells, about 15–25 min); a finished run is kept and not run again. The LDD run is
+# `rheosim run FILE --out OUT/ldd` on one thread unless --ldd-run names a finished run folder.
+# Needs OpenFOAM v1912 (Debian's openfoam package, WM_PROJECT_DIR=/usr/share/openfoam).
+set -euo pipefail
+build=${1:-build}
+out=${2:-results/ldd_dam_break_interfoam}
+shift $(( $# > 2 ? 2 : $# )) || true
+here=$(cd "$(dirname "$0")/.." && pwd)
+case_file=$here/cases/ldd_dam_break_bingham.yaml courant=0.5 ldd_run= spacing= step=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --case) case_file=$2; shift 2 ;;
+    --spacing) spacing=$2; shift 2 ;;
+    --step) step=$2; shift 2 ;;
+    --max-courant) courant=$2; shift 2 ;;
+    --ldd-run) ldd_run=$2; shift 2 ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
+done
+export WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}
+mkdir -p "$out"
+sed -E ${spacing:+-e "s/spacing: [0-9.eE+-]+/spacing: $spacing/"} ${step:+-e "s/step: [0-9.eE+-]+/step: $step/"} \
+    -e '' "$case_file" > "$out/case.yaml.new"
+# A changed deck starts both runs afresh.
+if ! cmp -s "$out/case.yaml.new" "$out/case.yaml"; then rm -rf "$out/interfoam" "$out/ldd"; fi
+mv "$out/case.yaml.new" "$out/case.yaml"
+case_file=$out/case.yaml
+foam=$out/interfoam
+if ! grep -q '^End' "$foam/log.interFoam" 2>/dev/null; then
+  rm -rf "$foam"
+  "$build/bin/rheosim" export-openfoam "$case_file" "$foam" --max-courant "$courant" --quiet
+  (cd "$foam" && blockMesh > log.blockMesh && setFields > log.setFields &&
+     { time interFoam > log.interFoam; } 2> time.log)
+fi
+if [ -z "$ldd_run" ]; then
+  ldd_run=$out/ldd
+  if ! grep -qE '"status": "(end_time|diverged|settled)"' "$ldd_run/summary.json" 2>/dev/null; then
+    OMP_NUM_THREADS=1 "$build/bin/rheosim" run "$case_file" --out "$ldd_run" --quiet > "$out/ldd.log" 2>&1 || true
+  fi
+fi
+python3 - "$foam" "$ldd_run" "$case_file" "$out" <<'PY'
+import csv, glob, math, os, re, sys
+foam, ldd, case_file, out = sys.argv[1:5]
+# The cell size from blockMeshDict's comment, the rows sampled by the `front` function object.
+dx = float(re.search(r"Cells of ([0-9.eE+-]+) m", open(os.path.join(foam, "system/blockMeshDict")).read()).group(1))
+foam_t, foam_x = [], []
+for d in sorted(glob.glob(os.path.join(foam, "postProcessing/front/*")), key=lambda p: float(os.path.basename(p))):
+    front = -math.inf
+    for f in glob.glob(os.path.join(d, "row*_alpha.water.xy")):
+        for line in open(f):
+            x, alpha = (float(v) for v in line.split())
+            if alpha >= 0.5:
+                front = max(front, x + 0.5 * dx)  # the LDD front: largest x of fluid + Δ/2
+    foam_t.append(float(os.path.basename(d)))
+    foam_x.append(front)
+with open(os.path.join(out, "interfoam_front.csv"), "w", newline="") as f:
+    w = csv.writer(f)
+    w.writerow(["time [s]", "front [m]"])
+    w.writerows(zip(foam_t, foam_x))
+rows = list(csv.reader(open(os.path.join(ldd, "front.csv"))))
+col = {h.split(" ")[0]: k for k, h in enumerate(rows[0])}
+ldd_t = [float(r[col["time"]]) for r in rows[1:]]
+ldd_x = [float(r[col["front"]]) for r in rows[1:]]
+
+def at(t, v, x):
+    if not t or x > t[-1] + 1e-9:
+        return math.nan
+    k = next((i for i in range(1, len(t)) if t[i] >= x), len(t) - 1)
+    w = (x - t[k - 1]) / (t[k] - t[k - 1]) if t[k] > t[k - 1] else 1.0
+    return v[k - 1] + w * (v[k] - v[k - 1])
+
+text = open(case_file).read()
+a = float(re.search(r"reservoir: \[([0-9.eE+-]+),", text).group(1))  # the reservoir's length
+if re.search(r"model: *(bingham|herschel_bulkley)", text):
+    # LDD Table 1's experiment: the mass front x from the gate [m].
+    label, unit, scale = "LDD Table 1 experiment", "x [m] from the gate", lambda x: x
+    ref = list(zip([0.09, 0.23, 0.38, 0.56, 0.74, 1.14], [0.103, 0.198, 0.297, 0.399, 0.499, 0.596]))
+else:
+    # Martin & Moyce (1952), n² = 2: Z = x/a (x from the back wall) at T = t√(2g/a).
+    g = 9.81
+    label, unit, scale = "Martin & Moyce", "Z = x/a from the back wall", lambda x: (x + a) / a
+    ref = [(T / math.sqrt(2 * g / a), Z) for T, Z in
+           [(0.832, 1.217), (1.219, 1.474), (1.997, 2.292), (2.547, 2.995), (3.345, 4.134)]]
+print(f"{case_file}: mass front, {unit}, cells of {dx} m")
+print(f"| t (s) | {label} | interFoam | LDD | LDD vs interFoam | interFoam vs {label} |")
+print("| --- | --- | --- | --- | --- | --- |")
+for t, x in ref:
+    xf, xl = scale(at(foam_t, foam_x, t)), scale(at(ldd_t, ldd_x, t))
+    print(f"| {t:.3f} | {x:.3f} | {xf:.3f} | {xl:.3f} | {100 * (xl / xf - 1):+.1f} % | {100 * (xf / x - 1):+.1f} % |")
+wall = re.search(r"real\s+(\S+)", open(os.path.join(foam, "time.log")).read()) if os.path.exists(
+    os.path.join(foam, "time.log")) else None
+steps = sum(1 for line in open(os.path.join(foam, "log.interFoam")) if line.startswith("Time = "))
+print(f"interFoam: {steps} steps, wall {wall.group(1) if wall else 'unknown'}; fronts in {out}/interfoam_front.csv")
+PY
