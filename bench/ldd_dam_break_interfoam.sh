@@ -51,10 +51,9 @@ if [ -z "$ldd_run" ]; then
   fi
 fi
 python3 - "$foam" "$ldd_run" "$case_file" "$out" <<'PY'
-import csv, glob, math, os, re, sys
+import csv, glob, json, math, os, re, sys
 foam, ldd, case_file, out = sys.argv[1:5]
-# The cell size from blockMeshDict's comment, the rows sampled by the `front` function object.
-dx = float(re.search(r"Cells of ([0-9.eE+-]+) m", open(os.path.join(foam, "system/blockMeshDict")).read()).group(1))
+dx = json.load(open(os.path.join(foam, "rheosim.json")))["cell_size"]  # written by the export
 foam_t, foam_x = [], []
 for d in sorted(glob.glob(os.path.join(foam, "postProcessing/front/*")), key=lambda p: float(os.path.basename(p))):
     front = -math.inf

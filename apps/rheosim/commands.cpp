@@ -165,7 +165,10 @@ int export_openfoam(const std::string& case_file, const std::filesystem::path& d
     file.require_kind({"rheometer", "ldd"},
                       "export-openfoam (simpleFoam for a single-phase rheometer case, interFoam "
                       "for an LDD dam break)");
+    const bool rheometer_options = rim_shear_rate > 0 || mesh != "M2" || rim != "shear_free";
     if (file.header().kind == "ldd") {
+      if (rheometer_options)
+        log.warn("--shear-rate, --mesh and --rim are for a rheometer case; an LDD dam break ignores them");
       ldd::InterFoamExportOptions options;
       options.max_courant = max_courant;
       const auto exported = ldd::export_interfoam(ldd::read_case(file), dir, options);
@@ -174,6 +177,8 @@ int export_openfoam(const std::string& case_file, const std::filesystem::path& d
       if (!exported.transport.note.empty()) log.warn("{}", exported.transport.note);
       return exit_success;
     }
+    if (max_courant != ldd::InterFoamExportOptions{}.max_courant)
+      log.warn("--max-courant is for an LDD dam break; a rheometer case (simpleFoam, steady) ignores it");
     const rheometer::Case c = rheometer::read_case(file);
     if (rim_shear_rate <= 0)
       if (const auto* r = std::get_if<rheometer::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();

@@ -2,6 +2,7 @@
 #include "rheosim/ldd/openfoam.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,8 @@ namespace {
 using core::foam_footer;
 using core::foam_header;
 using core::foam_number;
+
+constexpr int front_rows = 3;  // the lowest cell rows the front is sampled on
 
 [[noreturn]] void input_error(const Case& c, std::string key, std::string problem, std::string expected,
                               std::string hint = {}) {
@@ -59,7 +62,7 @@ std::string block_mesh_dict(const Block& b, double cell) {
   return out + std::string(foam_footer);
 }
 
-std::string set_fields_dict(double length, double height, double cell) {
+std::string set_fields_dict(double length, double height) {
   std::string out = foam_header("dictionary", "system", "setFieldsDict");
   out += fmt::format(
       "// The reservoir [-L, 0] x [0, H] full of the fluid; the gate at x = 0 is gone at t = 0.\n"
@@ -67,7 +70,6 @@ std::string set_fields_dict(double length, double height, double cell) {
       "        box ({} 0 -1) (0 {} 1);\n        fieldValues\n        (\n            volScalarFieldValue alpha.water 1\n"
       "        );\n    }}\n);\n",
       foam_number(-length), foam_number(height));
-  (void)cell;
   return out + std::string(foam_footer);
 }
 
@@ -120,7 +122,7 @@ std::string control_dict(const CaseSettings& s, const Block& b, double cell, dou
       "        writeControl    adjustable;\n        writeInterval   {};\n        setFormat       raw;\n"
       "        interpolationScheme cell;\n        fields          (alpha.water);\n        sets\n        (\n",
       foam_number(probe));
-  for (int row = 0; row < 3 && row < b.ny; ++row) {
+  for (int row = 0; row < front_rows && row < b.ny; ++row) {
     const double y = (row + 0.5) * cell;
     out += fmt::format(
         "            row{}\n            {{\n                type    midPoint;\n                axis    x;\n"
@@ -216,7 +218,7 @@ InterFoamExport export_interfoam(const Case& c, const std::filesystem::path& dir
     result.files.push_back(rel);
   };
   write("system/blockMeshDict", block_mesh_dict(b, cell));
-  write("system/setFieldsDict", set_fields_dict(length, height, cell));
+  write("system/setFieldsDict", set_fields_dict(length, height));
   write("system/controlDict", control_dict(s, b, cell, o.max_courant, first_step(s, height)));
   write("system/fvSchemes", fv_schemes());
   write("system/fvSolution", fv_solution());
@@ -241,6 +243,23 @@ InterFoamExport export_interfoam(const Case& c, const std::filesystem::path& dir
                     core::version, c.file.empty() ? c.name : c.file, c.sha256, foam_number(length), foam_number(height),
                     foam_number(b.x1), b.nx, b.ny, foam_number(cell), result.transport.model, foam_number(s.end_time),
                     foam_number(o.max_courant), result.commands));
+  // What the comparison reads back (bench/ldd_dam_break_interfoam.sh, the validation test).
+  nlohmann::ordered_json info;
+  info["rheosim_version"] = core::version;
+  info["case"] = {{"file", c.file}, {"name", c.name}, {"sha256", c.sha256}};
+  info["scene"] = "dam_break";
+  info["reservoir"] = {length, height};
+  info["cell_size"] = cell;
+  info["cells"] = {b.nx, b.ny};
+  info["domain_x"] = {b.x0, b.x1};
+  info["domain_height"] = b.height;
+  info["front_rows"] = front_rows;
+  info["front_files"] = "postProcessing/front/<time>/row<k>_alpha.water.xy";
+  info["front_definition"] = "largest cell-centre x with alpha.water >= 0.5, plus cell_size/2";
+  info["max_courant"] = o.max_courant;
+  info["openfoam_transport"] = {{"model", result.transport.model}, {"note", result.transport.note}};
+  core::write_json(dir / "rheosim.json", info);
+  result.files.emplace_back("rheosim.json");
   return result;
 }
 

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/openfoam.hpp"
 
@@ -78,6 +79,11 @@ TEST_F(InterFoamExportTest, WritesTheDamBreakOfTheCase) {
   EXPECT_THAT(control, HasSubstr(fmt::format("deltaT          {};", 0.01 * 0.005 / std::sqrt(9.81 * 0.1))));
   EXPECT_THAT(read(dir_ / "0/U"), HasSubstr("noSlip"));
   EXPECT_THAT(read(dir_ / "0/p_rgh"), HasSubstr("totalPressure"));
+  // What a comparison reads back.
+  const auto info = core::read_json(dir_ / "rheosim.json");
+  EXPECT_DOUBLE_EQ(info.at("cell_size").get<double>(), 0.005);
+  EXPECT_EQ(info.at("cells").at(0).get<int>(), 200);
+  EXPECT_EQ(info.at("front_rows").get<int>(), 3);
 }
 
 TEST_F(InterFoamExportTest, RefusesAnotherSceneAndACourantOutOfRange) {

@@ -20,6 +20,8 @@
 //            every probe interval (sets `front`, raw): postProcessing/front/<t>/row*_alpha.water.xy.
 //            The mass front is the largest x with α >= 0.5 plus Δ/2, as the LDD front is the
 //            largest x of a fluid node plus Δ/2.
+//   rheosim.json  the case's name and hash, the cell size and counts, the front's files and
+//            definition: what a comparison reads back.
 #include <filesystem>
 #include <string>
 #include <vector>
