@@ -105,8 +105,8 @@ double first_step(const CaseSettings& s, double height) {
 }
 
 std::string control_dict(const CaseSettings& s, const Block& b, double cell, double max_courant, double first) {
-  const double probe = s.output.probe_interval > 0 ? s.output.probe_interval : s.end_time / 200;
-  const double frame = s.output.frame_interval > 0 ? s.output.frame_interval : s.end_time / 20;
+  const double probe = s.output.probe_interval_for(s.end_time);
+  const double frame = s.output.frame_interval_for(s.end_time);
   std::string out = foam_header("dictionary", "system", "controlDict");
   out += fmt::format(
       "application     interFoam;\nstartFrom       startTime;\nstartTime       0;\nstopAt          endTime;\n"

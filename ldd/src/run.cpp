@@ -215,12 +215,11 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads, reynolds);
 
   const auto total_steps = static_cast<std::size_t>(std::llround(l.end_time / l.time_step));
-  const auto steps_for = [&](double interval, double fallback) {
-    const double t = interval > 0 ? interval : fallback;
-    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(t / l.time_step)));
+  const auto steps_for = [&](double interval) {
+    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(interval / l.time_step)));
   };
-  const std::size_t frame_every = steps_for(l.output.frame_interval, l.end_time / 20);
-  const std::size_t probe_every = steps_for(l.output.probe_interval, l.end_time / 200);
+  const std::size_t frame_every = steps_for(l.output.frame_interval_for(l.end_time));
+  const std::size_t probe_every = steps_for(l.output.probe_interval_for(l.end_time));
 
   core::CsvTable history({{"time", "s"},
                           {"residual", ""},

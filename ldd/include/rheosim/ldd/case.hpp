@@ -53,6 +53,13 @@ struct SolverSettings {
 struct OutputSettings {
   double frame_interval = 0;  // [s] between VTK frames; 0: end/20
   double probe_interval = 0;  // [s] between centre-line samples (residual history); 0: end/200
+  // The intervals a run of end_time [s] uses: the given ones, or the defaults above.
+  [[nodiscard]] double frame_interval_for(double end_time) const {
+    return frame_interval > 0 ? frame_interval : end_time / 20;
+  }
+  [[nodiscard]] double probe_interval_for(double end_time) const {
+    return probe_interval > 0 ? probe_interval : end_time / 200;
+  }
 };
 
 struct CaseSettings {
