@@ -24,6 +24,12 @@ std::string render(const ConfigError::Details& d) {
 
 ConfigError::ConfigError(Details details) : std::runtime_error(render(details)), details_(std::move(details)) {}
 
+void throw_config_error(std::string file, std::string key, std::string problem, std::string expected,
+                        std::string hint) {
+  throw ConfigError(
+      {FileLocation{std::move(file), 0, 0}, std::move(key), std::move(problem), std::move(expected), std::move(hint)});
+}
+
 RunError::RunError(const std::string& message, std::source_location origin)
     : std::runtime_error(message), origin_(origin) {}
 

@@ -18,10 +18,6 @@ double parameter(const core::Rheology& law, std::string_view name) {
   throw std::logic_error(fmt::format("rheology '{}' has no parameter '{}'", law.name(), name));
 }
 
-[[noreturn]] void input_error(std::string key, std::string problem, std::string expected, std::string hint = {}) {
-  throw ConfigError({FileLocation{"", 0, 0}, std::move(key), std::move(problem), std::move(expected), std::move(hint)});
-}
-
 }  // namespace
 
 std::string foam_number(double value) { return fmt::format("{}", value); }
@@ -43,11 +39,18 @@ std::string foam_header(std::string_view cls, std::string_view location, std::st
       core::version, core::git_revision, cls, location, object);
 }
 
+std::string foam_laminar_turbulence_properties() {
+  return foam_header("dictionary", "constant", "turbulenceProperties") +
+         "// Laminar: the viscous stress comes from transportProperties (generalised Newtonian).\n"
+         "simulationType  laminar;\n" +
+         std::string(foam_footer);
+}
+
 OpenFoamTransport openfoam_transport(const FluidProperties& fluid) {
   if (!fluid.rheology) throw std::invalid_argument("openfoam_transport: fluid without rheology");
   const Rheology& law = *fluid.rheology;
   const double rho = fluid.density;
-  if (!(rho > 0)) input_error("fluid.density", fmt::format("{} is not positive", rho), "density in kg/m³");
+  if (!(rho > 0)) throw_config_error("", "fluid.density", fmt::format("{} is not positive", rho), "density in kg/m³");
   const std::string name(law.name());
   const auto p = [&](std::string_view key) { return parameter(law, key); };
   const double nu_rest = law.viscosity(0.0) / rho;  // rheosim's μ(0)/ρ: finite for every law
@@ -103,10 +106,10 @@ OpenFoamTransport openfoam_transport(const FluidProperties& fluid) {
         "gammaDot >> 1/m and differ below it.",
         foam_number(nu_rest), foam_number(p("regularization")));
   } else {
-    input_error("fluid.rheology.model", fmt::format("'{}' has no OpenFOAM v1912 viscosity model", name),
-                "newtonian, power_law, bingham, casson, herschel_bulkley, carreau_yasuda or cross",
-                "OpenFOAM v1912's incompressible transport models are Newtonian, powerLaw, CrossPowerLaw, "
-                "BirdCarreau, HerschelBulkley, Casson (and strainRateFunction, Arrhenius)");
+    throw_config_error("", "fluid.rheology.model", fmt::format("'{}' has no OpenFOAM v1912 viscosity model", name),
+                       "newtonian, power_law, bingham, casson, herschel_bulkley, carreau_yasuda or cross",
+                       "OpenFOAM v1912's incompressible transport models are Newtonian, powerLaw, CrossPowerLaw, "
+                       "BirdCarreau, HerschelBulkley, Casson (and strainRateFunction, Arrhenius)");
   }
   return t;
 }

@@ -1,6 +1,7 @@
 #include "rheosim/coupling/suspended_particles.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <string>
@@ -57,15 +58,6 @@ NearFieldSettings read_hydrodynamics(const Section& s) {
   return out;
 }
 
-std::string list(const double* first, const double* last) {
-  std::string out;
-  for (const double* v = first; v != last; ++v) {
-    if (!out.empty()) out += ", ";
-    out += fmt::format("{}", *v);
-  }
-  return "[" + out + "]";
-}
-
 }  // namespace
 
 SuspendedParticles read_suspended_particles(const Section& p, double gap, bool with_volume_fraction) {
@@ -98,9 +90,9 @@ std::string describe(const SuspendedParticles& p, double gap) {
     out += fmt::format("  size distribution: lognormal by volume, d50 {} m, σ_g {}, truncated to [{}, {}] m\n",
                        p.diameter, s.geometric_std, s.min_diameter, s.max_diameter);
   else if (s.type == Type::discrete)
-    out += fmt::format("  size distribution: {} classes, diameters {} m, volume shares {}\n", s.classes,
-                       list(s.diameters.data(), s.diameters.data() + s.classes),
-                       list(s.volume_fractions.data(), s.volume_fractions.data() + s.classes));
+    out += fmt::format("  size distribution: {} classes, diameters [{}] m, volume shares [{}]\n", s.classes,
+                       fmt::join(s.diameters.begin(), s.diameters.begin() + s.classes, ", "),
+                       fmt::join(s.volume_fractions.begin(), s.volume_fractions.begin() + s.classes, ", "));
   if (const auto& h = p.hydrodynamics; h.terms.any())
     out += fmt::format("  near-field hydrodynamics:{}{}{}{}, roughness δ/ā {}, lubrication cutoff h/ā {}{}{}\n",
                        h.terms.lubrication ? " lubrication" : "", h.terms.single_particle ? " stresslet" : "",

@@ -25,12 +25,6 @@ using core::foam_number;
 
 constexpr int front_rows = 3;  // the lowest cell rows the front is sampled on
 
-[[noreturn]] void input_error(const Case& c, std::string key, std::string problem, std::string expected,
-                              std::string hint = {}) {
-  throw core::ConfigError(
-      {core::FileLocation{c.file, 0, 0}, std::move(key), std::move(problem), std::move(expected), std::move(hint)});
-}
-
 // The block of the dam break: x from the back wall to the end wall, y from the floor up.
 struct Block {
   double x0 = 0, x1 = 0, height = 0;  // [m]
@@ -88,11 +82,6 @@ std::string gravity(const std::vector<double>& g) {
   out += fmt::format("dimensions      [0 1 -2 0 0 0 0];\nvalue           ({} {} 0);\n", foam_number(g.at(0)),
                      foam_number(g.at(1)));
   return out + std::string(foam_footer);
-}
-
-std::string turbulence_properties() {
-  return foam_header("dictionary", "constant", "turbulenceProperties") + "simulationType  laminar;\n" +
-         std::string(foam_footer);
 }
 
 // The first step: interFoam's Courant control starts from deltaT, and a first step at the LDD
@@ -185,14 +174,17 @@ InterFoamExport export_interfoam(const Case& c, const std::filesystem::path& dir
   const CaseSettings& s = c.settings;
   const auto* dam = std::get_if<DamBreakScene>(&s.scene);
   if (dam == nullptr)
-    input_error(c, "scene.type", fmt::format("a '{}' scene has no interFoam export", s.scene_type), "dam_break",
-                "the interFoam export writes the dam break; the rheometer's simpleFoam export is for kind: rheometer");
+    core::throw_config_error(
+        c.file, "scene.type", fmt::format("a '{}' scene has no interFoam export", s.scene_type), "dam_break",
+        "the interFoam export writes the dam break; the rheometer's simpleFoam export is for kind: rheometer");
   if (s.dimension != 2 || s.gravity.size() != 2)
-    input_error(c, "dimension", fmt::format("{}D", s.dimension), "dimension: 2");
+    core::throw_config_error(c.file, "dimension", fmt::format("{}D", s.dimension), "dimension: 2");
   if (!(o.max_courant > 0 && o.max_courant <= 1))
-    input_error(c, "--max-courant", fmt::format("{} is not in (0, 1]", o.max_courant), "interFoam's maxCo in (0, 1]");
+    core::throw_config_error(c.file, "--max-courant", fmt::format("{} is not in (0, 1]", o.max_courant),
+                             "interFoam's maxCo in (0, 1]");
   if (!(o.air_height >= 0) || !std::isfinite(o.air_height))
-    input_error(c, "--air-height", fmt::format("{} is not >= 0", o.air_height), "air above the fluid in m, >= 0");
+    core::throw_config_error(c.file, "--air-height", fmt::format("{} is not >= 0", o.air_height),
+                             "air above the fluid in m, >= 0");
 
   const double length = dam->reservoir[0], height = dam->reservoir[1], cell = s.spacing;
   Block b;
@@ -224,7 +216,7 @@ InterFoamExport export_interfoam(const Case& c, const std::filesystem::path& dir
   write("system/fvSolution", fv_solution());
   write("constant/transportProperties", transport_properties(result.transport, s.fluid));
   write("constant/g", gravity(s.gravity));
-  write("constant/turbulenceProperties", turbulence_properties());
+  write("constant/turbulenceProperties", core::foam_laminar_turbulence_properties());
   write("0/U",
         field("volVectorField", "U", "[0 1 -1 0 0 0 0]", "(0 0 0)", "        type            noSlip;\n",
               "        type            pressureInletOutletVelocity;\n        value           uniform (0 0 0);\n"));

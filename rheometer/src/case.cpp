@@ -1,6 +1,7 @@
 #include "rheosim/rheometer/case.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
@@ -111,15 +112,6 @@ SweepCase read_sweep(const Section& root) {
   return out;
 }
 
-std::string list(const std::vector<double>& values) {
-  std::string out;
-  for (const double v : values) {
-    if (!out.empty()) out += ", ";
-    out += fmt::format("{}", v);
-  }
-  return "[" + out + "]";
-}
-
 std::string describe_rheometer(const RheometerCase& r) {
   std::string out =
       fmt::format("  geometry: parallel plates, radius {} m, gap {} m\n", r.geometry.radius, r.geometry.gap);
@@ -131,7 +123,7 @@ std::string describe_rheometer(const RheometerCase& r) {
       "  solver: {} × {} cells (r × z), radial grading {}, axial stretching {}, inertia {}{}\n", r.solver.radial_cells,
       r.solver.axial_cells, r.solver.radial_grading, r.solver.axial_stretching, r.solver.inertia ? "on" : "off",
       r.solver.inertia && r.solver.extrapolate ? " (Richardson torque over this grid and half its cells)" : "");
-  out += fmt::format("  rim shear rates: {} 1/s\n", list(r.shear_rates));
+  out += fmt::format("  rim shear rates: {} 1/s\n", fmt::format("[{}]", fmt::join(r.shear_rates, ", ")));
   if (r.particles) {
     out += fmt::format("  suspension model: {}\n", name_of(r.suspension_model));
     out += coupling::describe(*r.particles, r.geometry.gap);
@@ -183,7 +175,7 @@ std::string describe(const Case& c) {
   } else {
     const auto& s = std::get<SweepCase>(c.spec);
     out += describe_rheometer(s.rheometer);
-    out += fmt::format("  volume fractions: {} ({} points)\n", list(s.volume_fractions),
+    out += fmt::format("  volume fractions: {} ({} points)\n", fmt::format("[{}]", fmt::join(s.volume_fractions, ", ")),
                        s.volume_fractions.size() * s.rheometer.shear_rates.size());
   }
   return out;

@@ -23,26 +23,20 @@ namespace rheosim::rheometer {
 
 namespace {
 
-[[noreturn]] void input_error(const std::string& file, std::string key, std::string problem, std::string expected,
-                              std::string hint = {}) {
-  throw core::ConfigError(
-      {core::FileLocation{file, 0, 0}, std::move(key), std::move(problem), std::move(expected), std::move(hint)});
-}
-
 constexpr int max_cells = 100000;  // per direction; far beyond anything a 2-core machine runs
 
 void check_mesh(const OpenFoamMesh& mesh, double core_fraction) {
   const auto check = [](int n, const char* what) {
     if (n < 1 || n > max_cells)
-      input_error("", std::string("--mesh ") + what, fmt::format("{} cells is not in [1, {}]", n, max_cells),
-                  "a positive number of cells");
+      core::throw_config_error("", std::string("--mesh ") + what,
+                               fmt::format("{} cells is not in [1, {}]", n, max_cells), "a positive number of cells");
   };
   check(mesh.radial_cells, "radial_cells");
   check(mesh.azimuthal_cells, "azimuthal_cells");
   check(mesh.axial_cells, "axial_cells");
   if (!(core_fraction >= 0.2 && core_fraction <= 0.65))
-    input_error("", "core_fraction", fmt::format("{} is not in [0.2, 0.65]", core_fraction),
-                "half-width of the O-grid's core square as a fraction of R");
+    core::throw_config_error("", "core_fraction", fmt::format("{} is not in [0.2, 0.65]", core_fraction),
+                             "half-width of the O-grid's core square as a fraction of R");
 }
 
 }  // namespace
@@ -55,15 +49,15 @@ OpenFoamMesh OpenFoamMesh::preset(std::string_view name) {
   if (upper == "M1") return m1();
   if (upper == "M2") return m2();
   if (upper == "M3") return m3();
-  input_error("", "--mesh", fmt::format("'{}' is not a mesh preset", name),
-              "M1 (15×30×4), M2 (30×60×8) or M3 (60×120×16), CD §2.3");
+  core::throw_config_error("", "--mesh", fmt::format("'{}' is not a mesh preset", name),
+                           "M1 (15×30×4), M2 (30×60×8) or M3 (60×120×16), CD §2.3");
 }
 
 OpenFoamRim parse_openfoam_rim(std::string_view name) {
   if (name == "shear_free") return OpenFoamRim::shear_free;
   if (name == "slip") return OpenFoamRim::slip;
-  input_error("", "--rim", fmt::format("'{}' is not a rim condition", name),
-              "shear_free (τ_rθ = 0, rheosim's rim) or slip (OpenFOAM's ∂u_t/∂n = 0)");
+  core::throw_config_error("", "--rim", fmt::format("'{}' is not a rim condition", name),
+                           "shear_free (τ_rθ = 0, rheosim's rim) or slip (OpenFOAM's ∂u_t/∂n = 0)");
 }
 
 long long OpenFoamMesh::cell_count() const {
@@ -242,15 +236,6 @@ std::string fv_solution(const OpenFoamExportOptions& o) {
   return out;
 }
 
-std::string turbulence_properties() {
-  std::string out = core::foam_header("dictionary", "constant", "turbulenceProperties");
-  out +=
-      "// Laminar: the viscous stress comes from transportProperties (generalised Newtonian).\n"
-      "simulationType  laminar;\n";
-  out += core::foam_footer;
-  return out;
-}
-
 // partialSlip valueFraction f = −d/(R_f − d) for every rim face, in blockMesh's order: outer
 // block 0..3 (as listed in the rim patch), then axial layer, then azimuthal index (checked
 // against blockMesh's face centres). d is estimated from the block geometry: the rim cell spans
@@ -342,22 +327,22 @@ OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::
                                const OpenFoamExportOptions& options) {
   const auto* rc = std::get_if<RheometerCase>(&c.spec);
   if (rc == nullptr)
-    input_error(c.file, "kind", fmt::format("'{}' cannot be exported to OpenFOAM", c.kind),
-                "kind: rheometer (single phase)",
-                "OpenFOAM is rheosim's single-phase peer; sweeps and LDD scenes have no OpenFOAM export");
+    core::throw_config_error(c.file, "kind", fmt::format("'{}' cannot be exported to OpenFOAM", c.kind),
+                             "kind: rheometer (single phase)",
+                             "OpenFOAM is rheosim's single-phase peer; sweeps and LDD scenes have no OpenFOAM export");
   if (rc->particles)
-    input_error(c.file, "particles", "a particle-laden case cannot be exported to OpenFOAM",
-                "a single-phase rheometer case (no particles: section)",
-                "remove particles: to export the suspending fluid alone");
+    core::throw_config_error(c.file, "particles", "a particle-laden case cannot be exported to OpenFOAM",
+                             "a single-phase rheometer case (no particles: section)",
+                             "remove particles: to export the suspending fluid alone");
   if (!(rim_shear_rate > 0) || !std::isfinite(rim_shear_rate))
-    input_error(c.file, "--shear-rate", fmt::format("{} is not a positive rim shear rate", rim_shear_rate),
-                "rim shear rate gammaDot_R = Omega R / H in 1/s, > 0");
+    core::throw_config_error(c.file, "--shear-rate", fmt::format("{} is not a positive rim shear rate", rim_shear_rate),
+                             "rim shear rate gammaDot_R = Omega R / H in 1/s, > 0");
   if (options.max_iterations < 1)
-    input_error(c.file, "max_iterations", fmt::format("{} is not >= 1", options.max_iterations),
-                "number of SIMPLE iterations");
+    core::throw_config_error(c.file, "max_iterations", fmt::format("{} is not >= 1", options.max_iterations),
+                             "number of SIMPLE iterations");
   if (!(options.residual_tolerance > 0))
-    input_error(c.file, "residual_tolerance", fmt::format("{} is not > 0", options.residual_tolerance),
-                "simpleFoam residualControl tolerance");
+    core::throw_config_error(c.file, "residual_tolerance", fmt::format("{} is not > 0", options.residual_tolerance),
+                             "simpleFoam residualControl tolerance");
 
   const ParallelPlate plate = ParallelPlate::from(rc->geometry);
   const core::FluidProperties* chosen = &rc->fluid;  // the first (or only) fluid
@@ -367,8 +352,8 @@ OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::
     if (it == rc->fluids.end()) {
       std::string names;
       for (const auto& f : rc->fluids) names += (names.empty() ? "" : ", ") + f.name;
-      input_error(c.file, "--fluid", fmt::format("the case has no fluid named '{}'", options.fluid),
-                  "one of: " + names);
+      core::throw_config_error(c.file, "--fluid", fmt::format("the case has no fluid named '{}'", options.fluid),
+                               "one of: " + names);
     }
     chosen = &it->properties;
   }
@@ -403,7 +388,7 @@ OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::
   write("system/fvSchemes", fv_schemes());
   write("system/fvSolution", fv_solution(options));
   write("constant/transportProperties", transport_properties(result.transport, fluid));
-  write("constant/turbulenceProperties", turbulence_properties());
+  write("constant/turbulenceProperties", core::foam_laminar_turbulence_properties());
   write("0/U", velocity_field(omega, rc->geometry, options));
   write("0/p", pressure_field());
 

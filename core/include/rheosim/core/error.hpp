@@ -36,6 +36,11 @@ class ConfigError : public std::runtime_error {
   Details details_;
 };
 
+// A ConfigError about an input whose line is not known (a command-line option, a whole case):
+// file may be empty; key is a dotted case key or an option such as "--mesh".
+[[noreturn]] void throw_config_error(std::string file, std::string key, std::string problem, std::string expected,
+                                     std::string hint = {});
+
 // A failure while running a valid case: divergence, a solver that did not converge,
 // an external engine that reported an error. Carries where in the code it was raised.
 class RunError : public std::runtime_error {

@@ -47,6 +47,8 @@ struct OpenFoamTransport {
 [[nodiscard]] std::string foam_header(std::string_view cls, std::string_view location, std::string_view object);
 inline constexpr std::string_view foam_footer =
     "\n// ************************************************************************* //\n";
+// constant/turbulenceProperties of a laminar case: the viscous stress is the transport model's.
+[[nodiscard]] std::string foam_laminar_turbulence_properties();
 // The shortest text that reads back to the same double.
 [[nodiscard]] std::string foam_number(double value);
 
