@@ -61,13 +61,11 @@ std::vector<double> lubrication_front(double rho, double g, double mu, double le
 }
 
 std::string coarse_case(const char* time_step, const char* gradient = "auto") {
-  const std::string text =
-      std::string(
-          "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [2.0, 0.1], channel_length: 3.0}\n"
-          "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
-          "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.01}\ntime: {step: ") +
-      time_step + ", end: 1.14}\nsolver: {threads: 1, velocity_tolerance: 1.0e-6, gradient: " + gradient + "}\n";
-  return text;
+  return std::string(
+             "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [2.0, 0.1], channel_length: 3.0}\n"
+             "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+             "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.01}\ntime: {step: ") +
+         time_step + ", end: 1.14}\nsolver: {threads: 1, velocity_tolerance: 1.0e-6, gradient: " + gradient + "}\n";
 }
 
 // What a run of the coarse case tells, read from the summary.json of the run `rheosim run` makes.
