@@ -158,36 +158,36 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
   }
 }
 
-int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
-                    const std::string& mesh, const std::string& rim, double max_courant, const core::Log& log) {
+int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, const ExportRequest& request,
+                    const core::Log& log) {
   try {
     const core::CaseFile file = core::CaseFile::open(case_file);
     file.require_kind({"rheometer", "ldd"},
                       "export-openfoam (simpleFoam for a single-phase rheometer case, interFoam "
                       "for an LDD dam break)");
-    const bool rheometer_options = rim_shear_rate > 0 || mesh != "M2" || rim != "shear_free";
     if (file.header().kind == "ldd") {
-      if (rheometer_options)
+      if (request.rim_shear_rate || request.mesh || request.rim)
         log.warn("--shear-rate, --mesh and --rim are for a rheometer case; an LDD dam break ignores them");
       ldd::InterFoamExportOptions options;
-      options.max_courant = max_courant;
+      if (request.max_courant) options.max_courant = *request.max_courant;
       const auto exported = ldd::export_interfoam(ldd::read_case(file), dir, options);
       log.info("interFoam case written to {} ({} x {} cells of {} m, {}); run it with:\n{}", dir.string(),
                exported.cells_x, exported.cells_y, exported.cell_size, exported.transport.model, exported.commands);
       if (!exported.transport.note.empty()) log.warn("{}", exported.transport.note);
       return exit_success;
     }
-    if (max_courant != ldd::InterFoamExportOptions{}.max_courant)
+    if (request.max_courant)
       log.warn("--max-courant is for an LDD dam break; a rheometer case (simpleFoam, steady) ignores it");
     const rheometer::Case c = rheometer::read_case(file);
+    double rim_shear_rate = request.rim_shear_rate.value_or(0.0);  // <= 0: the case's last
     if (rim_shear_rate <= 0)
       if (const auto* r = std::get_if<rheometer::RheometerCase>(&c.spec)) rim_shear_rate = r->shear_rates.back();
     rheometer::OpenFoamExportOptions options;
-    options.mesh = rheometer::OpenFoamMesh::preset(mesh);
-    options.rim = rheometer::parse_openfoam_rim(rim);
+    if (request.mesh) options.mesh = rheometer::OpenFoamMesh::preset(*request.mesh);
+    if (request.rim) options.rim = rheometer::parse_openfoam_rim(*request.rim);
     const auto exported = rheometer::export_openfoam(c, rim_shear_rate, dir, options);
     log.info("OpenFOAM case written to {} ({} cells, {}, {} rim); run it with:\n{}", dir.string(), exported.cells,
-             exported.transport.model, rim, exported.commands);
+             exported.transport.model, rheometer::name_of(options.rim), exported.commands);
     if (!exported.transport.note.empty()) log.warn("{}", exported.transport.note);
     return exit_success;
   } catch (const core::ConfigError& e) {

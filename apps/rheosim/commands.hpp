@@ -2,6 +2,7 @@
 // One function per subcommand; main.cpp only parses the command line.
 // Each returns the process exit code: 0 success, 2 bad input, 1 run failure.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,9 +22,17 @@ int validate(const std::vector<std::string>& case_files, const core::Log& log);
 int run(const std::string& case_file, const std::filesystem::path& out_dir, double point_budget, double stop_after,
         const core::Log& log);
 int report(const std::filesystem::path& run_dir, const core::Log& log);
-// A single-phase rheometer case as a simpleFoam case (rim_shear_rate, mesh, rim), or an LDD dam
-// break as an interFoam case (max_courant).
-int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, double rim_shear_rate,
-                    const std::string& mesh, const std::string& rim, double max_courant, const core::Log& log);
+// export-openfoam's options as given on the command line; an unset one takes its exporter's
+// default. The first three are the simpleFoam export's, max_courant the interFoam export's.
+struct ExportRequest {
+  std::optional<double> rim_shear_rate;  // [1/s]; unset: the case's last rate
+  std::optional<std::string> mesh;       // preset M1 | M2 | M3
+  std::optional<std::string> rim;        // shear_free | slip
+  std::optional<double> max_courant;     // (0, 1]
+};
+// A single-phase rheometer case as a simpleFoam case, or an LDD dam break as an interFoam case;
+// the options of the other export are named in a warning.
+int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, const ExportRequest& request,
+                    const core::Log& log);
 
 }  // namespace rheosim::app

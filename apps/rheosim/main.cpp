@@ -74,7 +74,8 @@ int main(int argc, char** argv) {
   std::string export_case;
   std::string export_dir;
   double export_rate = 0;
-  std::string export_mesh = "M2";
+  std::string export_mesh, export_rim;
+  double export_courant = 0;
   auto* foam = cli.add_subcommand("export-openfoam",
                                   "Write a rheometer case or an LDD dam break as an OpenFOAM v1912 case directory");
   foam->add_option("case", export_case, "Case file (kind: rheometer, single phase; or kind: ldd, a dam break)")
@@ -82,11 +83,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   foam->add_option("dir", export_dir, "Output case directory")->required();
   foam->add_option("--shear-rate", export_rate, "Rim shear rate [1/s] (default: the case's last)");
-  foam->add_option("--mesh", export_mesh, "Mesh preset M1 | M2 | M3 (CD §2.3)");
-  std::string export_rim = "shear_free";
-  foam->add_option("--rim", export_rim, "Rim condition shear_free | slip (docs/openfoam.md §2.2)");
-  double export_courant = 0.5;
-  foam->add_option("--max-courant", export_courant, "LDD dam break: interFoam's maxCo and maxAlphaCo, in (0, 1]");
+  foam->add_option("--mesh", export_mesh, "Mesh preset M1 | M2 | M3 (default M2; CD §2.3)");
+  foam->add_option("--rim", export_rim, "Rim condition shear_free | slip (default shear_free; docs/openfoam.md §2.2)");
+  foam->add_option("--max-courant", export_courant,
+                   "LDD dam break: interFoam's maxCo and maxAlphaCo, in (0, 1] (default 0.5)");
   foam->footer(
       "A rheometer case: blockMeshDict (O-grid), controlDict with a forces function object, fvSchemes,\n"
       "fvSolution, transportProperties (kinematic units), 0/U and 0/p; run blockMesh then simpleFoam.\n"
@@ -126,7 +126,14 @@ int main(int argc, char** argv) {
   const core::Log log = core::Log::console(verbosity);
   if (*validate) return app::validate(validate_files, log);
   if (*run) return app::run(run_case, run_out, point_budget, stop_after, log);
-  if (*foam)
-    return app::export_openfoam(export_case, export_dir, export_rate, export_mesh, export_rim, export_courant, log);
+  if (*foam) {
+    // Only the options given: an unset one is its exporter's default.
+    app::ExportRequest request;
+    if (foam->count("--shear-rate") > 0) request.rim_shear_rate = export_rate;
+    if (foam->count("--mesh") > 0) request.mesh = export_mesh;
+    if (foam->count("--rim") > 0) request.rim = export_rim;
+    if (foam->count("--max-courant") > 0) request.max_courant = export_courant;
+    return app::export_openfoam(export_case, export_dir, request, log);
+  }
   return app::report(report_dir, log);
 }

@@ -54,8 +54,8 @@ OpenFoamMesh OpenFoamMesh::preset(std::string_view name) {
 }
 
 OpenFoamRim parse_openfoam_rim(std::string_view name) {
-  if (name == "shear_free") return OpenFoamRim::shear_free;
-  if (name == "slip") return OpenFoamRim::slip;
+  for (const OpenFoamRim rim : {OpenFoamRim::shear_free, OpenFoamRim::slip})
+    if (name == name_of(rim)) return rim;
   core::throw_config_error("", "--rim", fmt::format("'{}' is not a rim condition", name),
                            "shear_free (τ_rθ = 0, rheosim's rim) or slip (OpenFOAM's ∂u_t/∂n = 0)");
 }
@@ -428,7 +428,7 @@ OpenFoamExport export_openfoam(const Case& c, double rim_shear_rate, const std::
                   {"axial_cells", options.mesh.axial_cells},
                   {"core_fraction", options.core_fraction},
                   {"cells", result.cells}};
-  info["rim"] = options.rim == OpenFoamRim::slip ? "slip" : "shear_free";
+  info["rim"] = name_of(options.rim);
   info["shear_rate"] = rim_shear_rate;
   info["angular_velocity"] = omega;
   info["gap_reynolds_number"] = result.gap_reynolds_number;

@@ -77,6 +77,10 @@ struct OpenFoamMesh {
 enum class OpenFoamRim { shear_free, slip };
 // "shear_free" | "slip" (the CLI's --rim); anything else is a ConfigError naming both.
 [[nodiscard]] OpenFoamRim parse_openfoam_rim(std::string_view name);
+// Its name, as parse_openfoam_rim reads it.
+[[nodiscard]] constexpr const char* name_of(OpenFoamRim rim) {
+  return rim == OpenFoamRim::slip ? "slip" : "shear_free";
+}
 
 struct OpenFoamExportOptions {
   OpenFoamMesh mesh = OpenFoamMesh::m2();
