@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "rheosim/core/output.hpp"
@@ -108,6 +109,29 @@ void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene
   log.info("{}", text);
 }
 
+// The front at the end of the run against the shallow yield-stress arrest (ThinFilmArrest).
+void compare_with_thin_film_arrest(const CaseSettings& l, const DamBreakScene& scene, const std::vector<double>& front,
+                                   nlohmann::ordered_json& summary, const core::Log& log) {
+  double g = 0;
+  for (double c : l.gravity) g += c * c;
+  const double length = scene.reservoir[0];
+  const ThinFilmArrest arrest =
+      thin_film_arrest(length * scene.reservoir[1], l.fluid.rheology->yield_stress(), l.fluid.density, std::sqrt(g));
+  nlohmann::ordered_json entry = {
+      {"length", arrest.length}, {"front", arrest.length - length}, {"wall_height", arrest.wall_height}};
+  if (front.empty()) {
+    entry["relative_error"] = nullptr;
+  } else {
+    const double runout = front.back() + length;  // from the back wall
+    entry["relative_error"] = runout / arrest.length - 1.0;
+    log.info(
+        "thin-film arrest (shallow yield-stress limit): length {:.4g} m from the back wall (front {:.4g} m), wall "
+        "height {:.4g} m; this run ends at {:.4g} m ({:+.1f} %)",
+        arrest.length, arrest.length - length, arrest.wall_height, runout, 1e2 * (runout / arrest.length - 1.0));
+  }
+  summary["thin_film_arrest"] = entry;
+}
+
 }  // namespace
 
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
@@ -116,6 +140,7 @@ void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& f
   const auto& scene = std::get<DamBreakScene>(l.scene);
   const std::string law(l.fluid.rheology->name());
   const double aspect = scene.reservoir[1] / scene.reservoir[0];
+  if (l.fluid.rheology->yield_stress() > 0) compare_with_thin_film_arrest(l, scene, front, summary, log);
   if (law == "bingham") {
     compare_with_table1(l, front_time, front, out_dir, summary, log);
   } else if (law == "newtonian" && std::abs(aspect / WaterColumnReference::height_over_width - 1.0) < 1e-6) {
@@ -129,3 +154,22 @@ void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& f
 }
 
 }  // namespace rheosim::ldd::detail
+
+namespace rheosim::ldd {
+
+ThinFilmArrest thin_film_arrest(double area, double yield_stress, double density, double gravity) {
+  if (!(area > 0 && yield_stress > 0 && density > 0 && gravity > 0))
+    throw std::invalid_argument("thin_film_arrest: area, yield stress, density and gravity must be > 0");
+  ThinFilmArrest a;
+  a.stress_scale = 2.0 * yield_stress / (density * gravity);
+  // A = ∫₀^ℓ √(c(ℓ − s)) ds = (2/3)√c ℓ^{3/2}
+  a.length = std::pow(1.5 * area / std::sqrt(a.stress_scale), 2.0 / 3.0);
+  a.wall_height = std::sqrt(a.stress_scale * a.length);
+  return a;
+}
+
+double ThinFilmArrest::height_at(double s) const {
+  return s < length ? std::sqrt(stress_scale * (length - std::max(s, 0.0))) : 0.0;
+}
+
+}  // namespace rheosim::ldd

@@ -7,7 +7,9 @@
 //     Moyce (1952, Phil. Trans. R. Soc. A 244, 312, Fig. 3, n² = 2), front Z = x/a (x from the
 //     back wall, a the column's width) against T = t√(2g/a), martin_moyce.csv, summary
 //     "martin_moyce";
-//   - anything else: no experiment (the log says so).
+//   - anything else: no experiment (the log says so);
+//   - and for any law with a yield stress, the shallow arrest of ThinFilmArrest (run.hpp),
+//     summary "thin_film_arrest".
 #include <nlohmann/json.hpp>
 
 #include <algorithm>

@@ -81,6 +81,14 @@ RunSummary read_run_summary(const fs::path& summary_json) {
       s.final_height = r.number("final_height");
       s.yielded_fraction = r.number_or_null("yielded_fraction");
       s.arrested = r.boolean("arrested");
+      if (s.scene == "dam_break" && s.yielded_fraction) {
+        const core::SummaryReader arrest(r.at("thin_film_arrest"), summary_json,
+                                         "every LDD dam break with a yield stress", std::string(summary_hint),
+                                         "thin_film_arrest");
+        s.thin_film_length = arrest.number("length");
+        s.thin_film_front = arrest.number("front");
+        s.thin_film_error = arrest.number_or_null("relative_error");
+      }
     }
   } else {
     s.reynolds_number = r.number("reynolds_number");
@@ -121,6 +129,9 @@ ReportFiles write_report(const fs::path& run_dir) {
             "'table1.csv' using 1:5 with points pt 6 ps 1.4 title 'seed LDD (same Δ, δt)'";
       if (martin_moyce)
         curves += ", 'martin_moyce.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (Martin and Moyce 1952)'";
+      if (s.thin_film_front)
+        curves += fmt::format(", {:.6g} with lines dt 2 lw 2 title 'shallow yield-stress arrest (thin film)'",
+                              *s.thin_film_front);
       plot("front", "Mass front position vs time",
            "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
     } else if (s.scene == "slump") {
@@ -173,6 +184,11 @@ ReportFiles write_report(const fs::path& run_dir) {
       row("yielded fraction",
           s.yielded_fraction ? fmt::format("{:.3g}", *s.yielded_fraction) : std::string("— (no yield stress)"));
       row("arrested (yield criterion)", s.arrested ? "yes" : "no");
+      if (s.thin_film_length)
+        row("shallow arrest (thin film)",
+            fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", *s.thin_film_length,
+                        *s.thin_film_front,
+                        s.thin_film_error ? fmt::format("{:+.1f} %", 100 * *s.thin_film_error) : std::string("—")));
     }
   } else {
     row("Reynolds number", fmt::format("{:.4g}", s.reynolds_number));

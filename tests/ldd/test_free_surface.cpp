@@ -379,7 +379,34 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   EXPECT_LE(summary["final_height"].get<double>(), 0.08 + 0.02);
   EXPECT_GT(summary["yielded_fraction"].get<double>(), 0.0);
   EXPECT_FALSE(summary["arrested"].get<bool>());
+  // The shallow arrest of this reservoir (A = 0.016 m², 2τ₀/(ρg) = 4.247 mm): ℓ = 0.5138 m.
+  const auto& arrest = summary["thin_film_arrest"];
+  EXPECT_NEAR(arrest["length"].get<double>(), 0.5138, 5e-4);
+  EXPECT_NEAR(arrest["front"].get<double>(), arrest["length"].get<double>() - 0.2, 1e-12);
+  EXPECT_NEAR(arrest["relative_error"].get<double>(),
+              (summary["front"].back()["x"].get<double>() + 0.2) / arrest["length"].get<double>() - 1.0, 1e-12);
   std::filesystem::remove_all(dir);
+}
+
+// The shallow arrest holds the reservoir's area and balances the yield stress at the base.
+TEST(ThinFilmArrest, HoldsTheAreaAndBalancesTheYieldStress) {
+  const double density = 1000, gravity = 9.81, yield_stress = 20, area = 0.1 * 0.1;
+  const ThinFilmArrest a = thin_film_arrest(area, yield_stress, density, gravity);
+  // Midpoint rule on a graded grid (h ~ √(ℓ − s) at the front): s = ℓ(1 − u²).
+  double integral = 0;
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const double u = (k + 0.5) / n, s = a.length * (1 - u * u);
+    integral += a.height_at(s) * 2 * a.length * u / n;
+  }
+  EXPECT_NEAR(integral / area, 1.0, 1e-6);
+  for (double s : {0.01, 0.1, 0.25, 0.35}) {  // ρ g h |dh/ds| = τ₀
+    const double ds = 1e-7, slope = (a.height_at(s + ds) - a.height_at(s - ds)) / (2 * ds);
+    EXPECT_NEAR(density * gravity * a.height_at(s) * std::abs(slope) / yield_stress, 1.0, 1e-6) << s;
+  }
+  EXPECT_NEAR(a.wall_height, a.height_at(0.0), 1e-15);
+  EXPECT_EQ(a.height_at(a.length + 0.01), 0.0);
+  EXPECT_THROW((void)thin_film_arrest(area, 0.0, density, gravity), std::invalid_argument);
 }
 
 TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {

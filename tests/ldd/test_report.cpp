@@ -58,6 +58,8 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   ASSERT_TRUE(s.final_spread.has_value());
   EXPECT_DOUBLE_EQ(*s.final_spread, json["final_spread"].get<double>());
   ASSERT_TRUE(s.energy_gain.has_value());
+  ASSERT_TRUE(s.thin_film_length.has_value());  // a yield-stress dam break: its shallow arrest
+  EXPECT_DOUBLE_EQ(*s.thin_film_length, json["thin_film_arrest"]["length"].get<double>());
 
   const ReportFiles files = write_report(dir());
   EXPECT_EQ(files.plots.size() + files.missing_plots.size(), 3u);  // front, energy, volume
@@ -67,7 +69,8 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   EXPECT_NE(html.find("rheosim LDD report: report_dam_break"), std::string::npos);
   EXPECT_NE(html.find("dam_break (2D)"), std::string::npos);
   EXPECT_NE(html.find("<td>0.103</td>"), std::string::npos);  // LDD Table 1's experiment at 0.09 s
-  EXPECT_EQ(html.find("nan"), std::string::npos);             // no missing value rendered as a number
+  EXPECT_NE(html.find("shallow arrest (thin film)"), std::string::npos);
+  EXPECT_EQ(html.find("nan"), std::string::npos);  // no missing value rendered as a number
 }
 
 TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
@@ -82,6 +85,15 @@ TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
   } catch (const core::ConfigError& e) {
     EXPECT_EQ(e.details().key_path, "ms_per_step");
     EXPECT_NE(std::string(e.what()).find((folder / "summary.json").string()), std::string::npos) << e.what();
+  }
+  json = core::read_json(dir() / "summary.json");
+  json["thin_film_arrest"].erase("length");
+  core::write_json(folder / "summary.json", json);
+  try {
+    (void)read_run_summary(folder / "summary.json");
+    FAIL() << "a yield-stress dam break's summary without its shallow arrest length was read";
+  } catch (const core::ConfigError& e) {
+    EXPECT_EQ(e.details().key_path, "thin_film_arrest.length");
   }
   json = core::read_json(dir() / "summary.json");
   json["kind"] = "sweep";

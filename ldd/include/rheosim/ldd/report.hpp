@@ -27,6 +27,9 @@ struct RunSummary {
   std::size_t repeated_solves = 0;
   std::optional<double> final_spread, final_height, yielded_fraction;  // dam break and slump
   bool arrested = false;
+  // A dam break of a yield-stress material: the shallow arrest (ThinFilmArrest) and the final
+  // runout's difference from its length (null if the run has no front).
+  std::optional<double> thin_film_length, thin_film_front, thin_film_error;
   // Cavity runs.
   double reynolds_number = 0, final_residual = 0;
 };

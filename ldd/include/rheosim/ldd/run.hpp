@@ -116,6 +116,21 @@ struct DamBreakReference {
   static constexpr double ldd_2mm_dt1e4[6] = {0.044, 0.191, 0.308, 0.407, 0.486, 0.625};
 };
 
+// The arrested shape of a 2D yield-stress dam break in the shallow (lubrication) limit: at rest the
+// basal shear stress ρgh|∂h/∂x| equals τ₀ everywhere, so h(s) = √(2τ₀(ℓ − s)/(ρg)) with s measured
+// from the back wall (a symmetry plane of the slump) to the front at s = ℓ; the reservoir's area
+// A = L·H fixes ℓ = (3A/(2√(2τ₀/(ρg))))^{2/3} (Liu & Mei 1989, J. Fluid Mech. 207, 505; Matson &
+// Hogg 2007, J. Non-Newt. Fluid Mech. 142, 79). It is the m → ∞ limit of a slow, viscous slump:
+// a flow carried further by its inertia stops on a flatter shape.
+struct ThinFilmArrest {
+  double length = 0;                               // ℓ from the back wall [m]
+  double wall_height = 0;                          // h at the back wall [m]
+  double stress_scale = 0;                         // 2τ₀/(ρg) [m]
+  [[nodiscard]] double height_at(double s) const;  // h(s), 0 beyond the front
+};
+// Throws std::invalid_argument unless area, yield stress, density and gravity are > 0.
+[[nodiscard]] ThinFilmArrest thin_film_arrest(double area, double yield_stress, double density, double gravity);
+
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l);
 
 }  // namespace rheosim::ldd

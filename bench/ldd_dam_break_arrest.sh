@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# A 2D Bingham dam break run until it stops, against the shallow yield-stress arrest
+# h(s) = √(2τ₀(ℓ − s)/(ρg)) (ldd::ThinFilmArrest; docs/ldd.md, "Arrest"): the front over time, the
+# final front and the final profile beside the theory's, the kinetic energy and volume drift.
+#
+#   bench/ldd_dam_break_arrest.sh [BUILD_DIR] [OUT_DIR] [--spacing M] [--step S] [--end S]
+#                                 [--regularization S] [--solver "KEY: VALUE, ..."]
+#
+# Runs cases/ldd_dam_break_arrest.yaml (Δ = 2.5 mm, δt = 1e-3 s, m = 1000 s, 12 s: about 2 min on
+# one thread) with the given overrides through bench_ldd run (the code of `rheosim run`).
+set -euo pipefail
+build=${1:-build}
+out=${2:-results/ldd_dam_break_arrest}
+shift $(( $# > 2 ? 2 : $# )) || true
+spacing=0.0025 step=1.0e-3 end=12.0 regularization=1000 solver=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --spacing) spacing=$2; shift 2 ;;
+    --step) step=$2; shift 2 ;;
+    --end) end=$2; shift 2 ;;
+    --regularization) regularization=$2; shift 2 ;;
+    --solver) solver=$2; shift 2 ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
+done
+here=$(cd "$(dirname "$0")/.." && pwd)
+name="dx${spacing}_dt${step}_m${regularization}_end${end}$(echo "${solver:+_$solver}" | tr -d ' ,:' )"
+mkdir -p "$out"
+sed -e "s/spacing: 0.0025/spacing: ${spacing}/" -e "s/step: 1.0e-3, end: 12.0/step: ${step}, end: ${end}/" \
+    -e "s/regularization: 1000}/regularization: ${regularization}}/" \
+    -e "s/^solver: {velocity_tolerance: 1.0e-6}/solver: {velocity_tolerance: 1.0e-6, threads: 1${solver:+, $solver}}/" \
+    "$here/cases/ldd_dam_break_arrest.yaml" > "$out/$name.yaml"
+rm -rf "${out:?}/$name"
+"$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true
+python3 - "$out/$name" "$spacing" <<'PY'
+import csv, glob, json, os, struct, sys
+run, spacing = sys.argv[1], float(sys.argv[2])
+s = json.load(open(os.path.join(run, "summary.json")))
+arrest = s["thin_film_arrest"]
+rows = list(csv.reader(open(os.path.join(run, "front.csv"))))
+col = {h.split(" ")[0]: k for k, h in enumerate(rows[0])}
+rows = [[float(v) for v in r] for r in rows[1:]]
+print(f"{run}: status {s['status']} at t = {s['time']:.4g} s, {s['ms_per_step']:.1f} ms/step; "
+      f"max volume drift {100 * s['volume_drift']:.2f} %; yielded fraction {s['yielded_fraction']:.3g}, "
+      f"arrested {s['arrested']}")
+for r in rows[:: max(1, len(rows) // 12)] + [rows[-1]]:
+    print(f"  t = {r[0]:6.2f} s  front {r[col['front']]:.4f} m  KE {r[col['kinetic_energy']]:.3g} J/m")
+# The front's speed over the last tenth of the run: zero once it has stopped.
+last = [r for r in rows if r[0] >= 0.9 * rows[-1][0]]
+speed = (last[-1][col["front"]] - last[0][col["front"]]) / max(1e-12, last[-1][0] - last[0][0])
+print(f"front speed over the last tenth of the run: {speed:.3g} m/s")
+L = arrest["length"] - arrest["front"]
+print(f"final front {s['final_spread']:.4f} m; thin-film arrest {arrest['front']:.4f} m past the gate "
+      f"(length {arrest['length']:.4f} m from the back wall); runout {100 * arrest['relative_error']:+.1f} %")
+# The final profile: the highest fluid node per Δ column of the last frame (+ Δ/2).
+frame = sorted(glob.glob(os.path.join(run, "frames", "nodes_*.vtk")))[-1]
+b = open(frame, "rb").read()
+i = b.index(b"POINTS")
+n = int(b[i:b.index(b"\n", i)].split()[1])
+p0 = b.index(b"\n", i) + 1
+def scalars(name):
+    j = b.index(b"LOOKUP_TABLE default\n", b.index(b"SCALARS " + name)) + len("LOOKUP_TABLE default\n")
+    return struct.unpack(f">{n}f", b[j:j + 4 * n])
+xyz = struct.unpack(f">{3 * n}f", b[p0:p0 + 12 * n])
+kind = scalars(b"kind")
+top = {}
+for k in range(n):
+    if kind[k] in (0.0, 1.0):  # interior and surface nodes
+        c = round(xyz[3 * k] / spacing)
+        top[c] = max(top.get(c, -1.0), xyz[3 * k + 1] + 0.5 * spacing)
+c2 = arrest["wall_height"] ** 2 / arrest["length"]  # 2τ₀/(ρg)
+print(f"final profile ({os.path.basename(frame)}), x from the gate:")
+for c in sorted(top)[:: max(1, len(top) // 12)]:
+    x = c * spacing
+    sw = x + L
+    theory = (c2 * (arrest["length"] - sw)) ** 0.5 if sw < arrest["length"] else 0.0
+    print(f"  x = {x:+.4f} m  h {top[c]:.4f} m  thin film {theory:.4f} m")
+PY
