@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 
@@ -14,6 +15,7 @@
 #include "rheosim/rheometer/plate.hpp"
 #include "rheosim/rheometer/report.hpp"
 #include "rheosim/rheometer/run_analysis.hpp"
+#include "rheosim/rheometer/sweep.hpp"
 #include "swirl_params.hpp"
 
 namespace rheosim::rheometer {
@@ -56,88 +58,76 @@ RunOutcome run_single_phase(const Case& c, const std::filesystem::path& out_dir,
   core::Progress progress = core::Progress::for_stderr("rheometer", r.fluids.size() * r.shear_rates.size());
   int done = 0;
 
+  // Each point is the sweep's φ = 0 point (make_swirl_point_runner): the same solves, so a point
+  // gives the same numbers in `kind: rheometer` and in `kind: sweep`.
+  const PointRunner run_point = make_swirl_point_runner(r);
   for (const auto& named : r.fluids) {
     const auto& fluid = named.properties;
-    const fluid::SwirlSolver creeping(swirl_params(r, fluid, false));
-    const fluid::SwirlSolver inertial(swirl_params(r, fluid, true));
-    const auto& grid = creeping.grid();
-    fluid::SwirlState warm;
-    bool have_warm = false;
     for (double rate : r.shear_rates) {
+      SweepPoint point;
+      point.fluid = named.name;
+      point.rim_shear_rate = rate;
+      const PointResult res = run_point(point, {});
       const double omega = plate.angular_velocity(rate);
-      const fluid::SwirlResult stokes = creeping.solve(omega);
-      fluid::SwirlResult full = stokes;
-      if (r.solver.inertia) {
-        // extrapolate: every point starts from its half-grid solve, which gives T_2h
-        full = inertial.solve(omega, have_warm && !r.solver.extrapolate ? &warm : nullptr);
-        if (full.converged) {
-          warm = full.state;
-          have_warm = true;
-        }
-      }
-      const auto analytic = closed_form_torque(plate, *fluid.rheology, rate);
       const double quadrature = creeping_torque(plate, *fluid.rheology, rate);
       const double reynolds = plate.gap_reynolds_number(fluid.density, rate, fluid.rheology->viscosity(rate));
-      const bool converged = stokes.converged && full.converged;
-      const std::string failure = !stokes.converged ? stokes.failure : full.failure;
+      const bool analytic = std::isfinite(res.torque_analytic);
+      const double rel_error = analytic ? (res.torque - res.torque_analytic) / res.torque_analytic : std::nan("");
 
       nlohmann::ordered_json p;
       p["fluid"] = named.name;
       p["shear_rate"] = rate;
       p["angular_velocity"] = omega;
-      const double torque = reported_torque(r, full);
-      p["torque"] = torque;
-      p["torque_fluid"] = torque;
-      if (torque != full.torque) {
-        p["torque_grid"] = full.torque;              // this grid's own torque
-        p["torque_half_grid"] = full.coarse_torque;  // half the cells in r and z
+      p["torque"] = res.torque;
+      p["torque_fluid"] = res.torque_fluid;
+      if (std::isfinite(res.torque_grid)) {
+        p["torque_grid"] = res.torque_grid;            // this grid's own torque
+        p["torque_half_grid"] = res.torque_half_grid;  // half the cells in r and z
       }
       p["torque_contact"] = 0.0;
-      p["torque_creeping"] = stokes.torque;
+      p["torque_creeping"] = res.torque_creeping;
       p["torque_quadrature"] = quadrature;
       if (analytic) {
-        p["torque_analytic"] = *analytic;
-        p["rel_error"] = (torque - *analytic) / *analytic;
-        p["creeping_rel_error"] = (stokes.torque - *analytic) / *analytic;
+        p["torque_analytic"] = res.torque_analytic;
+        p["rel_error"] = rel_error;
+        p["creeping_rel_error"] = (res.torque_creeping - res.torque_analytic) / res.torque_analytic;
       }
-      p["inertia_effect"] = torque / stokes.torque - 1.0;
+      p["inertia_effect"] = res.torque / res.torque_creeping - 1.0;
       p["gap_reynolds_number"] = reynolds;
-      p["iterations"] = full.iterations + (r.solver.inertia ? stokes.iterations : 0);
-      p["converged"] = converged;
-      if (!converged) p["failure"] = failure;
-      if (const auto warnings = swirl_warnings(r, stokes, full); !warnings.empty()) {
-        p["warnings"] = warnings;
-        for (const auto& w : warnings) log.warn("{} at {} 1/s: {}", named.name, rate, w);
-        for (const auto& w : warnings) ++warning_counts[w];
+      p["iterations"] = res.iterations;
+      p["converged"] = res.converged;
+      if (!res.converged) p["failure"] = res.failure;
+      if (!res.warnings.empty()) {
+        p["warnings"] = res.warnings;
+        for (const auto& w : res.warnings) log.warn("{} at {} 1/s: {}", named.name, rate, w);
+        for (const auto& w : res.warnings) ++warning_counts[w];
       }
-      p["wall_time"] = full.wall_time + (r.solver.inertia ? stokes.wall_time : 0.0);
+      p["wall_time"] = res.wall_time;
       points.push_back(p);
 
-      table.add_row({rate, torque, stokes.torque, quadrature, analytic.value_or(std::nan("")),
-                     analytic ? (torque - *analytic) / *analytic : std::nan(""), reynolds,
-                     static_cast<double>(p["iterations"].get<int>()), p["wall_time"].get<double>()},
+      table.add_row({rate, res.torque, res.torque_creeping, quadrature, res.torque_analytic, rel_error, reynolds,
+                     static_cast<double>(res.iterations), res.wall_time},
                     named.name);
 
       // Fields of this point (the last iterate if it failed, so nothing computed is lost).
       const std::string group = fmt::format("/{}/shear_rate_{:g}", named.name, rate);
-      const auto& s = full.state;
-      const std::size_t nr = grid.radial_cells(), nz = grid.axial_cells();
       fields.groups.push_back(
-          {group, {{"shear_rate", rate}, {"torque", torque}, {"converged", converged ? 1.0 : 0.0}}});
-      fields.datasets.push_back(dataset(group + "/angular_velocity", {nr, nz}, s.angular_velocity, "rad/s"));
-      fields.datasets.push_back(dataset(group + "/viscosity", {nr, nz}, s.viscosity, "Pa s"));
-      fields.datasets.push_back(dataset(group + "/shear_rate_field", {nr, nz}, s.shear_rate, "1/s"));
-      fields.datasets.push_back(dataset(group + "/pressure", {nr, nz}, s.pressure, "Pa"));
-      fields.datasets.push_back(dataset(group + "/radial_velocity", {nr + 1, nz}, s.radial_velocity, "m/s"));
-      fields.datasets.push_back(dataset(group + "/axial_velocity", {nr, nz + 1}, s.axial_velocity, "m/s"));
+          {group, {{"shear_rate", rate}, {"torque", res.torque}, {"converged", res.converged ? 1.0 : 0.0}}});
+      for (core::Hdf5Dataset d : res.fields) {
+        // "fields/shear_rate" → "<group>/shear_rate_field": the group's attribute is the rim rate
+        std::string name = d.path.substr(d.path.find('/') + 1);
+        if (name == "shear_rate") name = "shear_rate_field";
+        d.path = group + "/" + name;
+        fields.datasets.push_back(std::move(d));
+      }
 
       ++outcome.points;
-      if (!converged) {
+      if (!res.converged) {
         ++outcome.failed_points;
         log.error("{} at {} 1/s did not converge: {}; its last iterate is saved in fields.h5", named.name, rate,
-                  failure);
+                  res.failure);
       } else {
-        log.debug("{} at {} 1/s: torque {:.6e} N m, {} iterations", named.name, rate, full.torque, full.iterations);
+        log.debug("{} at {} 1/s: torque {:.6e} N m, {} iterations", named.name, rate, res.torque, res.iterations);
       }
       progress.update(++done, fmt::format("{} at {} 1/s", named.name, rate));
     }

@@ -66,6 +66,8 @@ constexpr NumberField number_fields[] = {
     {"torque_std_error", &PointResult::torque_std_error},
     {"torque_creeping", &PointResult::torque_creeping},
     {"torque_analytic", &PointResult::torque_analytic},
+    {"torque_grid", &PointResult::torque_grid, true},
+    {"torque_half_grid", &PointResult::torque_half_grid, true},
     {"strain", &PointResult::strain},
     {"wall_time", &PointResult::wall_time},
     {"cost_dem", &PointResult::cost_dem},
@@ -135,6 +137,10 @@ PointRunner make_swirl_point_runner(const RheometerCase& rheometer) {
     out.torque_fluid = out.torque;
     out.torque_contact = 0.0;
     out.torque_creeping = stokes.torque;
+    if (out.torque != full.torque) {
+      out.torque_grid = full.torque;
+      out.torque_half_grid = full.coarse_torque;
+    }
     out.torque_analytic = closed_form_torque(plate, *fluid.rheology, rate).value_or(nan);
     out.iterations = full.iterations + (r.solver.inertia ? stokes.iterations : 0);
     out.wall_time = full.wall_time + (r.solver.inertia ? stokes.wall_time : 0.0);

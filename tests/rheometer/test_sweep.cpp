@@ -11,6 +11,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
+#include "rheosim/rheometer/run.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
 namespace fs = std::filesystem;
@@ -194,4 +195,42 @@ TEST(Sweep, StoreRefusesPointsOfAnotherDeck) {
   const auto changed = rheometer::parse_case(std::string(deck) + "description: changed\n", "sweep");
   EXPECT_THROW((void)rheometer::run_sweep(changed, out, core::Log::null(), fake_runners(calls)), core::ConfigError);
   fs::remove_all(out);
+}
+
+// `kind: rheometer` and a φ = 0 `kind: sweep` run a point with the same solves (the sweep's swirl
+// point runner): the same liquid, grid and rates give bit-identical torques, iterations and
+// fields, whatever point ran before (inertia on, no extrapolation: no warm start from the
+// previous rate).
+TEST(Sweep, ARheometerCaseAndASweepGiveTheSamePoints) {
+  const std::string common =
+      "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
+      "shear_rates: [50, 100]\n"
+      "solver: {radial_cells: 12, axial_cells: 8, inertia: true, extrapolate: false}\n";
+  const std::string liquid = "{density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}";
+  const auto rheometer_case = rheometer::parse_case(
+      "kind: rheometer\nname: one\nfluids:\n  - {name: liquid, density: 1000, rheology: {model: power_law, "
+      "consistency: 1.0e-3, index: 0.6}}\n" +
+          common,
+      "rheometer.yaml");
+  const auto sweep_case = rheometer::parse_case(
+      "kind: sweep\nname: one\nfluid: " + liquid + "\nvolume_fractions: [0]\n" + common, "sweep.yaml");
+  const fs::path base = fs::temp_directory_path() / "rheosim_rheometer_and_sweep_points";
+  fs::remove_all(base);
+  (void)rheometer::run_single_phase(rheometer_case, base / "rheometer", core::Log::null());
+  const auto& sweep = std::get<rheometer::SweepCase>(sweep_case.spec);
+  (void)rheometer::run_sweep(sweep_case, base / "sweep", core::Log::null(),
+                             rheometer::default_point_runners(sweep.rheometer));
+  const auto a = core::read_json(base / "rheometer" / "summary.json");
+  const auto b = core::read_json(base / "sweep" / "summary.json");
+  ASSERT_EQ(a["points"].size(), 2u);
+  ASSERT_EQ(b["points"].size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto &p = a["points"][i], &q = b["points"][i];
+    EXPECT_EQ(p["shear_rate"].get<double>(), q["shear_rate"].get<double>());
+    EXPECT_EQ(p["torque"].get<double>(), q["torque"].get<double>()) << "point " << i;
+    EXPECT_EQ(p["torque_creeping"].get<double>(), q["torque_creeping"].get<double>()) << "point " << i;
+    EXPECT_EQ(p["iterations"].get<int>(), q["iterations"].get<int>()) << "point " << i;
+    EXPECT_TRUE(p["converged"].get<bool>());
+  }
+  fs::remove_all(base);
 }

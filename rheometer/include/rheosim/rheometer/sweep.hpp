@@ -75,7 +75,11 @@ struct PointResult {
   double torque_std_error = std::numeric_limits<double>::quiet_NaN();  // steady-state error bar [N·m]
   double torque_creeping = std::numeric_limits<double>::quiet_NaN();   // inertia switched off [N·m]
   double torque_analytic = std::numeric_limits<double>::quiet_NaN();   // closed form, when one exists
-  double strain = std::numeric_limits<double>::quiet_NaN();            // simulated strain (transient)
+  // A Richardson-extrapolated swirl torque (solver.extrapolate): this grid's own and its
+  // half-grid's torques [N·m] (NaN otherwise).
+  double torque_grid = std::numeric_limits<double>::quiet_NaN();
+  double torque_half_grid = std::numeric_limits<double>::quiet_NaN();
+  double strain = std::numeric_limits<double>::quiet_NaN();  // simulated strain (transient)
   // CFD-DEM wall time per part of the coupling step [s] (NaN for steady solves).
   double cost_dem = std::numeric_limits<double>::quiet_NaN();
   double cost_void_fraction = std::numeric_limits<double>::quiet_NaN();
@@ -112,7 +116,7 @@ struct PointRunners {
 // `solver.inertia` says plus the creeping solve for comparison, and the closed-form torque.
 // Every point starts from the creeping profile (no warm start from a neighbour), so a point's
 // result does not depend on which points ran before it in the same process: a resumed sweep
-// ends with the same numbers as an uninterrupted one.
+// ends with the same numbers as an uninterrupted one. `kind: rheometer` runs its points with it too.
 [[nodiscard]] PointRunner make_swirl_point_runner(const RheometerCase& rheometer);
 // φ > 0 until the CFD-DEM coupling provides a runner: a failed point naming the reason.
 [[nodiscard]] PointRunner make_unavailable_suspension_runner();
