@@ -109,6 +109,21 @@ void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene
   log.info("{}", text);
 }
 
+// LDD §4.3's release, the only one Table 1's experiment is for: the 2 m × 0.1 m reservoir of a
+// Bingham material with ρ = 1200 kg/m³, μ_B = 25 Pa·s, τ_B = 25 Pa (any regularisation).
+bool is_table1_release(const CaseSettings& l, const DamBreakScene& scene) {
+  const auto close = [](double a, double b) { return std::abs(a / b - 1) < 1e-6; };
+  if (l.fluid.rheology->name() != "bingham" || !close(scene.reservoir[0], 2.0) || !close(scene.reservoir[1], 0.1) ||
+      !close(l.fluid.density, 1200.0))
+    return false;
+  bool plastic = false, yield = false;
+  for (const auto& p : l.fluid.rheology->parameters()) {
+    if (p.name == "plastic_viscosity") plastic = close(p.value, 25.0);
+    if (p.name == "yield_stress") yield = close(p.value, 25.0);
+  }
+  return plastic && yield;
+}
+
 // The front at the end of the run against the shallow yield-stress arrest (ThinFilmArrest).
 void compare_with_thin_film_arrest(const CaseSettings& l, const DamBreakScene& scene, const std::vector<double>& front,
                                    nlohmann::ordered_json& summary, const core::Log& log) {
@@ -141,14 +156,15 @@ void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& f
   const std::string law(l.fluid.rheology->name());
   const double aspect = scene.reservoir[1] / scene.reservoir[0];
   if (l.fluid.rheology->yield_stress() > 0) compare_with_thin_film_arrest(l, scene, front, summary, log);
-  if (law == "bingham") {
+  if (is_table1_release(l, scene)) {
     compare_with_table1(l, front_time, front, out_dir, summary, log);
   } else if (law == "newtonian" && std::abs(aspect / WaterColumnReference::height_over_width - 1.0) < 1e-6) {
     compare_with_martin_moyce(l, scene, front_time, front, out_dir, summary, log);
   } else {
     log.info(
-        "no experiment for this dam break: LDD Table 1 is for a Bingham material, Martin & Moyce for a Newtonian "
-        "liquid in a reservoir twice as high as long ({} here, height/length {:.3g})",
+        "no experiment for this dam break: LDD Table 1 is for §4.3's release (a 2 m × 0.1 m reservoir of a Bingham "
+        "material, ρ 1200 kg/m³, μ_B 25 Pa s, τ_B 25 Pa), Martin & Moyce for a Newtonian liquid in a reservoir twice "
+        "as high as long ({} here, height/length {:.3g})",
         law, aspect);
   }
 }

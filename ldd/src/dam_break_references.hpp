@@ -1,8 +1,9 @@
 #pragma once
 // The experiments a dam break's front is compared with (run_free_surface.cpp writes them beside
 // the run and into summary.json; the LDD report draws them):
-//   - a Bingham material: LDD Table 1 (the Bingham dam break of LDD §4.3, its experiment and the
-//     seed's LDD columns for the same Δ and δt), table1.csv and table1.txt, summary "table1";
+//   - LDD §4.3's release (2 m × 0.1 m of a Bingham material, ρ 1200, μ_B 25, τ_B 25): LDD Table 1
+//     (its experiment and the seed's LDD columns for the same Δ and δt), table1.csv and
+//     table1.txt, summary "table1";
 //   - a Newtonian liquid in a reservoir twice as high as long: the water column of Martin &
 //     Moyce (1952, Phil. Trans. R. Soc. A 244, 312, Fig. 3, n² = 2), front Z = x/a (x from the
 //     back wall, a the column's width) against T = t√(2g/a), martin_moyce.csv, summary

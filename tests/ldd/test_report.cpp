@@ -26,13 +26,13 @@ std::string read_text(const std::filesystem::path& path) {
   return s.str();
 }
 
-// A short Bingham dam break run into its own folder (each test has one: ctest runs them in
-// parallel processes).
+// A short run of LDD §4.3's Bingham release (coarse: Δ = 20 mm) into its own folder (each test has
+// one: ctest runs them in parallel processes).
 class LddReport : public ::testing::Test {
  protected:
   void SetUp() override {
     const std::string text =
-        "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+        "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [2.0, 0.1], channel_length: 3.0}\n"
         "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
         "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.05}\n"
         "solver: {threads: 1}\n";
