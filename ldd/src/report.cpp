@@ -112,6 +112,7 @@ ReportFiles write_report(const fs::path& run_dir) {
   const std::string energy_unit = s.dimension == 2 ? "J/m" : "J";
   const bool table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
   const bool martin_moyce = s.scene == "dam_break" && fs::exists(run_dir / "martin_moyce.csv");
+  const bool profile = s.scene == "dam_break" && fs::exists(run_dir / "profile.csv");
   bool wall_height = false;  // a sloshing column's probe file has the height at the left wall
   if (s.free_surface) {
     const std::string probes = probe_file_name(s.scene);
@@ -134,6 +135,15 @@ ReportFiles write_report(const fs::path& run_dir) {
                               *s.thin_film_front);
       plot("front", "Mass front position vs time",
            "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
+      if (profile) {
+        const core::CsvTable shape = core::read_csv(run_dir / "profile.csv");
+        std::string lines = "'profile.csv' using 1:2 with steps lw 2 title 'LDD (this run, end)'";
+        if (const int c = column_of(shape, "thin_film_arrest"); c > 0)
+          lines +=
+              fmt::format(", 'profile.csv' using 1:{} with lines dt 2 lw 2 title 'shallow yield-stress arrest'", c);
+        plot("profile", "Free surface at the end of the run",
+             "set xlabel 'x [m] (from the gate)'\nset ylabel 'height [m]'\nplot " + lines + "\n");
+      }
     } else if (s.scene == "slump") {
       plot("spread", "Slump spread and height vs time",
            fmt::format("set xlabel 't [s]'\nset ylabel 'length [m]'\nplot '{0}' using 1:{1} with lines lw 2 title "
@@ -203,12 +213,17 @@ ReportFiles write_report(const fs::path& run_dir) {
   if (s.free_surface) {
     if (s.scene == "dam_break") {
       html += "<h2>Front</h2>\n";
-      html += figure_or_note(
-          files, "front",
-          martin_moyce ? "Mass front x(t) from the gate of this run; points: the water column of Martin &amp; Moyce "
-                         "(1952, n² = 2) at the same a and g (front.csv, martin_moyce.csv)."
-                       : "Mass front x(t) of this run; points: the experiment and the seed's LDD column of LDD Table 1 "
-                         "where the case's Δ and δt have one (front.csv, table1.csv).");
+      std::string caption = "Mass front x(t) from the gate of this run (front.csv)";
+      if (martin_moyce)
+        caption +=
+            "; points: the water column of Martin &amp; Moyce (1952, n² = 2) at the same a and g "
+            "(martin_moyce.csv)";
+      if (table1)
+        caption +=
+            "; points: the experiment and the seed's LDD column of LDD Table 1 where the case's Δ and δt have "
+            "one (table1.csv)";
+      if (s.thin_film_front) caption += "; dashed: the shallow yield-stress arrest front (summary thin_film_arrest)";
+      html += figure_or_note(files, "front", caption + ".");
       if (martin_moyce) {
         const core::CsvTable t = core::read_csv(run_dir / "martin_moyce.csv");
         html +=
@@ -234,6 +249,16 @@ ReportFiles write_report(const fs::path& run_dir) {
                               cell(r[1]), cell(r[2]), cell(r[3]), cell(r[4]));
         }
         html += "</table>\n";
+      }
+      if (profile) {
+        html += "<h2>Final shape</h2>\n";
+        html +=
+            figure_or_note(files, "profile",
+                           s.thin_film_length ? "Free surface at the end of the run, the top of the fluid nodes per "
+                                                "Δ column (profile.csv); dashed: the shallow yield-stress arrest "
+                                                "h = √(2τ₀(ℓ − s)/(ρg)) of the same reservoir."
+                                              : "Free surface at the end of the run, the top of the fluid nodes "
+                                                "per Δ column (profile.csv).");
       }
     } else if (s.scene == "slump") {
       html += "<h2>Spread</h2>\n";

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -31,6 +32,39 @@ double mass_front(const FreeSurfaceSolver& s) {
     if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface)
       front = std::max(front, s.positions()[dim * i]);
   return front + 0.5 * s.params().spacing;
+}
+
+// Dam break: the free surface at the end, the top of the fluid nodes (non-splash) in each Δ-wide
+// column plus half a cell, at the columns' centres, ascending in x.
+core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) {
+  const double dx = s.params().spacing;
+  std::map<long, double> top;
+  for (std::size_t i = 0; i < s.node_count(); ++i)
+    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface) {
+      const auto column = static_cast<long>(std::floor(s.positions()[2 * i] / dx));
+      const double y = s.positions()[2 * i + 1] + 0.5 * dx;
+      const auto [it, fresh] = top.emplace(column, y);
+      if (!fresh) it->second = std::max(it->second, y);
+    }
+  const double yield_stress = l.fluid.rheology->yield_stress();
+  std::vector<core::CsvTable::Column> columns{{"x", "m"}, {"height", "m"}};
+  if (yield_stress > 0) columns.push_back({"thin_film_arrest", "m"});
+  core::CsvTable table(columns);
+  const auto& scene = std::get<DamBreakScene>(l.scene);
+  double g = 0;
+  for (double c : l.gravity) g += c * c;
+  const std::optional<ThinFilmArrest> arrest =
+      yield_stress > 0 ? std::optional(thin_film_arrest(scene.reservoir[0] * scene.reservoir[1], yield_stress,
+                                                        l.fluid.density, std::sqrt(g)))
+                       : std::nullopt;
+  for (const auto& [column, height] : top) {
+    const double x = (static_cast<double>(column) + 0.5) * dx;
+    if (arrest)
+      table.add_row({x, height, arrest->height_at(x + scene.reservoir[0])});
+    else
+      table.add_row({x, height});
+  }
+  return table;
 }
 
 // Slump spread diameter and height (3D, axis z).
@@ -621,6 +655,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
     if (dam_break) {
       summary["final_spread"] = mass_front(solver);
       summary["final_height"] = top_height(solver);
+      core::write_csv(out_dir / "profile.csv", final_profile(solver, l));
     } else {
       const auto [diameter, height] = spread(solver);
       summary["final_spread"] = diameter;

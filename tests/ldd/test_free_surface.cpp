@@ -386,6 +386,26 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   EXPECT_NEAR(arrest["front"].get<double>(), arrest["length"].get<double>() - 0.2, 1e-12);
   EXPECT_NEAR(arrest["relative_error"].get<double>(),
               (summary["front"].back()["x"].get<double>() + 0.2) / arrest["length"].get<double>() - 1.0, 1e-12);
+  // The final free surface per Δ column, with the shallow arrest's height at each column.
+  const core::CsvTable profile = core::read_csv(dir / "profile.csv");
+  ASSERT_EQ(profile.numeric_columns().size(), 3u);
+  EXPECT_EQ(profile.numeric_columns()[2].name, "thin_film_arrest");
+  ASSERT_GE(profile.row_count(), 10u);  // the reservoir's 10 columns at least
+  const ThinFilmArrest theory = thin_film_arrest(0.2 * 0.08, 25.0, 1200, 9.81);
+  double area = 0;
+  for (std::size_t i = 0; i < profile.row_count(); ++i) {
+    const auto row = profile.row(i);
+    if (i > 0) {
+      EXPECT_NEAR(row[0] - profile.row(i - 1)[0], 0.02, 1e-9);  // adjacent columns
+    }
+    EXPECT_GT(row[1], 0.0);
+    EXPECT_LE(row[1], 0.08 + 0.02);
+    EXPECT_DOUBLE_EQ(row[2], theory.height_at(row[0] + 0.2));
+    area += 0.02 * row[1];
+  }
+  EXPECT_NEAR(profile.row(0)[0], -0.2 + 0.01, 1e-9);  // the back wall's column
+  EXPECT_NEAR(profile.row(profile.row_count() - 1)[0] + 0.01, summary["final_spread"].get<double>(), 0.02);
+  EXPECT_NEAR(area / (0.2 * 0.08), 1.0, 0.1);  // the columns hold the reservoir's area
   std::filesystem::remove_all(dir);
 }
 

@@ -62,8 +62,8 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   EXPECT_DOUBLE_EQ(*s.thin_film_length, json["thin_film_arrest"]["length"].get<double>());
 
   const ReportFiles files = write_report(dir());
-  EXPECT_EQ(files.plots.size() + files.missing_plots.size(), 3u);  // front, energy, volume
-  for (const char* script : {"front.gp", "energy.gp", "volume.gp"})
+  EXPECT_EQ(files.plots.size() + files.missing_plots.size(), 4u);  // front, final profile, energy, volume
+  for (const char* script : {"front.gp", "profile.gp", "energy.gp", "volume.gp"})
     EXPECT_TRUE(std::filesystem::exists(dir() / script)) << script;
   const std::string html = read_text(files.html);
   EXPECT_NE(html.find("rheosim LDD report: report_dam_break"), std::string::npos);

@@ -85,8 +85,10 @@ struct CavityResult {
 //   summary.json   nodes, steps, ms_per_step, status, volume_drift, front: [{t, x}] (dam break),
 //                  spread: [{t, diameter, height}] (slump), table1 (dam break), phase timings
 //   front.csv / spread.csv / column.csv   the probe history with kinetic energy and volume drift
-//   table1.csv, table1.txt                dam break: mass front at LDD Table 1's times next to the
-//                                         experiment and the seed's LDD column for this Δ and δt
+//   table1.csv, table1.txt                LDD §4.3's dam break: mass front at LDD Table 1's times next
+//                                         to the experiment and the seed's LDD column for this Δ and δt
+//   profile.csv                           dam break: the final free surface, height per Δ column
+//                                         (x, height; a yield-stress law also thin_film_arrest)
 //   frames/nodes_NNNN.vtk (+ .vtk.series, nodes.pvd)   the cloud with velocity, pressure, γ̇, μ, kind
 //   checkpoint.h5  the solver's state (FreeSurfaceState) and the run's records so far, written
 //                  atomically at every frame, every RunControl::checkpoint_interval of wall time
