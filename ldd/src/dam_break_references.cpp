@@ -125,13 +125,10 @@ bool is_table1_release(const CaseSettings& l, const DamBreakScene& scene) {
 }
 
 // The front at the end of the run against the shallow yield-stress arrest (ThinFilmArrest).
-void compare_with_thin_film_arrest(const CaseSettings& l, const DamBreakScene& scene, const std::vector<double>& front,
-                                   nlohmann::ordered_json& summary, const core::Log& log) {
-  double g = 0;
-  for (double c : l.gravity) g += c * c;
+void compare_with_thin_film_arrest(const ThinFilmArrest& arrest, const DamBreakScene& scene,
+                                   const std::vector<double>& front, nlohmann::ordered_json& summary,
+                                   const core::Log& log) {
   const double length = scene.reservoir[0];
-  const ThinFilmArrest arrest =
-      thin_film_arrest(length * scene.reservoir[1], l.fluid.rheology->yield_stress(), l.fluid.density, std::sqrt(g));
   nlohmann::ordered_json entry = {
       {"length", arrest.length}, {"front", arrest.length - length}, {"wall_height", arrest.wall_height}};
   if (front.empty()) {
@@ -149,13 +146,23 @@ void compare_with_thin_film_arrest(const CaseSettings& l, const DamBreakScene& s
 
 }  // namespace
 
+std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l) {
+  const double yield_stress = l.fluid.rheology->yield_stress();
+  if (!(yield_stress > 0)) return std::nullopt;
+  const auto& scene = std::get<DamBreakScene>(l.scene);
+  double g = 0;
+  for (double c : l.gravity) g += c * c;
+  return thin_film_arrest(scene.reservoir[0] * scene.reservoir[1], yield_stress, l.fluid.density, std::sqrt(g));
+}
+
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
                              const std::vector<double>& front, const std::filesystem::path& out_dir,
                              nlohmann::ordered_json& summary, const core::Log& log) {
   const auto& scene = std::get<DamBreakScene>(l.scene);
   const std::string law(l.fluid.rheology->name());
   const double aspect = scene.reservoir[1] / scene.reservoir[0];
-  if (l.fluid.rheology->yield_stress() > 0) compare_with_thin_film_arrest(l, scene, front, summary, log);
+  if (const auto arrest = dam_break_thin_film_arrest(l))
+    compare_with_thin_film_arrest(*arrest, scene, front, summary, log);
   if (is_table1_release(l, scene)) {
     compare_with_table1(l, front_time, front, out_dir, summary, log);
   } else if (law == "newtonian" && std::abs(aspect / WaterColumnReference::height_over_width - 1.0) < 1e-6) {

@@ -16,10 +16,12 @@
 #include <algorithm>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/case.hpp"
+#include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd::detail {
 
@@ -42,6 +44,10 @@ struct WaterColumnReference {
   const double w = (at - t[k - 1]) / (t[k] - t[k - 1]);
   return (1 - w) * v[k - 1] + w * v[k];
 }
+
+// The shallow arrest of a dam break's reservoir (ThinFilmArrest, run.hpp); none for a law
+// without a yield stress.
+[[nodiscard]] std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l);
 
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
                              const std::vector<double>& front, const std::filesystem::path& out_dir,

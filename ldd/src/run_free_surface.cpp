@@ -46,21 +46,15 @@ core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) 
       const auto [it, fresh] = top.emplace(column, y);
       if (!fresh) it->second = std::max(it->second, y);
     }
-  const double yield_stress = l.fluid.rheology->yield_stress();
+  const std::optional<ThinFilmArrest> arrest = detail::dam_break_thin_film_arrest(l);
   std::vector<core::CsvTable::Column> columns{{"x", "m"}, {"height", "m"}};
-  if (yield_stress > 0) columns.push_back({"thin_film_arrest", "m"});
+  if (arrest) columns.push_back({"thin_film_arrest", "m"});
   core::CsvTable table(columns);
-  const auto& scene = std::get<DamBreakScene>(l.scene);
-  double g = 0;
-  for (double c : l.gravity) g += c * c;
-  const std::optional<ThinFilmArrest> arrest =
-      yield_stress > 0 ? std::optional(thin_film_arrest(scene.reservoir[0] * scene.reservoir[1], yield_stress,
-                                                        l.fluid.density, std::sqrt(g)))
-                       : std::nullopt;
+  const double back_wall = std::get<DamBreakScene>(l.scene).reservoir[0];  // distance from the gate
   for (const auto& [column, height] : top) {
     const double x = (static_cast<double>(column) + 0.5) * dx;
     if (arrest)
-      table.add_row({x, height, arrest->height_at(x + scene.reservoir[0])});
+      table.add_row({x, height, arrest->height_at(x + back_wall)});
     else
       table.add_row({x, height});
   }
