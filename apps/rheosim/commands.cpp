@@ -19,7 +19,6 @@
 #include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/openfoam.hpp"
 #include "rheosim/rheometer/report.hpp"
-#include "rheosim/rheometer/run.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 #include "run_ldd.hpp"
@@ -131,31 +130,9 @@ int run(const std::string& case_file, const std::filesystem::path& out_dir, doub
     return exit_run_failure;
   }
   if (ldd_case) return run_ldd(*ldd_case, out, stop_after, log);
-  const rheometer::Case& c = *rheometer_or_sweep;
-  if (std::holds_alternative<rheometer::SweepCase>(c.spec)) return run_sweep_case(c, case_file, out, point_budget, log);
-  const auto* rheometer_case = std::get_if<rheometer::RheometerCase>(&c.spec);
-  if (rheometer_case && rheometer_case->particles) {
-    // A suspension at one φ runs as a two-fraction sweep: the liquid alone (φ = 0, the reference
-    // for the torque increase) and the suspension, with resume, analysis and report.
-    rheometer::Case as_sweep = c;
-    as_sweep.kind = "sweep";
-    const double phi = rheometer_case->particles->volume_fraction;
-    as_sweep.spec =
-        rheometer::SweepCase{*rheometer_case, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
-    return run_sweep_case(as_sweep, case_file, out, point_budget, log);
-  }
-  try {
-    const auto log_file = log.with_file(out / "log.txt");
-    log_file.info("rheosim {} (git {}): running {} into {}", core::version, core::git_revision, case_file,
-                  out.string());
-    const auto outcome = rheometer::run_single_phase(c, out, log_file);
-    log_file.info("{} points, {} failed; summary: {}; report: {}", outcome.points, outcome.failed_points,
-                  outcome.summary.string(), (out / "report.html").string());
-    return outcome.failed_points == 0 ? exit_success : exit_run_failure;
-  } catch (const std::exception& e) {
-    log.error("run failed: {}", e.what());
-    return exit_run_failure;
-  }
+  // Every rheometer case runs as a sweep (rheometer::as_sweep): points stored as they finish,
+  // resumed when run again into the same folder, one analysis and report.
+  return run_sweep_case(rheometer::as_sweep(*rheometer_or_sweep), case_file, out, point_budget, log);
 }
 
 int export_openfoam(const std::string& case_file, const std::filesystem::path& dir, const ExportRequest& request,

@@ -163,6 +163,16 @@ Case read_case(const core::CaseFile& file) {
   return out;
 }
 
+Case as_sweep(const Case& c) {
+  const auto* r = std::get_if<RheometerCase>(&c.spec);
+  if (!r) return c;
+  Case sweep = c;
+  sweep.kind = "sweep";
+  const double phi = r->particles ? r->particles->volume_fraction : 0.0;
+  sweep.spec = SweepCase{*r, phi > 0 ? std::vector<double>{0.0, phi} : std::vector<double>{0.0}};
+  return sweep;
+}
+
 Case parse_case(std::string_view text, const std::string& name) { return read_case(core::CaseFile::parse(text, name)); }
 
 Case load_case(const std::string& path) { return read_case(core::CaseFile::open(path)); }

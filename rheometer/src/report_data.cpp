@@ -90,7 +90,6 @@ ReportData read_report_data(const fs::path& run_dir) {
   d.fits = d.summary.at("fits");
   d.yields = d.summary.at("yield_stress");
   d.relative = d.summary.at("relative_viscosity");
-  d.is_sweep = text(d.summary, "kind") == "sweep";
   d.radius = num(d.summary, "radius");
   d.gap = num(d.summary, "gap");
   for (const auto& s : d.series_json)  // plots show only flow curves with data

@@ -392,17 +392,14 @@ std::string speed_section(const ReportData& d) {
 }
 
 // What the run folder holds.
-std::string files_section(const ReportData& d) {
+std::string files_section() {
   std::string html;
-  const bool is_sweep = d.is_sweep;
   html +=
       "<h2>Files</h2>\n<p class=small>summary.json holds every number above. Data: flow_curve.csv, fits.csv, "
       "fit_curves.csv, residuals.csv, torque_lines.csv, yield_stress.csv, relative_viscosity.csv, "
       "relative_viscosity_curves.csv, speed_error.csv, torque.csv. Plots: NAME.png and NAME.svg from NAME.gp "
-      "(edit and run <code>gnuplot NAME.gp</code> here to restyle)." +
-      std::string(is_sweep ? " Sweep points: points/point_NNNN.h5 (one per finished point), sweep.h5."
-                           : " Fields: fields.h5.") +
-      "</p>\n";
+      "(edit and run <code>gnuplot NAME.gp</code> here to restyle). Points: points/point_NNNN.h5 (one per "
+      "finished point, with its fields), sweep.h5.</p>\n";
 
   return html;
 }
@@ -433,7 +430,7 @@ std::string report_html(const ReportData& d, const ReportFiles& files, bool have
   html += relative_viscosity_section(d, figure);
   html += normal_stress_section(d, figure);
   html += speed_section(d);
-  html += files_section(d);
+  html += files_section();
   html += deck_section(run_dir);
   return html + core::html_page_tail();
 }

@@ -37,7 +37,6 @@ struct SeriesInfo {  // a flow curve with data
 struct ReportData {
   Json summary;
   Json points, series_json, fits, yields, relative;  // its lists (empty when absent)
-  bool is_sweep = false;
   double radius = 0, gap = 0;         // [m]
   std::vector<SeriesInfo> series;     // the flow curves with data, in summary order
   std::set<std::string> model_names;  // every fitted model

@@ -135,8 +135,10 @@ nlohmann::ordered_json correlation_json(const CorrelationComparison& c) {
 void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs& in) {
   if (in.fluids.empty()) throw std::invalid_argument("add_flow_analysis: no fluids");
   auto& points = summary["points"];
-  const bool is_sweep =
-      std::any_of(points.begin(), points.end(), [](const auto& p) { return p.contains("volume_fraction"); });
+  // Flow curves carry φ in their label when the run has suspension points.
+  const bool has_suspension = std::any_of(points.begin(), points.end(), [](const auto& p) {
+    return p.contains("volume_fraction") && p["volume_fraction"].template get<double>() > 0;
+  });
   std::vector<std::string> fluid_names;
   for (const auto& p : points) {
     const std::string name = p.value("fluid", in.fluids.front().name);
@@ -153,7 +155,7 @@ void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs&
                            [&](const Series& s) { return s.fluid == fluid && s.volume_fraction == phi; });
     if (it == series.end()) {
       std::string label = fluid_names.size() > 1 ? fluid : std::string();
-      if (is_sweep) label += fmt::format("{}φ = {:g}", label.empty() ? "" : " ", phi);
+      if (has_suspension) label += fmt::format("{}φ = {:g}", label.empty() ? "" : " ", phi);
       if (label.empty()) label = fluid;
       series.push_back({fluid, phi, clean_label(label), {}});
       it = std::prev(series.end());

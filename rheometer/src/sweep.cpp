@@ -154,6 +154,9 @@ PointRunner make_swirl_point_runner(const RheometerCase& rheometer) {
     out.fields.push_back(field("pressure", {nr, nz}, s.pressure, "Pa"));
     out.fields.push_back(field("radial_velocity", {nr + 1, nz}, s.radial_velocity, "m/s"));
     out.fields.push_back(field("axial_velocity", {nr, nz + 1}, s.axial_velocity, "m/s"));
+    const auto centres = [](std::span<const double> x) { return std::vector<double>(x.begin(), x.end()); };
+    out.fields.push_back(field("radial_centres", {nr}, centres(grid.radial_centres()), "m"));
+    out.fields.push_back(field("axial_centres", {nz}, centres(grid.axial_centres()), "m"));
     return out;
   };
 }
@@ -384,7 +387,20 @@ fs::path PointStore::file(const SweepPoint& point) const {
   return directory_ / fmt::format("point_{:04d}.h5", point.index);
 }
 
+fs::path PointStore::failure_file(const SweepPoint& point) const {
+  return directory_ / fmt::format("point_{:04d}.failed.h5", point.index);
+}
+
 void PointStore::store(const SweepPoint& point, const PointResult& result) const {
+  write(file(point), point, result);
+  fs::remove(failure_file(point));  // an earlier failure of the point is superseded
+}
+
+void PointStore::store_failure(const SweepPoint& point, const PointResult& result) const {
+  write(failure_file(point), point, result);
+}
+
+void PointStore::write(const fs::path& path, const SweepPoint& point, const PointResult& result) const {
   core::Hdf5Content content;
   content.attributes = {{"input_sha256", input_sha256_},
                         {"fluid", point.fluid},
@@ -402,7 +418,8 @@ void PointStore::store(const SweepPoint& point, const PointResult& result) const
   if (!warnings.empty()) content.attributes.push_back({"warnings", warnings});
   for (const auto& f : number_fields) content.attributes.push_back({f.name, result.*(f.member)});
   content.datasets = result.fields;
-  core::write_hdf5(file(point), content);
+  if (!result.failure.empty()) content.attributes.push_back({"failure", result.failure});
+  core::write_hdf5(path, content);
 }
 
 std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
@@ -508,10 +525,14 @@ SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& 
     if (result.converged) {
       store.store(point, result);  // at once: a kill after this line keeps the point
       log.debug("{}: torque {:.6e} N m ({}, {} iterations)", label, result.torque, result.method, result.iterations);
-    } else if (failure_reasons.insert(result.failure).second) {
-      log.error("{} failed: {}", label, result.failure);
     } else {
-      log.debug("{} failed: {}", label, result.failure);  // the same reason as an earlier point
+      if (!result.fields.empty()) store.store_failure(point, result);  // its last iterate, for diagnosis
+      if (failure_reasons.insert(result.failure).second)
+        log.error("{} failed: {}{}", label, result.failure,
+                  result.fields.empty() ? std::string()
+                                        : fmt::format("; its last iterate is in {}", store.failure_file(point).string()));
+      else
+        log.debug("{} failed: {}", label, result.failure);  // the same reason as an earlier point
     }
     result.fields.clear();  // stored; the summary needs only the numbers
     results[point.index] = std::move(result);
@@ -556,7 +577,14 @@ SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& 
         p["torque_couple"] = finite_or_null(res.torque_couple);
       }
       p["torque_std_error"] = finite_or_null(res.torque_std_error);
+      if (std::isfinite(res.torque_grid)) {
+        p["torque_grid"] = res.torque_grid;            // this grid's own torque (solver.extrapolate)
+        p["torque_half_grid"] = res.torque_half_grid;  // half the cells in r and z
+      }
       p["torque_creeping"] = finite_or_null(res.torque_creeping);
+      if (std::isfinite(res.torque_creeping)) p["inertia_effect"] = res.torque / res.torque_creeping - 1.0;
+      if (point.volume_fraction == 0)  // the creeping closed form by quadrature, for laws without one in closed form
+        p["torque_quadrature"] = creeping_torque(plate, *fluid.rheology, point.rim_shear_rate);
       if (std::isfinite(res.torque_analytic)) {
         p["torque_analytic"] = res.torque_analytic;
         p["rel_error"] = rel_error;

@@ -1,6 +1,6 @@
 #pragma once
 // The steady swirl solver's settings for one liquid of a rheometer case (private to rheometer/:
-// the single-point run and the sweep's liquid points build the same solver).
+// the sweep's liquid points build their solvers with it).
 #include <string>
 #include <vector>
 

@@ -11,7 +11,6 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
-#include "rheosim/rheometer/run.hpp"
 #include "rheosim/rheometer/sweep.hpp"
 
 namespace fs = std::filesystem;
@@ -197,40 +196,97 @@ TEST(Sweep, StoreRefusesPointsOfAnotherDeck) {
   fs::remove_all(out);
 }
 
-// `kind: rheometer` and a φ = 0 `kind: sweep` run a point with the same solves (the sweep's swirl
-// point runner): the same liquid, grid and rates give bit-identical torques, iterations and
-// fields, whatever point ran before (inertia on, no extrapolation: no warm start from the
-// previous rate).
-TEST(Sweep, ARheometerCaseAndASweepGiveTheSamePoints) {
-  const std::string common =
+// A rheometer case runs as a sweep: the liquid alone over φ ∈ {0}, or {0, φ} with particles;
+// a sweep case is itself.
+TEST(Sweep, ARheometerCaseRunsAsTheSweepOfItsVolumeFractions) {
+  const std::string plates =
       "geometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
-      "shear_rates: [50, 100]\n"
-      "solver: {radial_cells: 12, axial_cells: 8, inertia: true, extrapolate: false}\n";
-  const std::string liquid = "{density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}";
-  const auto rheometer_case = rheometer::parse_case(
-      "kind: rheometer\nname: one\nfluids:\n  - {name: liquid, density: 1000, rheology: {model: power_law, "
-      "consistency: 1.0e-3, index: 0.6}}\n" +
-          common,
-      "rheometer.yaml");
-  const auto sweep_case = rheometer::parse_case(
-      "kind: sweep\nname: one\nfluid: " + liquid + "\nvolume_fractions: [0]\n" + common, "sweep.yaml");
-  const fs::path base = fs::temp_directory_path() / "rheosim_rheometer_and_sweep_points";
-  fs::remove_all(base);
-  (void)rheometer::run_single_phase(rheometer_case, base / "rheometer", core::Log::null());
-  const auto& sweep = std::get<rheometer::SweepCase>(sweep_case.spec);
-  (void)rheometer::run_sweep(sweep_case, base / "sweep", core::Log::null(),
-                             rheometer::default_point_runners(sweep.rheometer));
-  const auto a = core::read_json(base / "rheometer" / "summary.json");
-  const auto b = core::read_json(base / "sweep" / "summary.json");
-  ASSERT_EQ(a["points"].size(), 2u);
-  ASSERT_EQ(b["points"].size(), 2u);
-  for (std::size_t i = 0; i < 2; ++i) {
-    const auto &p = a["points"][i], &q = b["points"][i];
-    EXPECT_EQ(p["shear_rate"].get<double>(), q["shear_rate"].get<double>());
-    EXPECT_EQ(p["torque"].get<double>(), q["torque"].get<double>()) << "point " << i;
-    EXPECT_EQ(p["torque_creeping"].get<double>(), q["torque_creeping"].get<double>()) << "point " << i;
-    EXPECT_EQ(p["iterations"].get<int>(), q["iterations"].get<int>()) << "point " << i;
-    EXPECT_TRUE(p["converged"].get<bool>());
+      "fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0e-3}}\nshear_rates: [10, 100]\n";
+  const auto liquid = rheometer::as_sweep(rheometer::parse_case("kind: rheometer\n" + plates, "liquid.yaml"));
+  EXPECT_EQ(liquid.kind, "sweep");
+  EXPECT_EQ(std::get<rheometer::SweepCase>(liquid.spec).volume_fractions, (std::vector<double>{0.0}));
+  const auto suspension = rheometer::as_sweep(rheometer::parse_case(
+      "kind: rheometer\n" + plates + "particles: {volume_fraction: 0.3, diameter: 2.0e-5, density: 1000}\n",
+      "suspension.yaml"));
+  EXPECT_EQ(std::get<rheometer::SweepCase>(suspension.spec).volume_fractions, (std::vector<double>{0.0, 0.3}));
+  const auto sweep = rheometer::parse_case(deck, "sweep");
+  EXPECT_EQ(std::get<rheometer::SweepCase>(rheometer::as_sweep(sweep).spec).volume_fractions,
+            std::get<rheometer::SweepCase>(sweep.spec).volume_fractions);
+}
+
+// A single-phase rheometer case through the sweep: each point carries the swirl solve's numbers
+// (creeping torque, inertia effect, the closed form and its quadrature, which agree for a power
+// law), its fields with the grid in its point file, and a second run into the same folder
+// computes nothing and reports the same torques.
+TEST(Sweep, ARheometerCaseStoresItsPointsAndResumes) {
+  const auto c = rheometer::as_sweep(rheometer::parse_case(
+      "kind: rheometer\nname: one\ngeometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
+      "fluid: {density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}\n"
+      "shear_rates: [50, 100]\nsolver: {radial_cells: 12, axial_cells: 8, inertia: true}\n",
+      "rheometer.yaml"));
+  const auto& r = std::get<rheometer::SweepCase>(c.spec).rheometer;
+  const fs::path out = fresh_dir("rheometer_case");
+  const auto first = rheometer::run_sweep(c, out, core::Log::null(), rheometer::default_point_runners(r));
+  EXPECT_EQ(first.computed_points, 2);
+  EXPECT_EQ(first.failed_points, 0);
+  const auto summary = core::read_json(out / "summary.json");
+  ASSERT_EQ(summary["points"].size(), 2u);
+  for (const auto& p : summary["points"]) {
+    ASSERT_TRUE(p["converged"].get<bool>());
+    const double analytic = p["torque_analytic"].get<double>();
+    EXPECT_NEAR(p["torque_quadrature"].get<double>(), analytic, 1e-6 * analytic);
+    EXPECT_DOUBLE_EQ(p["inertia_effect"].get<double>(),
+                     p["torque"].get<double>() / p["torque_creeping"].get<double>() - 1.0);
+    EXPECT_GT(p["inertia_effect"].get<double>(), 0.0) << "inertia raises the torque";
+    EXPECT_LT(std::abs(p["creeping_rel_error"].get<double>()), 0.02);
   }
-  fs::remove_all(base);
+  const fs::path point_file = out / "points" / "point_0001.h5";
+  EXPECT_EQ(core::read_hdf5_dataset(point_file, "fields/angular_velocity").shape, (std::vector<std::size_t>{12, 8}));
+  const auto radial = core::read_hdf5_dataset(point_file, "fields/radial_centres");
+  ASSERT_EQ(radial.data.size(), 12u);
+  EXPECT_LT(radial.data.back(), 0.015);
+  EXPECT_EQ(core::read_hdf5_dataset(point_file, "fields/axial_centres").data.size(), 8u);
+
+  Calls calls;  // a second run computes nothing
+  const auto second = rheometer::run_sweep(c, out, core::Log::null(), fake_runners(calls));
+  EXPECT_EQ(second.reused_points, 2);
+  EXPECT_EQ(calls.single_phase, 0);
+  const auto resumed = core::read_json(out / "summary.json");
+  for (std::size_t i = 0; i < 2; ++i)
+    EXPECT_EQ(resumed["points"][i]["torque"].get<double>(), summary["points"][i]["torque"].get<double>());
+  fs::remove_all(out);
+}
+
+// A failed point with fields keeps its last iterate and reason beside the stored points; a later
+// success replaces it.
+TEST(Sweep, AFailedPointKeepsItsLastIterateUntilItSucceeds) {
+  const auto c = rheometer::parse_case(deck, "sweep");
+  const fs::path out = fresh_dir("failed_iterate");
+  Calls calls;
+  auto runners = fake_runners(calls);
+  runners.single_phase = [](const SweepPoint&, const PointProgressCallback&) {
+    PointResult failed;
+    failed.failure = "Picard iteration stalled";
+    core::Hdf5Dataset omega;
+    omega.path = "fields/angular_velocity";
+    omega.shape = {2};
+    omega.data = {0.5, 1.0};
+    omega.unit = "rad/s";
+    failed.fields.push_back(omega);
+    return failed;
+  };
+  (void)rheometer::run_sweep(c, out, core::Log::null(), runners);
+  const rheometer::PointStore store(out, c.sha256);
+  const SweepPoint first_point{0, "fluid", 0.0, 10.0};
+  ASSERT_TRUE(fs::exists(store.failure_file(first_point)));
+  EXPECT_FALSE(fs::exists(store.file(first_point)));
+  std::string failure;
+  for (const auto& a : core::read_hdf5_attributes(store.failure_file(first_point)))
+    if (a.name == "failure") failure = std::get<std::string>(a.value);
+  EXPECT_EQ(failure, "Picard iteration stalled");
+
+  (void)rheometer::run_sweep(c, out, core::Log::null(), fake_runners(calls));
+  EXPECT_TRUE(fs::exists(store.file(first_point)));
+  EXPECT_FALSE(fs::exists(store.failure_file(first_point)));
+  fs::remove_all(out);
 }

@@ -62,6 +62,12 @@ struct Case : core::CaseHeader {
   std::variant<RheometerCase, SweepCase> spec;
 };
 
+// The sweep a case runs as: a sweep case itself; a rheometer case over φ ∈ {0} (the liquid
+// alone) or, with particles at φ > 0, {0, φ} (the liquid is the reference of the torque increase).
+// Every rheometer and sweep case runs through one pipeline (sweep.hpp): stored points, resume,
+// analysis, report.
+[[nodiscard]] Case as_sweep(const Case& c);
+
 // Reads a rheometer or sweep case; throws ConfigError naming file:line:col, key, expectation and fix.
 [[nodiscard]] Case read_case(const core::CaseFile& file);
 [[nodiscard]] Case load_case(const std::string& path);

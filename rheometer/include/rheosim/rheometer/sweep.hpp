@@ -22,9 +22,13 @@
 //   case.yaml         the input deck as given
 //   points/point_NNNN.h5   one HDF5 file per finished point, written atomically (temporary file,
 //                     fsync, rename) the moment the point finishes; root attributes hold the
-//                     point's numbers and the deck's sha256, datasets its fields (if any)
+//                     point's numbers and the deck's sha256, datasets its fields (if any; a
+//                     liquid point: ω, p, u_r, u_z, μ, γ̇ and the cell centres of its (r, z) grid)
+//   points/point_NNNN.failed.h5   a failed point's last iterate and reason (not resumed from)
 //   sweep.h5          all points as columns, written at the end
 //   summary.json, torque.csv, …, report.html   see rheometer/report.hpp and docs/report.md
+//
+// Every rheometer case runs as a sweep (rheometer::as_sweep in case.hpp).
 //
 // Resuming: started again on the same folder, a sweep reads points/ and computes only the points
 // without a file there. Failed points are not stored, so they are tried again. A points/ folder
@@ -116,7 +120,7 @@ struct PointRunners {
 // `solver.inertia` says plus the creeping solve for comparison, and the closed-form torque.
 // Every point starts from the creeping profile (no warm start from a neighbour), so a point's
 // result does not depend on which points ran before it in the same process: a resumed sweep
-// ends with the same numbers as an uninterrupted one. `kind: rheometer` runs its points with it too.
+// ends with the same numbers as an uninterrupted one.
 [[nodiscard]] PointRunner make_swirl_point_runner(const RheometerCase& rheometer);
 // φ > 0 until the CFD-DEM coupling provides a runner: a failed point naming the reason.
 [[nodiscard]] PointRunner make_unavailable_suspension_runner();
@@ -162,11 +166,18 @@ class PointStore {
   // does not describe this point (a corrupted folder).
   [[nodiscard]] std::optional<PointResult> load(const SweepPoint& point) const;
   // Stores a finished point atomically (a kill leaves the old state or the new file, never half).
+  // Removes the point's failure file, if any.
   void store(const SweepPoint& point, const PointResult& result) const;
-  [[nodiscard]] std::filesystem::path file(const SweepPoint& point) const;
+  // Keeps a failed point's last state (its fields and the reason) in failure_file(point), which
+  // load() never reads: the point is computed again on resume.
+  void store_failure(const SweepPoint& point, const PointResult& result) const;
+  [[nodiscard]] std::filesystem::path file(const SweepPoint& point) const;          // point_NNNN.h5
+  [[nodiscard]] std::filesystem::path failure_file(const SweepPoint& point) const;  // point_NNNN.failed.h5
   [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
 
  private:
+  void write(const std::filesystem::path& path, const SweepPoint& point, const PointResult& result) const;
+
   std::filesystem::path directory_;
   std::string input_sha256_;
 };
