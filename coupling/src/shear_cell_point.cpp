@@ -14,6 +14,7 @@
 #include "rheosim/coupling/drag.hpp"
 #include "rheosim/coupling/void_fraction.hpp"
 #include "rheosim/dem/contact.hpp"
+#include "rheosim/fluid/couette_column.hpp"
 #include "rheosim/fluid/grid.hpp"
 
 namespace rheosim::coupling {
@@ -36,161 +37,6 @@ void check_settings(const ShearCellPointSettings& s) {
   if (!(s.void_fraction_floor > 0.0 && s.void_fraction_floor < 1.0))
     fail("void_fraction_floor", s.void_fraction_floor, "(0, 1)");
 }
-
-// The horizontally averaged fluid column: u_x, u_y at N_z layer centres, plates at z = 0 (rest)
-// and z = H (U along x).
-class FluidColumn {
- public:
-  FluidColumn(const ShearCellPointSettings& s, double area)
-      : rho_(s.fluid.density),
-        rheology_(s.fluid.rheology.get()),
-        gap_(s.gap),
-        n_(static_cast<std::size_t>(s.axial_cells)),
-        dz_(s.gap / s.axial_cells),
-        volume_(area * dz_),
-        plate_speed_(s.shear_rate * s.gap),
-        ux_(n_),
-        uy_(n_, 0.0),
-        eps_(n_, 1.0),
-        source_x_(n_, 0.0),
-        source_y_(n_, 0.0),
-        implicit_(n_, 0.0),
-        face_mu_(n_ + 1),
-        div_tau_x_(n_),
-        div_tau_y_(n_),
-        cell_mu_(n_) {
-    for (std::size_t k = 0; k < n_; ++k) ux_[k] = plate_speed_ * centre(k) / gap_;  // Couette start
-    update_viscosity();
-  }
-
-  [[nodiscard]] std::size_t layers() const { return n_; }
-  [[nodiscard]] double layer_height() const { return dz_; }
-  [[nodiscard]] double layer_volume() const { return volume_; }
-  [[nodiscard]] double centre(std::size_t k) const { return (static_cast<double>(k) + 0.5) * dz_; }
-  std::vector<double>& void_fraction() { return eps_; }
-
-  // u_f at height z: linear between layer centres and the plate values.
-  [[nodiscard]] Vector3 velocity_at(double z) const {
-    z = std::clamp(z, 0.0, gap_);
-    const double s = z / dz_ - 0.5;  // position in units of layers from the first centre
-    if (s <= 0.0) {
-      const double w = z / (0.5 * dz_);
-      return {w * ux_[0], w * uy_[0], 0.0};
-    }
-    if (s >= static_cast<double>(n_) - 1.0) {
-      const double w = (gap_ - z) / (0.5 * dz_);  // weight of the last centre
-      return {w * ux_[n_ - 1] + (1.0 - w) * plate_speed_, w * uy_[n_ - 1], 0.0};
-    }
-    const auto k = static_cast<std::size_t>(s);
-    const double w = s - static_cast<double>(k);
-    return {(1.0 - w) * ux_[k] + w * ux_[k + 1], (1.0 - w) * uy_[k] + w * uy_[k + 1], 0.0};
-  }
-  // ∂u/∂z at height z (x and y components): the slope of the same piecewise-linear profile.
-  [[nodiscard]] std::array<double, 2> slope_at(double z) const {
-    z = std::clamp(z, 0.0, gap_);
-    const double s = z / dz_ - 0.5;
-    if (s <= 0.0) return {ux_[0] / (0.5 * dz_), uy_[0] / (0.5 * dz_)};
-    if (s >= static_cast<double>(n_) - 1.0)
-      return {(plate_speed_ - ux_[n_ - 1]) / (0.5 * dz_), -uy_[n_ - 1] / (0.5 * dz_)};
-    const auto k = static_cast<std::size_t>(s);
-    return {(ux_[k + 1] - ux_[k]) / dz_, (uy_[k + 1] - uy_[k]) / dz_};
-  }
-  // (1/H) ∫ μ ∂u_x/∂z dz over the faces: the fluid's part of the bulk stress.
-  [[nodiscard]] double mean_fluid_stress() const {
-    double sum = 0.0;
-    for (std::size_t f = 0; f <= n_; ++f) {
-      const double below = f == 0 ? 0.0 : ux_[f - 1];
-      const double above = f == n_ ? plate_speed_ : ux_[f];
-      sum += face_mu_[f] * (above - below);
-    }
-    return sum / gap_;
-  }
-  [[nodiscard]] double cell_viscosity(std::size_t k) const { return cell_mu_[k]; }
-  [[nodiscard]] double div_tau_x(std::size_t k) const { return div_tau_x_[k]; }
-  [[nodiscard]] double div_tau_y(std::size_t k) const { return div_tau_y_[k]; }
-
-  void clear_sources() {
-    std::fill(source_x_.begin(), source_x_.end(), 0.0);
-    std::fill(source_y_.begin(), source_y_.end(), 0.0);
-    std::fill(implicit_.begin(), implicit_.end(), 0.0);
-  }
-  // Drag reaction of one particle's share w: −w β (ũ − u_p) / V with ũ the velocity the particle
-  // sampled (CD eq. 29), made implicit as −K (u^{n+1} − u^n) − w β (ũ − u_p) / V, K = Σ w β / V:
-  // the same stabilising K as the disk's exchange, but the reaction is exactly minus the drag
-  // the particles get (at steady state, and to O(u^{n+1} − u^n) otherwise), so no momentum is
-  // made by sampling ũ at the particle and u at the layer centre (particles sit below the
-  // centre of the bottom layer and above that of the top one).
-  void add_reaction(std::size_t k, double weighted_beta, const Vector3& sampled_fluid_velocity,
-                    const Vector3& particle_velocity) {
-    source_x_[k] += weighted_beta * (particle_velocity[0] - sampled_fluid_velocity[0]) / volume_;
-    source_y_[k] += weighted_beta * (particle_velocity[1] - sampled_fluid_velocity[1]) / volume_;
-    implicit_[k] += weighted_beta / volume_;
-  }
-
-  // One implicit step of ρ ε ∂u/∂t = ε ∂z(μ ∂z u) + f − K u with μ lagged.
-  void advance(double dt) {
-    solve(ux_, source_x_, plate_speed_, dt);
-    solve(uy_, source_y_, 0.0, dt);
-    wall_top_ = face_mu_[n_] * (plate_speed_ - ux_[n_ - 1]) / (0.5 * dz_);
-    wall_bottom_ = face_mu_[0] * ux_[0] / (0.5 * dz_);
-    update_viscosity();
-  }
-  [[nodiscard]] double wall_stress_top() const { return wall_top_; }
-  [[nodiscard]] double wall_stress_bottom() const { return wall_bottom_; }
-
- private:
-  // Face spacing: Δz inside, Δz/2 to a plate.
-  [[nodiscard]] double face_spacing(std::size_t face) const { return (face == 0 || face == n_) ? 0.5 * dz_ : dz_; }
-
-  void update_viscosity() {
-    std::vector<double> rate(n_ + 1);
-    for (std::size_t f = 0; f <= n_; ++f) {
-      const double below_x = f == 0 ? 0.0 : ux_[f - 1], below_y = f == 0 ? 0.0 : uy_[f - 1];
-      const double above_x = f == n_ ? plate_speed_ : ux_[f], above_y = f == n_ ? 0.0 : uy_[f];
-      rate[f] = std::hypot(above_x - below_x, above_y - below_y) / face_spacing(f);
-      face_mu_[f] = rheology_->viscosity(rate[f]);
-    }
-    for (std::size_t k = 0; k < n_; ++k) {
-      cell_mu_[k] = rheology_->viscosity(0.5 * (rate[k] + rate[k + 1]));
-      const auto flux = [&](const std::vector<double>& u, double top, std::size_t f) {
-        const double below = f == 0 ? 0.0 : u[f - 1];
-        const double above = f == n_ ? top : u[f];
-        return face_mu_[f] * (above - below) / face_spacing(f);
-      };
-      div_tau_x_[k] = (flux(ux_, plate_speed_, k + 1) - flux(ux_, plate_speed_, k)) / dz_;
-      div_tau_y_[k] = (flux(uy_, 0.0, k + 1) - flux(uy_, 0.0, k)) / dz_;
-    }
-  }
-
-  // Thomas algorithm on a_k u_{k-1} + b_k u_k + c_k u_{k+1} = d_k.
-  void solve(std::vector<double>& u, const std::vector<double>& source, double top_value, double dt) {
-    std::vector<double> lower(n_), diag(n_), upper(n_), rhs(n_);
-    for (std::size_t k = 0; k < n_; ++k) {
-      const double g_below = eps_[k] * face_mu_[k] / (face_spacing(k) * dz_);
-      const double g_above = eps_[k] * face_mu_[k + 1] / (face_spacing(k + 1) * dz_);
-      const double inertia = rho_ * eps_[k] / dt;
-      diag[k] = inertia + g_below + g_above + implicit_[k];
-      lower[k] = k == 0 ? 0.0 : -g_below;
-      upper[k] = k + 1 == n_ ? 0.0 : -g_above;
-      rhs[k] = (inertia + implicit_[k]) * u[k] + source[k] + (k + 1 == n_ ? g_above * top_value : 0.0);  // bottom: 0
-    }
-    for (std::size_t k = 1; k < n_; ++k) {
-      const double m = lower[k] / diag[k - 1];
-      diag[k] -= m * upper[k - 1];
-      rhs[k] -= m * rhs[k - 1];
-    }
-    u[n_ - 1] = rhs[n_ - 1] / diag[n_ - 1];
-    for (std::size_t k = n_ - 1; k-- > 0;) u[k] = (rhs[k] - upper[k] * u[k + 1]) / diag[k];
-  }
-
-  double rho_;
-  const core::Rheology* rheology_;
-  double gap_;
-  std::size_t n_;
-  double dz_, volume_, plate_speed_;
-  std::vector<double> ux_, uy_, eps_, source_x_, source_y_, implicit_, face_mu_, div_tau_x_, div_tau_y_, cell_mu_;
-  double wall_top_ = 0.0, wall_bottom_ = 0.0;
-};
 
 // Mean of the values and the standard error of the mean from `batches` consecutive batch means.
 std::pair<double, double> batch_mean(const std::vector<double>& values, std::size_t batches) {
@@ -327,7 +173,12 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   const double dt = settings.coupling_interval * out.dem_time_step;
   out.fluid_time_step = dt;
 
-  FluidColumn column(settings, area);
+  fluid::CouetteColumn column({.density = settings.fluid.density,
+                               .rheology = settings.fluid.rheology,
+                               .gap = settings.gap,
+                               .layers = settings.axial_cells,
+                               .plate_speed = settings.shear_rate * settings.gap,
+                               .area = area});
   // Near field on every DEM step, in the column's flow (declared after the scene and the column,
   // so it is removed first).
   std::unique_ptr<NearFieldStepHook> hook;
@@ -386,7 +237,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
       scheme->split(locator, view, map);
       std::fill(solid.begin(), solid.end(), 0.0);
       for (const auto& share : map.shares) solid[share.cell] += share.volume;
-      auto& eps = column.void_fraction();
+      const auto eps = column.void_fraction();
       bool clamped = false;
       for (std::size_t k = 0; k < column.layers(); ++k) {
         const double raw = 1.0 - solid[k] / column.layer_volume();
