@@ -42,8 +42,11 @@
 
 #include <filesystem>
 
-#include "data/ghia1982.hpp"  // tests/ldd/data
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "rheosim/core/log.hpp"
+#include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/free_surface.hpp"
@@ -160,10 +163,6 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
                cavity, solver);
 }
 
-using ldd::reference::GhiaPoint;
-
-std::vector<GhiaPoint> ghia() { return ldd::reference::ghia1982(RHEOSIM_SOURCE_DIR); }
-
 struct AccuracyOptions {
   int reynolds = 100;
   ldd::LatticeInterpolation interpolation = ldd::LatticeInterpolation::quadratic;
@@ -172,72 +171,67 @@ struct AccuracyOptions {
   std::vector<int> resolutions;
 };
 
-// The 101 + 101 centre-line points, then Ghia's 34, as cavity fractions.
-std::vector<double> accuracy_probes(const std::vector<GhiaPoint>& points) {
-  std::vector<double> probes;
-  for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {0.5, k / 100.0});
-  for (int k = 0; k <= 100; ++k) probes.insert(probes.end(), {k / 100.0, 0.5});
-  const auto ghia_probes = ldd::reference::ghia_probe_fractions(points);
-  probes.insert(probes.end(), ghia_probes.begin(), ghia_probes.end());
-  return probes;
+// u on the vertical centre line, then v on the horizontal one, from a cavity run's summary.json.
+std::vector<double> centre_line_profile(const nlohmann::json& summary) {
+  std::vector<double> profile;
+  for (const auto& p : summary["centerlines"]["vertical"]) profile.push_back(p["u"].is_number() ? p["u"].get<double>() : NAN);
+  for (const auto& p : summary["centerlines"]["horizontal"])
+    profile.push_back(p["v"].is_number() ? p["v"].get<double>() : NAN);
+  return profile;
 }
 
 double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double d = 0;
-  for (std::size_t k = 0; k < 202; ++k) {  // u on the vertical line, v on the horizontal one
-    d = std::max(d, std::abs(a[2 * k] - b[2 * k]));
-    d = std::max(d, std::abs(a[2 * k + 1] - b[2 * k + 1]));
-  }
+  for (std::size_t k = 0; k < a.size(); ++k) d = std::max(d, std::abs(a[k] - b[k]));
   return d;
 }
 
+// Each resolution is a `rheosim run` of the unit cavity (ldd::run_case into a temporary folder),
+// stopped at steady state (residual sampled every 0.25 L/U); the Ghia comparison is the run's own.
 void accuracy(const AccuracyOptions& o) {
-  omp_set_num_threads(o.threads);
-  const auto points = ghia();
-  const auto probes = accuracy_probes(points);
-  ldd::CavityScene scene;
-  scene.size = {1.0, 1.0};
-  scene.lid_velocity = 1.0;
-  const char* names[] = {"quadratic", "shepard", "gradient_corrected"};
   std::printf(
       "\nNewtonian cavity Re %d, interpolation %s, δt %g s, %d thread(s), steady residual 1e-4\n\n"
-      "| cells | steps | t [s] | status | wall ms/step | CPU ms/step | advection+interpolation ms/step | "
+      "| cells | steps | t [s] | status | wall ms/step | CPU ms/step (whole run) | advection+interpolation ms/step | "
       "u(0.5, 0.5) | v(0.5, 0.5) | max error vs Ghia | worst point |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n",
-      o.reynolds, names[static_cast<int>(o.interpolation)], o.dt, o.threads);
+      o.reynolds, ldd::name_of(o.interpolation).data(), o.dt, o.threads);
   std::vector<std::vector<double>> profiles;
   for (int cells : o.resolutions) {
-    ldd::SolverParams p;
-    p.rheology =
-        rheology(o.reynolds == 1000 ? "{model: newtonian, viscosity: 0.001}" : "{model: newtonian, viscosity: 0.01}");
-    p.spacing = 1.0 / cells;
-    p.time_step = o.dt;
-    p.interpolation = o.interpolation;
+    const std::string deck = fmt::format(
+        "kind: ldd\nname: accuracy_{0}\ndimension: 2\nscene: {{type: cavity, size: [1, 1], lid_velocity: 1}}\n"
+        "fluid: {{density: 1, rheology: {{model: newtonian, viscosity: {1}}}}}\ngravity: [0, 0]\n"
+        "resolution: {{spacing: {2:.17g}}}\ntime: {{step: {3}, end: {4}, steady_tolerance: 1.0e-4}}\n"
+        "output: {{frame_interval: {4}, probe_interval: 0.25}}\nsolver: {{threads: {5}, interpolation: {6}}}\n",
+        cells, 1.0 / o.reynolds, 1.0 / cells, o.dt, o.end, o.threads, ldd::name_of(o.interpolation));
+    const auto dir = std::filesystem::temp_directory_path() / fmt::format("rheosim_bench_accuracy_{}", cells);
+    std::filesystem::remove_all(dir);
     const std::clock_t cpu0 = std::clock();
-    const auto r = ldd::simulate_cavity(scene, p, o.end, 1e-4, probes);
-    const double cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC /
-                          static_cast<double>(std::max<std::size_t>(r.steps, 1));
+    (void)ldd::run_case(ldd::parse_case(deck, "accuracy.yaml"), dir, core::Log::null());
+    const double cpu_seconds = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+    const auto summary = core::read_json(dir / "summary.json");
+    std::filesystem::remove_all(dir);
+    const double steps = std::max(1.0, summary["steps"].get<double>());
     double worst = 0;
-    std::string where;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      const bool u_line = points[k].line == 'u';
-      const double computed = r.probe_velocity[2 * (202 + k) + (u_line ? 0 : 1)];
-      const double reference = o.reynolds == 1000 ? points[k].re1000 : points[k].re100;
-      if (std::abs(computed - reference) > worst) {
+    std::string where = "–";
+    if (summary.contains("ghia"))
+      for (const auto& g : summary["ghia"]["points"]) {
+        const double computed = g["computed"].get<double>(), reference = g["reference"].get<double>();
+        if (std::abs(computed - reference) <= worst) continue;
         worst = std::abs(computed - reference);
-        char text[96];
-        std::snprintf(text, sizeof text, "%c at %s = %.4f (%.4f vs %.4f)", points[k].line, u_line ? "y" : "x",
-                      points[k].coordinate, computed, reference);
-        where = text;
+        const std::string line = g["line"].get<std::string>();
+        where = fmt::format("{} at {} = {:.4f} ({:.4f} vs {:.4f})", line, line == "u" ? "y" : "x",
+                            g["coordinate"].get<double>(), computed, reference);
       }
-    }
-    std::printf("| %d² | %zu | %.2f | %s (residual %.1e) | %.2f | %.2f | %.2f | %.4f | %.4f | %.4f | %s |\n", cells,
-                r.steps, r.time, r.diverged ? r.message.c_str() : (r.final_residual < 1e-4 ? "steady" : "not steady"),
-                r.final_residual, r.ms_per_step, cpu_ms,
-                1e3 * r.phases.advection / static_cast<double>(std::max<std::size_t>(r.steps, 1)),
-                r.probe_velocity[2 * 50], r.probe_velocity[2 * 151 + 1], worst, where.c_str());
+    const auto profile = centre_line_profile(summary);
+    std::printf("| %d² | %.0f | %.2f | %s (residual %.1e) | %.2f | %.2f | %.2f | %.4f | %.4f | %.4f | %s |\n", cells,
+                steps, summary["time"].get<double>(),
+                summary["status"] == "diverged" ? summary.value("message", "diverged").c_str()
+                                                : summary["status"].get<std::string>().c_str(),
+                summary["final_residual"].get<double>(), summary["ms_per_step"].get<double>(),
+                1e3 * cpu_seconds / steps, 1e3 * summary["phase_seconds"]["advection"].get<double>() / steps,
+                profile[50], profile[101 + 50], worst, where.c_str());
     std::fflush(stdout);
-    profiles.push_back(r.probe_velocity);
+    profiles.push_back(profile);
   }
   if (profiles.size() < 2) return;
   std::printf("\n| cells | max |Δu|, |Δv| vs %d² (202 centre-line points) | vs the next finer |\n| --- | --- | --- |\n",

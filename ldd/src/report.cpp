@@ -93,6 +93,12 @@ RunSummary read_run_summary(const fs::path& summary_json) {
   } else {
     s.reynolds_number = r.number("reynolds_number");
     s.final_residual = r.number("final_residual");
+    if (r.has("ghia")) {  // a square Newtonian cavity at a Reynolds number Ghia et al. tabulate
+      const core::SummaryReader ghia(r.at("ghia"), summary_json, "a cavity compared with Ghia et al. (1982)",
+                                     std::string(summary_hint), "ghia");
+      s.ghia_reynolds = ghia.number("reynolds");
+      s.ghia_max_error = ghia.number("max_error");
+    }
   }
   return s;
 }
@@ -203,6 +209,10 @@ ReportFiles write_report(const fs::path& run_dir) {
   } else {
     row("Reynolds number", fmt::format("{:.4g}", s.reynolds_number));
     row("final steady residual", fmt::format("{:.3g}", s.final_residual));
+    if (s.ghia_reynolds)
+      row("centre lines against Ghia et al. (1982)",
+          fmt::format("Re = {:g}: max |error| {:.4f} U over their 34 points (ghia.csv)", *s.ghia_reynolds,
+                      *s.ghia_max_error));
   }
   html += "</table>\n";
   if (!s.warnings.empty()) {

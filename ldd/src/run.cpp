@@ -16,6 +16,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
+#include "rheosim/ldd/cavity_reference.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/solver.hpp"
 #include "run_summary.hpp"
@@ -175,6 +176,37 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
   }
 }
 
+
+// The centre-line velocities at Ghia's points against their table (cavity_reference.hpp):
+// summary.json `ghia` and ghia.csv.
+nlohmann::ordered_json compare_with_ghia(const Solver& solver, const Cavity& cavity, int reynolds,
+                                         const std::filesystem::path& dir) {
+  const auto table = ghia_1982();
+  std::vector<double> points;
+  for (const auto& g : table) {
+    const Vec2 p = g.line == 'u' ? cavity.point(0.5, g.coordinate) : cavity.point(g.coordinate, 0.5);
+    points.insert(points.end(), {p[0], p[1]});
+  }
+  const std::vector<double> velocity = solver.sample_velocity(points);
+  const double lid = cavity.lid_velocity();
+  core::CsvTable csv({{"coordinate", ""}, {"computed", ""}, {"reference", ""}, {"error", ""}},
+                     core::CsvTable::Column{"line", ""});
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  double max_error = 0;
+  for (std::size_t k = 0; k < table.size(); ++k) {
+    const auto& g = table[k];
+    const double computed = velocity[2 * k + (g.line == 'u' ? 0 : 1)] / lid;
+    const double error = computed - g.at(reynolds);
+    max_error = std::max(max_error, std::isfinite(error) ? std::abs(error) : std::numeric_limits<double>::infinity());
+    csv.add_row({g.coordinate, computed, g.at(reynolds), error}, std::string(1, g.line));
+    rows.push_back({{"line", std::string(1, g.line)},
+                    {"coordinate", g.coordinate},
+                    {"computed", computed},
+                    {"reference", g.at(reynolds)}});
+  }
+  core::write_csv(dir / "ghia.csv", csv);
+  return {{"reynolds", reynolds}, {"max_error", max_error}, {"points", rows}};
+}
 }  // namespace
 
 RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
@@ -308,6 +340,11 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   summary["final_residual"] = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   summary["centerlines"] = {{"vertical", vertical_json}, {"horizontal", horizontal_json}};
+  if (const auto ghia_re = ghia_reynolds(*scene, l.fluid)) {
+    summary["ghia"] = compare_with_ghia(solver, cavity, *ghia_re, out_dir);
+    log.info("centre lines against Ghia et al. (1982) at Re = {}: max |error| {:.4f} U over their 34 points",
+             *ghia_re, summary["ghia"]["max_error"].get<double>());
+  }
   {  // every rule the run bent
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
     if (pressure_unconverged + velocity_unconverged > 0)
@@ -329,51 +366,6 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step; summary: {}", outcome.status, outcome.steps,
            solver.time(), outcome.ms_per_step, outcome.summary.string());
   return outcome;
-}
-
-CavityResult simulate_cavity(const ldd::CavityScene& scene, const SolverParams& params, double end_time,
-                             double steady_tolerance, std::span<const double> probe_fractions) {
-  const Cavity cavity(scene, params.spacing);
-  Solver solver(params, cavity.walls(), cavity.initial_cloud());
-  std::vector<double> probes;
-  for (std::size_t k = 0; k + 1 < probe_fractions.size(); k += 2) {
-    const Vec2 p = cavity.point(probe_fractions[k], probe_fractions[k + 1]);
-    probes.insert(probes.end(), {p[0], p[1]});
-  }
-  const double lid = std::abs(scene.lid_velocity) > 0 ? std::abs(scene.lid_velocity) : 1.0;
-  const double convective_time = cavity.width() / lid;
-  const auto total_steps = static_cast<std::size_t>(std::llround(end_time / params.time_step));
-  const auto probe_every =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(0.25 * convective_time / params.time_step)));
-  CavityResult result;
-  result.nodes = solver.node_count();
-  std::vector<double> last = solver.sample_velocity(probes);
-  double last_time = 0, seconds = 0;
-  int quiet = 0;
-  for (std::size_t k = 1; k <= total_steps; ++k) {
-    if (!detail::timed_step_into(solver, result, seconds)) break;
-    if (k % probe_every != 0) continue;
-    const std::vector<double> now = solver.sample_velocity(probes);
-    double change = 0;
-    for (std::size_t i = 0; i < now.size(); ++i) change = std::max(change, std::abs(now[i] - last[i]) / lid);
-    result.final_residual = change / ((solver.time() - last_time) / convective_time);
-    last = now;
-    last_time = solver.time();
-    if (!(result.final_residual < blow_up_residual)) {
-      result.diverged = true;
-      result.message =
-          fmt::format("steady-state residual {:.3g} at t = {:.6g} s", result.final_residual, solver.time());
-      break;
-    }
-    quiet = (steady_tolerance > 0 && result.final_residual < steady_tolerance) ? quiet + 1 : 0;
-    if (quiet >= 3) break;
-  }
-  result.steps = solver.steps();
-  result.time = solver.time();
-  result.ms_per_step = result.steps > 0 ? 1e3 * seconds / static_cast<double>(result.steps) : 0.0;
-  result.probe_velocity = solver.sample_velocity(probes);
-  result.phases = solver.phase_times();
-  return result;
 }
 
 }  // namespace rheosim::ldd

@@ -2,6 +2,8 @@
 // from its typed summary, and the summary reader names what is missing or of another kind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +15,7 @@
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
+#include "rheosim/ldd/cavity_reference.hpp"
 #include "rheosim/ldd/report.hpp"
 #include "rheosim/ldd/run.hpp"
 
@@ -145,6 +148,71 @@ TEST(LddReportReferences, AWaterColumnIsComparedWithMartinAndMoyce) {
   EXPECT_FALSE(std::filesystem::exists(dir / "martin_moyce.csv"));
   EXPECT_NE(read_text(write_report(dir).html).find("rheosim LDD report"), std::string::npos);
   std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rheosim::ldd
+
+namespace rheosim::ldd {
+namespace {
+
+// A short Re = 100 cavity (16², 0.2 s) compares itself with Ghia et al.'s table: summary.json
+// `ghia` with one computed value per tabulated point, ghia.csv, and a report row; a Re = 400 one
+// (no table) does not.
+TEST(LddReportReferences, ASquareNewtonianCavityIsComparedWithGhia) {
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_report_ghia";
+  std::filesystem::remove_all(dir);
+  const auto deck = [](const char* viscosity) {
+    return std::string("kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+                       "fluid: {density: 1, rheology: {model: newtonian, viscosity: ") +
+           viscosity + "}}\ngravity: [0, 0]\nresolution: {spacing: 0.0625}\ntime: {step: 0.01, end: 0.2}\n" +
+           "solver: {threads: 1}\n";
+  };
+  ASSERT_EQ(run_case(ldd::parse_case(deck("0.01"), "ghia_cavity.yaml"), dir, core::Log::null()).status, "end_time");
+  const auto json = core::read_json(dir / "summary.json");
+  ASSERT_TRUE(json.contains("ghia"));
+  EXPECT_EQ(json["ghia"]["reynolds"], 100);
+  ASSERT_EQ(json["ghia"]["points"].size(), 34u);
+  double largest = 0;
+  for (const auto& p : json["ghia"]["points"])
+    largest = std::max(largest, std::abs(p["computed"].get<double>() - p["reference"].get<double>()));
+  EXPECT_DOUBLE_EQ(json["ghia"]["max_error"].get<double>(), largest);
+  EXPECT_EQ(core::read_csv(dir / "ghia.csv", true).row_count(), 34u);
+  const RunSummary s = read_run_summary(dir / "summary.json");
+  ASSERT_TRUE(s.ghia_max_error.has_value());
+  EXPECT_EQ(*s.ghia_max_error, largest);
+  EXPECT_NE(read_text(write_report(dir).html).find("centre lines against Ghia et al. (1982)"), std::string::npos);
+
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(run_case(ldd::parse_case(deck("0.0025"), "re400_cavity.yaml"), dir, core::Log::null()).status, "end_time");
+  EXPECT_FALSE(core::read_json(dir / "summary.json").contains("ghia"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "ghia.csv"));
+  EXPECT_FALSE(read_run_summary(dir / "summary.json").ghia_max_error.has_value());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(GhiaReference, OnlyASquareNewtonianCavityAtATabulatedReynoldsNumber) {
+  const auto fluid = [](const std::string& rheology) {
+    return ldd::parse_case("kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+                           "fluid: {density: 1, rheology: " +
+                               rheology + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n",
+                           "f.yaml")
+        .settings.fluid;
+  };
+  const auto water = fluid("{model: newtonian, viscosity: 0.001}");
+  CavityScene square{{2.0, 2.0}, 0.5, 0.0};  // ρUL/μ = 1000
+  EXPECT_EQ(ghia_reynolds(square, water), 1000);
+  EXPECT_EQ(ghia_reynolds(square, fluid("{model: newtonian, viscosity: 0.0010049}")), 1000);  // within 0.5 %
+  EXPECT_FALSE(ghia_reynolds(square, fluid("{model: newtonian, viscosity: 0.00101}")));
+  EXPECT_FALSE(ghia_reynolds(square, fluid("{model: casson, plastic_viscosity: 0.001, yield_stress: 1.0e-4, "
+                                           "regularization: 1000}")));
+  CavityScene tall = square;
+  tall.size = {2.0, 1.0};
+  EXPECT_FALSE(ghia_reynolds(tall, water));
+  CavityScene skewed = square;
+  skewed.skew_angle = 0.5;
+  EXPECT_FALSE(ghia_reynolds(skewed, water));
+  EXPECT_EQ(ghia_1982().size(), 34u);
 }
 
 }  // namespace

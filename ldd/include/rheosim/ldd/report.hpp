@@ -32,6 +32,9 @@ struct RunSummary {
   std::optional<double> thin_film_length, thin_film_front, thin_film_error;
   // Cavity runs.
   double reynolds_number = 0, final_residual = 0;
+  // A square cavity of a Newtonian liquid at Re = 100 or 1000: its centre lines against Ghia et
+  // al. (1982) (cavity_reference.hpp), the largest difference in units of the lid speed.
+  std::optional<double> ghia_reynolds, ghia_max_error;
 };
 
 // Reads <summary_json>; a missing key, or one of the wrong type, is a core::ConfigError naming

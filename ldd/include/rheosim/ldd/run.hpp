@@ -17,6 +17,9 @@
 //   field.vtk                       final velocity and stream function ψ on a structured grid
 //                                   (ParaView: Stream Tracer or contours of psi for streamlines)
 //   centerlines.gp, centerlines.png gnuplot script (kept to restyle) and its plot; streamlines.gp/.png
+//   ghia.csv                        a square cavity of a Newtonian liquid at Re = 100 or 1000: the
+//                                   centre-line velocities at Ghia et al.'s points against their
+//                                   table (cavity_reference.hpp); summary.json `ghia` holds the same
 //   log.txt                         (written by the caller's Log)
 // The steady-state residual is max over the centre-line probes of |Δu|/U per unit of L/U time
 // between two samples. On divergence (NaN, Courant number, failed solves, residual > 1e3) the
@@ -64,21 +67,6 @@ struct RunControl {
 
 RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
                     const RunControl& control = {});
-
-// A cavity run without files, for validation tests and benchmarks: steps until end_time or until
-// the steady residual (as above, sampled every 0.25 L/U) stays below steady_tolerance (0: never)
-// for three samples, then returns the velocity at the probes, given as cavity-coordinate
-// fractions (ξ/W, η/S) interleaved.
-struct CavityResult {
-  std::size_t nodes = 0, steps = 0;
-  double time = 0, ms_per_step = 0, final_residual = 0;
-  bool diverged = false;
-  std::string message;
-  std::vector<double> probe_velocity;  // u, v per probe [m/s]
-  PhaseTimes phases;
-};
-[[nodiscard]] CavityResult simulate_cavity(const ldd::CavityScene& scene, const SolverParams& params, double end_time,
-                                           double steady_tolerance, std::span<const double> probe_fractions);
 
 // ---------------------------------------------------------------- free-surface scenes
 // run_case() runs dam_break, slump and column scenes with the FreeSurfaceSolver and writes
