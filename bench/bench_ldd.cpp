@@ -174,7 +174,8 @@ struct AccuracyOptions {
 // u on the vertical centre line, then v on the horizontal one, from a cavity run's summary.json.
 std::vector<double> centre_line_profile(const nlohmann::json& summary) {
   std::vector<double> profile;
-  for (const auto& p : summary["centerlines"]["vertical"]) profile.push_back(p["u"].is_number() ? p["u"].get<double>() : NAN);
+  for (const auto& p : summary["centerlines"]["vertical"])
+    profile.push_back(p["u"].is_number() ? p["u"].get<double>() : NAN);
   for (const auto& p : summary["centerlines"]["horizontal"])
     profile.push_back(p["v"].is_number() ? p["v"].get<double>() : NAN);
   return profile;

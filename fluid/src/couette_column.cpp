@@ -87,7 +87,8 @@ void CouetteColumn::clear_sources() {
   std::fill(implicit_.begin(), implicit_.end(), 0.0);
 }
 
-void CouetteColumn::add_reaction(std::size_t k, double weighted_beta, const std::array<double, 3>& sampled_fluid_velocity,
+void CouetteColumn::add_reaction(std::size_t k, double weighted_beta,
+                                 const std::array<double, 3>& sampled_fluid_velocity,
                                  const std::array<double, 3>& particle_velocity) {
   source_x_[k] += weighted_beta * (particle_velocity[0] - sampled_fluid_velocity[0]) / volume_;
   source_y_[k] += weighted_beta * (particle_velocity[1] - sampled_fluid_velocity[1]) / volume_;

@@ -8,6 +8,8 @@ namespace rheosim::ldd {
 
 namespace {
 
+// One tabulated point a line: line, coordinate, Re = 100, Re = 1000.
+// clang-format off
 constexpr std::array<GhiaPoint, 34> table{{
     {'u', 1.0000, 1.00000, 1.00000},
     {'u', 0.9766, 0.84123, 0.65928},
@@ -44,6 +46,7 @@ constexpr std::array<GhiaPoint, 34> table{{
     {'v', 0.0625, 0.09233, 0.27485},
     {'v', 0.0000, 0.00000, 0.00000},
 }};
+// clang-format on
 
 }  // namespace
 

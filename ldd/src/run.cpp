@@ -176,7 +176,6 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
   }
 }
 
-
 // The centre-line velocities at Ghia's points against their table (cavity_reference.hpp):
 // summary.json `ghia` and ghia.csv.
 nlohmann::ordered_json compare_with_ghia(const Solver& solver, const Cavity& cavity, int reynolds,
@@ -342,8 +341,8 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   summary["centerlines"] = {{"vertical", vertical_json}, {"horizontal", horizontal_json}};
   if (const auto ghia_re = ghia_reynolds(*scene, l.fluid)) {
     summary["ghia"] = compare_with_ghia(solver, cavity, *ghia_re, out_dir);
-    log.info("centre lines against Ghia et al. (1982) at Re = {}: max |error| {:.4f} U over their 34 points",
-             *ghia_re, summary["ghia"]["max_error"].get<double>());
+    log.info("centre lines against Ghia et al. (1982) at Re = {}: max |error| {:.4f} U over their 34 points", *ghia_re,
+             summary["ghia"]["max_error"].get<double>());
   }
   {  // every rule the run bent
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();

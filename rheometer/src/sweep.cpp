@@ -529,8 +529,9 @@ SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& 
       if (!result.fields.empty()) store.store_failure(point, result);  // its last iterate, for diagnosis
       if (failure_reasons.insert(result.failure).second)
         log.error("{} failed: {}{}", label, result.failure,
-                  result.fields.empty() ? std::string()
-                                        : fmt::format("; its last iterate is in {}", store.failure_file(point).string()));
+                  result.fields.empty()
+                      ? std::string()
+                      : fmt::format("; its last iterate is in {}", store.failure_file(point).string()));
       else
         log.debug("{} failed: {}", label, result.failure);  // the same reason as an earlier point
     }

@@ -26,7 +26,11 @@ std::shared_ptr<const core::Rheology> law(const std::string& yaml) {
 constexpr double gap = 1e-3;  // H [m]
 
 CouetteColumnParams params(std::shared_ptr<const core::Rheology> rheology, int layers, double plate_speed) {
-  return {.density = 1000, .rheology = std::move(rheology), .gap = gap, .layers = layers, .plate_speed = plate_speed,
+  return {.density = 1000,
+          .rheology = std::move(rheology),
+          .gap = gap,
+          .layers = layers,
+          .plate_speed = plate_speed,
           .area = 1e-6};
 }
 

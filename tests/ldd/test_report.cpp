@@ -163,8 +163,9 @@ TEST(LddReportReferences, ASquareNewtonianCavityIsComparedWithGhia) {
   const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_report_ghia";
   std::filesystem::remove_all(dir);
   const auto deck = [](const char* viscosity) {
-    return std::string("kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
-                       "fluid: {density: 1, rheology: {model: newtonian, viscosity: ") +
+    return std::string(
+               "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+               "fluid: {density: 1, rheology: {model: newtonian, viscosity: ") +
            viscosity + "}}\ngravity: [0, 0]\nresolution: {spacing: 0.0625}\ntime: {step: 0.01, end: 0.2}\n" +
            "solver: {threads: 1}\n";
   };
@@ -193,10 +194,11 @@ TEST(LddReportReferences, ASquareNewtonianCavityIsComparedWithGhia) {
 
 TEST(GhiaReference, OnlyASquareNewtonianCavityAtATabulatedReynoldsNumber) {
   const auto fluid = [](const std::string& rheology) {
-    return ldd::parse_case("kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
-                           "fluid: {density: 1, rheology: " +
-                               rheology + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n",
-                           "f.yaml")
+    return ldd::parse_case(
+               "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+               "fluid: {density: 1, rheology: " +
+                   rheology + "}\ngravity: [0, 0]\nresolution: {spacing: 0.1}\ntime: {step: 1, end: 1}\n",
+               "f.yaml")
         .settings.fluid;
   };
   const auto water = fluid("{model: newtonian, viscosity: 0.001}");

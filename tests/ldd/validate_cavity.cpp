@@ -42,7 +42,8 @@ nlohmann::json run_cavity(const std::string& name, const std::string& rheology, 
   auto summary = core::read_json(dir / "summary.json");
   std::printf("[ measured ] %s, %d² cells, δt %g: %s at t = %.2f s (%d steps, residual %.1e), %.2f ms/step%s\n",
               name.c_str(), cells, dt, summary["status"].get<std::string>().c_str(), summary["time"].get<double>(),
-              summary["steps"].get<int>(), summary["final_residual"].get<double>(), summary["ms_per_step"].get<double>(),
+              summary["steps"].get<int>(), summary["final_residual"].get<double>(),
+              summary["ms_per_step"].get<double>(),
               summary.contains("ghia")
                   ? fmt::format(", max |error| vs Ghia = {:.4f}", summary["ghia"]["max_error"].get<double>()).c_str()
                   : "");
@@ -80,9 +81,9 @@ TEST(CavityValidation, Re1000ReachesSteadyStateNearGhia) {
 
 TEST(CavityValidation, BinghamNumber10RunsWithoutNaN) {
   // Bn = τ₀L/(μ∞U) = 10 at Re = 100: μ∞ = 0.01 Pa·s, τ₀ = 0.1 Pa (LDD eqs. 7, 21–22).
-  const auto run = run_cavity(
-      "bingham_bn10", "{model: bingham, plastic_viscosity: 0.01, yield_stress: 0.1, regularization: 1000}", 32, 0.01,
-      10.0);
+  const auto run =
+      run_cavity("bingham_bn10", "{model: bingham, plastic_viscosity: 0.01, yield_stress: 0.1, regularization: 1000}",
+                 32, 0.01, 10.0);
   ASSERT_NE(run["status"], "diverged") << run.value("message", "");
   EXPECT_FALSE(run.contains("ghia")) << "Ghia's table is for Newtonian liquids";
   for (const auto& line : {"vertical", "horizontal"})

@@ -219,11 +219,11 @@ TEST(Sweep, ARheometerCaseRunsAsTheSweepOfItsVolumeFractions) {
 // law), its fields with the grid in its point file, and a second run into the same folder
 // computes nothing and reports the same torques.
 TEST(Sweep, ARheometerCaseStoresItsPointsAndResumes) {
-  const auto c = rheometer::as_sweep(rheometer::parse_case(
-      "kind: rheometer\nname: one\ngeometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
-      "fluid: {density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}\n"
-      "shear_rates: [50, 100]\nsolver: {radial_cells: 12, axial_cells: 8, inertia: true}\n",
-      "rheometer.yaml"));
+  const auto c = rheometer::as_sweep(
+      rheometer::parse_case("kind: rheometer\nname: one\ngeometry: {type: parallel_plate, radius: 0.015, gap: 0.0005}\n"
+                            "fluid: {density: 1000, rheology: {model: power_law, consistency: 1.0e-3, index: 0.6}}\n"
+                            "shear_rates: [50, 100]\nsolver: {radial_cells: 12, axial_cells: 8, inertia: true}\n",
+                            "rheometer.yaml"));
   const auto& r = std::get<rheometer::SweepCase>(c.spec).rheometer;
   const fs::path out = fresh_dir("rheometer_case");
   const auto first = rheometer::run_sweep(c, out, core::Log::null(), rheometer::default_point_runners(r));
