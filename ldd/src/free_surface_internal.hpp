@@ -2,6 +2,8 @@
 // Small helpers shared by the free-surface solver's translation units (free_surface*.cpp).
 #include <cstddef>
 
+#include "rheosim/ldd/free_surface.hpp"
+
 namespace rheosim::ldd::detail {
 
 // |a − b|² of two points with dim coordinates each.
@@ -9,6 +11,24 @@ namespace rheosim::ldd::detail {
   double s = 0;
   for (std::size_t d = 0; d < dim; ++d) s += (a[d] - b[d]) * (a[d] - b[d]);
   return s;
+}
+
+// The kind's name in messages ("free-surface", "idle wall", …).
+[[nodiscard]] inline const char* kind_name(FreeNode k) {
+  switch (k) {
+    case FreeNode::interior:
+      return "interior";
+    case FreeNode::surface:
+      return "free-surface";
+    case FreeNode::splash:
+      return "splash";
+    case FreeNode::wall:
+      return "wall";
+    case FreeNode::corner:
+      return "corner";
+    default:
+      return "idle wall";
+  }
 }
 
 }  // namespace rheosim::ldd::detail

@@ -278,6 +278,25 @@ class FreeSurfaceSolver {
   [[nodiscard]] std::size_t neighbour_searches() const { return candidate_searches_; }
 
  private:
+  struct LinearSolves;  // free_surface_step.cpp
+  // What the velocity correction leaves for the divergence checks.
+  struct Correction {
+    bool finite = true;       // every velocity and pressure finite
+    double max_speed = 0;     // over interior and surface nodes [m/s]
+    std::size_t fastest = 0;  // the node that has it
+  };
+  // The phases of step(), in order (free_surface_step.cpp).
+  void update_operators(FreeSurfaceStats& stats);
+  void update_viscosity();
+  bool solve_momentum(double next_time, LinearSolves& solves, FreeSurfaceStats& stats);
+  numerics::KrylovResult solve_pressure(LinearSolves& solves, FreeSurfaceStats& stats);
+  Correction correct_velocity();
+  void check_divergence(double next_time, const Correction& correction, const numerics::KrylovResult& pressure,
+                        bool velocity_converged, FreeSurfaceStats& stats) const;
+  void commit_and_advect(double next_time);
+  [[nodiscard]] double largest_pbd_shift() const;
+  void velocity_gradient_of(std::span<const double> velocity, std::span<double> gradient) const;
+
   void rebuild_neighbours();
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
@@ -313,6 +332,7 @@ class FreeSurfaceSolver {
   numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
   std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, increment_gradient_;
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
+  std::vector<double> new_pressure_;       // p_n until the step commits
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
   std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
   std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)

@@ -1,0 +1,502 @@
+// One free-surface step (free_surface.hpp, steps 1–7), one private method per phase.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "free_surface_internal.hpp"
+#include "rheosim/ldd/free_surface.hpp"
+
+namespace rheosim::ldd {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+double norm_of(const std::vector<double>& g) {
+  return std::sqrt(std::inner_product(g.begin(), g.end(), g.begin(), 0.0));
+}
+
+}  // namespace
+
+// The linear solves' settings and factors of one step: the stability probe reuses them after the
+// pressure solve.
+struct FreeSurfaceSolver::LinearSolves {
+  numerics::SparseLu momentum_lu, pressure_lu, pressure_direct;
+  numerics::KrylovSettings velocity, pressure;
+};
+
+FreeSurfaceStats FreeSurfaceSolver::step() {
+  FreeSurfaceStats stats;
+  const double next_time = time_ + params_.time_step;
+  LinearSolves solves;
+
+  auto t0 = Clock::now();
+  update_operators(stats);  // 1
+  times_.operators += seconds_since(t0);
+
+  t0 = Clock::now();
+  update_viscosity();  // 2
+  times_.rheology += seconds_since(t0);
+
+  t0 = Clock::now();
+  const bool velocity_converged = solve_momentum(next_time, solves, stats);  // 3
+  times_.momentum += seconds_since(t0);
+
+  t0 = Clock::now();
+  const numerics::KrylovResult pressure = solve_pressure(solves, stats);  // 4
+  if (params_.stability_probe_iterations > 0) probe_step_map(solves.velocity, solves.pressure, stats);
+  const Correction correction = correct_velocity();
+  times_.pressure += seconds_since(t0);
+
+  check_divergence(next_time, correction, pressure, velocity_converged, stats);  // 5
+
+  t0 = Clock::now();
+  commit_and_advect(next_time);  // 6
+  times_.advection += seconds_since(t0);
+
+  t0 = Clock::now();
+  rebuild_neighbours();
+  times_.neighbours += seconds_since(t0);
+
+  t0 = Clock::now();
+  reorder(velocity_gradient_);  // 7
+  stats.max_pbd_shift = largest_pbd_shift();
+  times_.reordering += seconds_since(t0);
+  return stats;
+}
+
+// 1. Operators (eqs. 13–16) and the free-surface classification.
+void FreeSurfaceSolver::update_operators(FreeSurfaceStats& stats) {
+  build_operators(positions_, dim_, neighbours_,
+                  OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient}, operators_);
+  keep_laplacian_positive();
+  last_kinds_ = kinds_;
+  classify();
+  regradient_for_boundary_values();
+  stats.positivity_guarded = laplacian_guarded_;
+  for (std::size_t i = 0; i < kinds_.size(); ++i) {
+    stats.surface_nodes += kinds_[i] == FreeNode::surface ? 1 : 0;
+    stats.splash_nodes += kinds_[i] == FreeNode::splash ? 1 : 0;
+  }
+}
+
+// ∇u (eq. 14) of a velocity field on the current operators.
+void FreeSurfaceSolver::velocity_gradient_of(std::span<const double> u, std::span<double> out) const {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const std::size_t dd = dim * dim;
+  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double grad[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // grad[a·dim + b] = ∂u_a/∂x_b
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      for (std::size_t a = 0; a < dim; ++a) {
+        const double du = u[dim * j + a] - u[dim * i + a];
+        for (std::size_t b = 0; b < dim; ++b) grad[a * dim + b] += ops.gradient[k * dim + b] * du;
+      }
+    }
+    for (std::size_t c = 0; c < dd; ++c) out[dd * i + c] = grad[c];
+  }
+}
+
+// 2. ∇u (eq. 14), γ̇ = √(2E:E) (eq. 5), μ(γ̇), explicit ∇·(μ(∇u)ᵀ).
+void FreeSurfaceSolver::update_viscosity() {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const std::size_t n = kinds_.size(), dd = dim * dim;
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  velocity_gradient_.assign(dd * n, 0.0);
+  velocity_gradient_of(velocity_, velocity_gradient_);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* grad = &velocity_gradient_[dd * i];
+    double e2 = 0;  // E:E
+    for (std::size_t a = 0; a < dim; ++a)
+      for (std::size_t b = 0; b < dim; ++b) {
+        const double e = 0.5 * (grad[a * dim + b] + grad[b * dim + a]);
+        e2 += e * e;
+      }
+    shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
+  }
+  params_.rheology->viscosity(shear_rate_, viscosity_);
+  // Optional (SolverParams::transpose_stress): (∇·(μ(∇u)ᵀ))_a = Σ_b ∂_b(μ ∂u_b/∂x_a) explicit, on
+  // interior nodes. Off by default: explicit, it is unstable once δt μ_max/(ρΔ²) ≫ 1 (Bingham
+  // m = 1000 s: μ_max = 25 025 Pa·s, ratio ~10²–10³) — the dam break blew up within 0.35 s with
+  // it (docs/ldd.md). It vanishes for constant μ.
+  transpose_stress_.assign(dim * n, 0.0);
+  stress_component_.resize(n);
+  stress_gradient_.resize(dim * n);
+  if (params_.transpose_stress) {
+    for (std::size_t b = 0; b < dim; ++b)
+      for (std::size_t a = 0; a < dim; ++a) {
+        for (std::size_t i = 0; i < n; ++i)
+          stress_component_[i] = viscosity_[i] * velocity_gradient_[dd * i + b * dim + a];
+        gradient(nb, ops, stress_component_, stress_gradient_);
+        for (std::size_t i = 0; i < n; ++i)
+          if (kinds_[i] == FreeNode::interior) transpose_stress_[dim * i + a] += stress_gradient_[dim * i + b];
+      }
+  }
+}
+
+// 3. Semi-implicit momentum (eq. 19), one solve per component, into new_velocity_. Returns
+// whether every component's solve converged.
+bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, FreeSurfaceStats& stats) {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const std::size_t n = kinds_.size();
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  const double dt = params_.time_step, rho = params_.density;
+  const std::vector<double>& g = params_.gravity;
+  const double g_norm = norm_of(g);
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  pressure_gradient_.resize(dim * n);
+  impose_boundary_pressure();
+  gradient(nb, ops, previous_pressure_, pressure_gradient_);
+  momentum_matrix_.pattern = &nb;
+  momentum_matrix_.diagonal.resize(n);
+  momentum_matrix_.off_diagonal.resize(nb.pair_count());
+  rhs_.assign(dim * n, 0.0);  // component-major: rhs_[d·n + i]
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    const FreeNode kind = kinds_[i];
+    if (kind == FreeNode::interior || kind == FreeNode::surface) {
+      double sum = 0;
+      for (std::size_t k = begin; k < end; ++k) {
+        const double c = dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
+        momentum_matrix_.off_diagonal[k] = -c;
+        sum += c;
+      }
+      momentum_matrix_.diagonal[i] = rho + sum;
+      for (std::size_t d = 0; d < dim; ++d)
+        rhs_[d * n + i] = rho * velocity_[dim * i + d] +
+                          dt * (-pressure_gradient_[dim * i + d] + rho * g[d] + transpose_stress_[dim * i + d]);
+      continue;
+    }
+    for (std::size_t k = begin; k < end; ++k) momentum_matrix_.off_diagonal[k] = 0.0;
+    if (kind == FreeNode::splash) {  // ballistic: too few neighbours for the operators
+      momentum_matrix_.diagonal[i] = rho;
+      for (std::size_t d = 0; d < dim; ++d) rhs_[d * n + i] = rho * (velocity_[dim * i + d] + dt * g[d]);
+    } else {  // wall: no slip at the wall's velocity (Dirichlet)
+      momentum_matrix_.diagonal[i] = 1.0;
+      double v[3] = {0, 0, 0};
+      const Boundary* boundary =
+          boundary_of_[i] >= 0 ? boundaries_[static_cast<std::size_t>(boundary_of_[i])].get() : nullptr;
+      if (boundary) boundary->velocity(next_time, std::span<double>(v, dim));
+      if (boundary && boundary->slip()) {
+        // Free slip: the wall's normal velocity plus the tangential part of the fluid's (Shepard
+        // average of the fluid neighbours' u_{n−1}, eq. 12); the fluid's own normal velocity
+        // where it leaves the wall (below).
+        double mean[3] = {0, 0, 0}, wsum = 0;
+        for (std::size_t k = begin; k < end; ++k) {
+          const std::size_t j = nb.indices[k];
+          if (kinds_[j] != FreeNode::interior && kinds_[j] != FreeNode::surface) continue;
+          wsum += ops.weights[k];
+          for (std::size_t d = 0; d < dim; ++d) mean[d] += ops.weights[k] * velocity_[dim * j + d];
+        }
+        if (wsum > 0) {
+          const double* normal = &normals_[dim * i];
+          double relative_normal = 0;
+          for (std::size_t d = 0; d < dim; ++d) {
+            mean[d] = mean[d] / wsum - v[d];
+            relative_normal += mean[d] * normal[d];
+          }
+          // Unilateral contact: a wall can push the fluid but not pull it. Where the fluid's
+          // normal velocity leaves the wall (relative_normal > 0: the rising mould's slanted side
+          // receding from resting concrete, or concrete sinking away from its overhang) the wall
+          // node takes the fluid's whole velocity. Imposing the recession (0.0164 m/s on the
+          // mould) demanded an expansion of 0.4 /s that only suction could supply, and the
+          // no-tension clip turned that into p = 0 in the whole cake (docs/ldd.md).
+          const double held = relative_normal > 0 ? 0.0 : relative_normal;
+          for (std::size_t d = 0; d < dim; ++d) v[d] += mean[d] - held * normal[d];
+        }
+      }
+      for (std::size_t d = 0; d < dim; ++d) rhs_[d * n + i] = v[d];
+    }
+  }
+  new_velocity_.resize(dim * n);
+  component_.resize(n);
+  const double sqrt_n = std::sqrt(static_cast<double>(n));
+  numerics::KrylovSettings& velocity_settings = solves.velocity;
+  velocity_settings = {params_.velocity_tolerance,
+                       params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
+                       params_.max_iterations,
+                       {}};
+  if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
+      solves.momentum_lu.factorise(momentum_matrix_))
+    velocity_settings.preconditioner = solves.momentum_lu.as_preconditioner();
+  const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
+  bool velocity_hierarchy_fresh = false;
+  if (velocity_amg) {
+    velocity_hierarchy_fresh = velocity_amg_.prepare(momentum_matrix_);
+    velocity_settings.preconditioner = velocity_amg_.as_preconditioner();
+  }
+  bool velocity_converged = true;
+  int most_velocity_iterations = 0;
+  for (std::size_t d = 0; d < dim; ++d) {
+    for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
+    auto result = numerics::bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
+                                     velocity_settings, krylov_);
+    if (!result.converged && velocity_amg && !velocity_hierarchy_fresh) {
+      // A hierarchy kept from earlier steps no longer fits the matrix: rebuild it, solve again.
+      velocity_amg_.setup(momentum_matrix_);
+      velocity_hierarchy_fresh = true;
+      ++stats.repeated_solves;
+      for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
+      stats.velocity_iterations += result.iterations;
+      result = numerics::bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
+                                  velocity_settings, krylov_);
+    }
+    most_velocity_iterations = std::max(most_velocity_iterations, result.iterations);
+    stats.velocity_iterations += result.iterations;
+    stats.velocity_residual = std::max(stats.velocity_residual, result.relative_residual);
+    velocity_converged = velocity_converged && result.converged;
+    for (std::size_t i = 0; i < n; ++i) new_velocity_[dim * i + d] = component_[i];
+  }
+  if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
+  return velocity_converged;
+}
+
+// 4. PPE (eq. 17) for φ = p_n − p_{n−1} into increment_.
+numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, FreeSurfaceStats& stats) {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const std::size_t n = kinds_.size();
+  const auto count = static_cast<std::ptrdiff_t>(n);
+  const double dt = params_.time_step, rho = params_.density;
+  const std::vector<double>& g = params_.gravity;
+  const double g_norm = norm_of(g);
+  const double sqrt_n = std::sqrt(static_cast<double>(n));
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  divergence_.resize(n);
+  divergence(nb, ops, new_velocity_, divergence_);
+  pressure_matrix_.pattern = &nb;
+  pressure_matrix_.diagonal.resize(n);
+  pressure_matrix_.off_diagonal.resize(nb.pair_count());
+  rhs_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
+    double sum = 0;
+    switch (kinds_[i]) {
+      case FreeNode::interior:
+        for (std::size_t k = begin; k < end; ++k) {
+          pressure_matrix_.off_diagonal[k] = ops.laplacian[k];
+          sum += ops.laplacian[k];
+        }
+        pressure_matrix_.diagonal[i] = -sum;
+        rhs_[i] = rho / dt * divergence_[i];
+        break;
+      case FreeNode::wall:
+      case FreeNode::corner: {
+        // Wall pressure extrapolated from the fluid (eq. 12 with the hydrostatic offset):
+        //   p_w = Σ_j W_wj (p_j + ρ g·(x_w − x_j)) / Σ_j W_wj over fluid neighbours j,
+        // which gives n·∇p = ρ n·g at rest (eq. 17's Neumann condition) and, unlike a Neumann
+        // row through the wall node's own gradient, has only positive couplings. As a row for φ:
+        //   φ_w − Σ w_j φ_j = Σ w_j (p_j + ρ g·(x_w − x_j)) − p_w.
+        // A wall node that sees only surface nodes stands above the fluid: p = p_atm there (the
+        // hydrostatic extrapolation would give suction that pulls the fluid up the wall).
+        double wsum = 0;
+        for (std::size_t k = begin; k < end; ++k) {
+          const FreeNode kj = kinds_[nb.indices[k]];
+          if (kj == FreeNode::interior || kj == FreeNode::surface) wsum += ops.weights[k];
+        }
+        if (dry_wall_[i]) wsum = 0;
+        double source = 0;
+        for (std::size_t k = begin; k < end; ++k) {
+          const std::size_t j = nb.indices[k];
+          const FreeNode kj = kinds_[j];
+          const double w =
+              (wsum > 0 && (kj == FreeNode::interior || kj == FreeNode::surface)) ? ops.weights[k] / wsum : 0.0;
+          pressure_matrix_.off_diagonal[k] = -w;
+          if (w == 0) continue;
+          double hydrostatic = 0;
+          for (std::size_t d = 0; d < dim; ++d)
+            hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
+          source += w * (previous_pressure_[j] + hydrostatic);
+        }
+        pressure_matrix_.diagonal[i] = 1.0;
+        rhs_[i] = source - previous_pressure_[i];
+        break;
+      }
+      default:  // surface, splash, idle wall: p_n = p_atm = 0
+        for (std::size_t k = begin; k < end; ++k) pressure_matrix_.off_diagonal[k] = 0.0;
+        pressure_matrix_.diagonal[i] = 1.0;
+        rhs_[i] = -previous_pressure_[i];
+    }
+  }
+  increment_.assign(n, 0.0);
+  numerics::KrylovSettings& pressure_settings = solves.pressure;
+  pressure_settings = {params_.pressure_tolerance,
+                       params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
+                       params_.max_iterations,
+                       {}};
+  if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
+      solves.pressure_lu.factorise(pressure_matrix_))
+    pressure_settings.preconditioner = solves.pressure_lu.as_preconditioner();
+  const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
+  bool pressure_hierarchy_fresh = false;
+  if (pressure_amg) {
+    pressure_hierarchy_fresh = pressure_amg_.prepare(pressure_matrix_);
+    pressure_settings.preconditioner = pressure_amg_.as_preconditioner();
+  }
+  auto pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+  const auto repeat_pressure_solve = [&] {
+    ++stats.repeated_solves;
+    increment_.assign(n, 0.0);
+    const int failed_iterations = pressure_result.iterations;
+    pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+    pressure_result.iterations += failed_iterations;
+  };
+  if (!pressure_result.converged && pressure_amg && !pressure_hierarchy_fresh) {
+    // As for the velocity: the kept hierarchy was built for an older cloud and classification.
+    pressure_amg_.setup(pressure_matrix_);
+    repeat_pressure_solve();
+  }
+  if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance) &&
+      dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu &&
+      solves.pressure_direct.factorise(pressure_matrix_)) {
+    // Last resort in 2D: the exact factors as the preconditioner (seconds at 200 000 nodes).
+    pressure_settings.preconditioner = solves.pressure_direct.as_preconditioner();
+    ++stats.repeated_with_lu;
+    repeat_pressure_solve();
+  }
+  if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
+  stats.pressure_iterations = pressure_result.iterations;
+  stats.pressure_residual = pressure_result.relative_residual;
+  return pressure_result;
+}
+
+// The pressure n into new_pressure_ and the projection of new_velocity_.
+FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const std::size_t n = kinds_.size();
+  const double dt = params_.time_step, rho = params_.density;
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  // No tension: p_n = max(p_{n−1} + φ, p_atm). A free-surface fluid cannot pull on the void, and
+  // without the clip the suction at a stretching toe (ρ/δt ∇·u* > 0 on a torn cloud) grew without
+  // bound; the velocity is corrected with the increment actually applied.
+  new_pressure_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    new_pressure_[i] = std::max(previous_pressure_[i] + increment_[i], 0.0);
+    increment_[i] = new_pressure_[i] - previous_pressure_[i];
+  }
+  increment_gradient_.resize(dim * n);
+  gradient(nb, ops, increment_, increment_gradient_);
+  Correction c;
+  double max_speed_squared = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface)
+      for (std::size_t d = 0; d < dim; ++d) new_velocity_[dim * i + d] -= dt / rho * increment_gradient_[dim * i + d];
+    double speed2 = 0;
+    for (std::size_t d = 0; d < dim; ++d) {
+      speed2 += new_velocity_[dim * i + d] * new_velocity_[dim * i + d];
+      if (!std::isfinite(new_velocity_[dim * i + d])) c.finite = false;
+    }
+    if (!std::isfinite(new_pressure_[i])) c.finite = false;
+    // Splash nodes fall ballistically (no operators): they do not limit the Courant number.
+    if ((kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface) && speed2 > max_speed_squared) {
+      max_speed_squared = speed2;
+      c.fastest = i;
+    }
+  }
+  c.max_speed = std::sqrt(max_speed_squared);
+  return c;
+}
+
+// 5. Divergence checks; the state is untouched until they pass.
+void FreeSurfaceSolver::check_divergence(double next_time, const Correction& correction,
+                                         const numerics::KrylovResult& pressure, bool velocity_converged,
+                                         FreeSurfaceStats& stats) const {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const double dt = params_.time_step;
+  stats.max_speed = correction.max_speed;
+  stats.courant = stats.max_speed * dt / params_.spacing;
+  if (!correction.finite)
+    throw DivergenceError(
+        fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
+  if (stats.courant > params_.max_courant)
+    throw DivergenceError(fmt::format(
+        "Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = "
+        "{:.4g} m/s at a {} node at ({:.4g}, {:.4g}{}){}): reduce time.step",
+        stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed,
+        detail::kind_name(kinds_[correction.fastest]), positions_[dim * correction.fastest],
+        positions_[dim * correction.fastest + 1],
+        dim == 3 ? fmt::format(", {:.4g}", positions_[dim * correction.fastest + 2]) : std::string(),
+        fmt::format(", {} neighbours",
+                    neighbours_.offsets[correction.fastest + 1] - neighbours_.offsets[correction.fastest])));
+  if (!pressure.converged && !(pressure.relative_residual < 1e3 * params_.pressure_tolerance)) {
+    const numerics::FloatingGroups floating = numerics::floating_groups(pressure_matrix_);
+    const std::size_t at = floating.largest_member;
+    throw DivergenceError(fmt::format(
+        "pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations ({} repeated "
+        "solve(s)); {}",
+        next_time, steps_ + 1, pressure.relative_residual, pressure.iterations, stats.repeated_solves,
+        floating.groups == 0
+            ? std::string("every node reaches a free-surface node through the pressure matrix")
+            : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
+                          "largest, {} nodes, includes a {} node at ({:.4g}, {:.4g}{})",
+                          floating.groups, floating.nodes, floating.largest, detail::kind_name(kinds_[at]),
+                          positions_[dim * at], positions_[dim * at + 1],
+                          dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string())));
+  }
+  if (!velocity_converged && !(stats.velocity_residual < 1e3 * params_.velocity_tolerance))
+    throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
+                                      next_time, steps_ + 1, stats.velocity_residual));
+  stats.pressure_accepted_unconverged = !pressure.converged;
+  stats.velocity_accepted_unconverged = !velocity_converged;
+}
+
+// 6. Commit, advect (eq. 20), move the walls, keep fluid off the boundaries.
+void FreeSurfaceSolver::commit_and_advect(double next_time) {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
+  const double dt = params_.time_step;
+  pressure_.swap(new_pressure_);
+  velocity_gradient_of(new_velocity_, velocity_gradient_);  // ∇u_n, to carry velocities along PBD shifts
+  const double older = first_step_ ? 0.0 : 0.5;
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (is_fluid(i)) {
+      for (std::size_t d = 0; d < dim; ++d)
+        positions_[dim * i + d] += ((1.0 + older) * new_velocity_[dim * i + d] - older * velocity_[dim * i + d]) * dt;
+      keep_off_boundaries(i, next_time, new_velocity_);
+    } else if (boundary_of_[i] >= 0) {  // wall nodes move with their boundary (slip or not)
+      double v[3] = {0, 0, 0};
+      boundaries_[static_cast<std::size_t>(boundary_of_[i])]->velocity(next_time, std::span<double>(v, dim));
+      for (std::size_t d = 0; d < dim; ++d) positions_[dim * i + d] += v[d] * dt;
+    }
+  }
+  previous_velocity_.swap(velocity_);
+  velocity_.swap(new_velocity_);
+  first_step_ = false;
+  time_ = next_time;
+  ++steps_;
+}
+
+// 7. (after reorder) the largest PBD displacement of this step, in units of Δ.
+double FreeSurfaceSolver::largest_pbd_shift() const {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const std::size_t n = kinds_.size();
+  double max_shift = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double s2 = 0;
+    for (std::size_t d = 0; d < dim; ++d) s2 += shift_[dim * i + d] * shift_[dim * i + d];
+    max_shift = std::max(max_shift, s2);
+  }
+  return std::sqrt(max_shift) / params_.spacing;
+}
+
+}  // namespace rheosim::ldd
