@@ -145,6 +145,17 @@ class Solver {
   [[nodiscard]] double kinetic_energy() const;
 
  private:
+  // The phases of step(), in order (solver_step.cpp).
+  void update_operators(StepStats& stats);
+  void update_viscosity();
+  bool solve_momentum(StepStats& stats);
+  numerics::KrylovResult solve_pressure(StepStats& stats);
+  void correct_velocity();
+  void check_divergence(double next_time, const numerics::KrylovResult& pressure, bool velocity_converged,
+                        StepStats& stats) const;
+  void commit_and_advect();
+  [[nodiscard]] double largest_pbd_shift() const;
+
   void rebuild_neighbours();
   void reorder(std::span<const double> velocity_gradient);
   void keep_inside(std::size_t node, std::span<double> velocity);
@@ -174,6 +185,7 @@ class Solver {
   numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
   std::vector<double> velocity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
   std::vector<double> new_velocity_, component_, shift_, increment_;
+  std::vector<double> new_pressure_;  // p_n until the step commits
   // u* − u of the last two committed momentum solves (Jacobi: the next initial guess), and this step's.
   std::vector<double> momentum_increment_, older_momentum_increment_, next_momentum_increment_;
 };
