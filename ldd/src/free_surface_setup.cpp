@@ -99,16 +99,7 @@ void FreeSurfaceCloud::add(std::span<const double> x, bool wall, bool corner, st
 
 void FreeSurfaceParams::check() const {
   require(dimension == 2 || dimension == 3, "dimension", dimension, "2 or 3");
-  require(density > 0, "density", density, "> 0 kg/m³");
-  if (!rheology) throw std::invalid_argument("LDD free-surface solver: no rheology law");
-  require(gravity.size() == static_cast<std::size_t>(dimension), "gravity entries", static_cast<double>(gravity.size()),
-          "one per dimension");
-  require(spacing > 0, "spacing", spacing, "> 0 m");
-  require(smoothing_ratio >= 1.2 && smoothing_ratio <= 3.0, "smoothing_ratio", smoothing_ratio, "[1.2, 3]");
-  require(time_step > 0, "time_step", time_step, "> 0 s");
-  require(pressure_tolerance > 0 && pressure_tolerance < 1, "pressure_tolerance", pressure_tolerance, "(0, 1)");
-  require(velocity_tolerance > 0 && velocity_tolerance < 1, "velocity_tolerance", velocity_tolerance, "(0, 1)");
-  require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
+  StepParams::check("LDD free-surface solver", static_cast<std::size_t>(dimension));
   require(surface_offset > 0 && surface_offset < 1, "surface_offset", surface_offset, "(0, 1)");
   require(surface_count > 0 && surface_count < 1, "surface_count", surface_count, "(0, 1)");
   require(min_moment_rcond > 0 && min_moment_rcond < 1, "min_moment_rcond", min_moment_rcond, "(0, 1)");
@@ -117,14 +108,8 @@ void FreeSurfaceParams::check() const {
           "[0, 1)");
   require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle,
           "(0, 90) degrees");
-  require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
   require(neighbour_reuse_skin >= 0 && neighbour_reuse_skin <= 2, "neighbour_reuse_skin", neighbour_reuse_skin,
           "[0, 2]");
-  require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
-  require(pbd_stiffness > 0 && pbd_stiffness <= 1, "pbd_stiffness", pbd_stiffness, "(0, 1]");
-  require(pbd_max_shift > 0 && pbd_max_shift <= 0.5, "pbd_max_shift", pbd_max_shift, "(0, 0.5]");
-  require(wall_clearance > 0 && wall_clearance < 1, "wall_clearance", wall_clearance, "(0, 1)");
-  require(max_courant > 0, "max_courant", max_courant, "> 0");
   require(stability_probe_iterations >= 0, "stability_probe_iterations", stability_probe_iterations, ">= 0");
 }
 

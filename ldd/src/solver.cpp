@@ -26,23 +26,10 @@ bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
 }  // namespace
 
 void SolverParams::check() const {
-  require(density > 0, "density", density, "> 0 kg/m³");
-  if (!rheology) throw std::invalid_argument("LDD solver: no rheology law");
-  require(spacing > 0, "spacing", spacing, "> 0 m");
-  require(smoothing_ratio >= 1.2 && smoothing_ratio <= 3.0, "smoothing_ratio", smoothing_ratio, "[1.2, 3]");
-  require(time_step > 0, "time_step", time_step, "> 0 s");
-  require(pressure_tolerance > 0 && pressure_tolerance < 1, "pressure_tolerance", pressure_tolerance, "(0, 1)");
-  require(velocity_tolerance > 0 && velocity_tolerance < 1, "velocity_tolerance", velocity_tolerance, "(0, 1)");
-  require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
-  require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
-  require(pbd_stiffness > 0 && pbd_stiffness <= 1, "pbd_stiffness", pbd_stiffness, "(0, 1]");
-  require(pbd_max_shift > 0 && pbd_max_shift <= 0.5, "pbd_max_shift", pbd_max_shift, "(0, 0.5]");
+  StepParams::check("LDD solver", 2);
   require(pbd_min_distance >= 0 && pbd_min_distance < 1, "pbd_min_distance", pbd_min_distance, "[0, 1)");
-  require(wall_clearance > 0 && wall_clearance < 1, "wall_clearance", wall_clearance, "(0, 1)");
   require(velocity_scale > 0, "velocity_scale", velocity_scale, "> 0 m/s");
   require(length_scale > 0, "length_scale", length_scale, "> 0 m");
-  require(max_courant > 0, "max_courant", max_courant, "> 0");
-  require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
   if (velocity_preconditioner == Preconditioner::sparse_lu)
     throw std::invalid_argument("LDD solver: velocity_preconditioner = sparse LU is not offered (jacobi or amg)");
 }

@@ -63,6 +63,7 @@
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "rheosim/ldd/step_params.hpp"
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
@@ -133,17 +134,18 @@ struct FreeSurfaceCloud {
   void add(std::span<const double> x, bool wall, bool corner, std::span<const double> normal, int boundary_index);
 };
 
-struct FreeSurfaceParams {
+// StepParams (step_params.hpp) and what a free surface adds; gravity has `dimension` entries.
+// Its defaults where a free surface needs others than the cavity: eq. 19 solved to 1e-6, three
+// PBD sweeps, a 0.3 Δ search skin, sparse-LU preconditioners (2D; case runs choose AMG).
+struct FreeSurfaceParams : StepParams {
+  FreeSurfaceParams() {
+    velocity_tolerance = 1e-6;
+    pbd_iterations = 3;
+    neighbour_skin = 0.3;
+    velocity_preconditioner = Preconditioner::sparse_lu;
+  }
+
   int dimension = 2;
-  double density = 1.0;                            // ρ [kg/m³]
-  std::shared_ptr<const core::Rheology> rheology;  // μ(γ̇)
-  std::vector<double> gravity;                     // g [m/s²], dimension entries
-  double spacing = 0;                              // Δ [m]
-  double smoothing_ratio = 1.6;                    // h/Δ
-  double time_step = 0;                            // δt [s]
-  double pressure_tolerance = 1e-6;                // BiCGStab relative residual, PPE
-  double velocity_tolerance = 1e-6;                // BiCGStab relative residual, eq. 19
-  int max_iterations = 2000;
   double surface_offset = 0.3;         // |c_i|/Δ above which a node is on the surface
   double surface_count = 0.7;          // n_i/n₀ below which a node is on the surface
   double surface_cone_angle = 35;      // [°] half-angle of the empty-cone test
@@ -158,29 +160,19 @@ struct FreeSurfaceParams {
   // surface, p = p_atm) out of their gradients. Case key solver.dry_walls: exclude.
   bool exclude_dry_walls = false;
   double surface_fluid_weight = 0.1;  // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
-  double neighbour_skin = 0.3;        // search radius = h + skin·Δ (also the detection radius)
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
   // this, and each step keeps those now within the search radius (the same list a fresh search
   // gives) until some node has moved half of it. 0: a fresh search every step.
   double neighbour_reuse_skin = 0.3;
-  int pbd_iterations = 3;  // PBD sweeps per step (0: none)
   // A PBD shift δx carries the velocity along to first order, u += ⟨∇u⟩·δx (true), or the node
   // keeps its velocity (false; LDD §3.2 interpolates only after large reorderings).
   bool pbd_velocity_correction = true;
-  double pbd_stiffness = 0.5;     // fraction of the PBD correction applied per sweep
-  double pbd_max_shift = 0.05;    // per sweep, units of Δ
-  double wall_clearance = 0.5;    // fluid nodes stay this far (units of Δ) off boundaries
-  double max_courant = 1.0;       // stop when max|u| δt/Δ exceeds this
   bool hydrostatic_start = true;  // initial p = ρ|g|·depth below the top fluid node
-  // BiCGStab preconditioners of the PPE and eq. 19: sparse_lu refactorised every step (2D only; in
-  // 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg (amg.hpp),
-  // or jacobi. Case files: `auto` is amg; in 2D the velocity hierarchy is rebuilt every step and
-  // the PPE's kept for 4 steps, in 3D both are reused (and the PPE rows unit-diagonal)
+  // The preconditioners (StepParams) of the PPE and eq. 19: sparse_lu refactorised every step (2D
+  // only; in 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg
+  // (amg.hpp), or jacobi. Case files: `auto` is amg; in 2D the velocity hierarchy is rebuilt every
+  // step and the PPE's kept for 4 steps, in 3D both are reused (and the PPE rows unit-diagonal)
   // (free_surface_params in run_free_surface.cpp, docs/performance.md).
-  Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
-  Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
-  numerics::AmgSettings pressure_amg,
-      velocity_amg;  // when the preconditioner is amg (case runs: unit_diagonal for the 3D PPE)
   // Diagnostic: when > 0, every step also runs this many power iterations of its linearised
   // step map (u, p) → (u', p') — predictor, PPE and correction on the step's own matrices, without
   // advection or the no-tension clip — and reports the growth per step in

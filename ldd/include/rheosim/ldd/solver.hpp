@@ -47,6 +47,7 @@
 #include "rheosim/ldd/node_reordering.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
+#include "rheosim/ldd/step_params.hpp"
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
@@ -54,31 +55,15 @@
 
 namespace rheosim::ldd {
 
-struct SolverParams {
-  double density = 1.0;                            // ρ [kg/m³], > 0
-  std::shared_ptr<const core::Rheology> rheology;  // μ(γ̇), not null
-  Vec2 gravity{0, 0};                              // F_ext/ρ [m/s²]
-  double spacing = 0;                              // Δ [m], > 0
-  double smoothing_ratio = 1.6;                    // h/Δ, [1.2, 3]
-  double time_step = 0;                            // δt [s], > 0
-  double pressure_tolerance = 1e-6;                // BiCGStab relative residual, PPE
-  double velocity_scale = 1.0;                     // U [m/s] and L [m]: the PPE also stops when the
-  double length_scale = 1.0;                       // RMS divergence left is < pressure_tolerance·U/L
-  double velocity_tolerance = 1e-8;                // BiCGStab relative residual, eq. 19
-  int max_iterations = 2000;                       // per linear solve
-  int pbd_iterations = 2;                          // PBD sweeps per step (0: no reordering)
-  double pbd_stiffness = 0.5;                      // s ∈ (0, 1]: fraction of the PBD shift applied
-  double pbd_max_shift = 0.05;                     // per sweep, in units of Δ
-  double pbd_min_distance = 0.6;                   // pairs closer than this (units of Δ) are pushed apart
-  double wall_clearance = 0.5;                     // min fluid-node distance to a wall, units of Δ
-  double max_courant = 1.0;                        // stop when max|u| δt/Δ exceeds this
-  double neighbour_skin = 0.2;                     // search radius h + skin·Δ (PBD moves nodes)
-  Reordering reordering = Reordering::lattice;     // see the header comment, step 7
-  // PPE: sparse LU (lattice mode: factorised once; density mode falls back to Jacobi), AMG or Jacobi.
-  Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
-  // Eq. 19: Jacobi or AMG (hierarchy reused over steps, amg.hpp); a sparse LU is not offered.
-  Preconditioner velocity_preconditioner = Preconditioner::jacobi;
-  numerics::AmgSettings pressure_amg, velocity_amg;                      // when the preconditioner is amg
+// StepParams (step_params.hpp) and what the lattice cavity adds. The PPE's preconditioner: sparse
+// LU (lattice mode: factorised once; density mode falls back to Jacobi), AMG or Jacobi; eq. 19's:
+// Jacobi or AMG (hierarchy reused over steps, amg.hpp), a sparse LU is not offered. Gravity has
+// two entries.
+struct SolverParams : StepParams {
+  double velocity_scale = 1.0;                  // U [m/s] and L [m]: the PPE also stops when the
+  double length_scale = 1.0;                    // RMS divergence left is < pressure_tolerance·U/L
+  double pbd_min_distance = 0.6;                // pairs closer than this (units of Δ) are pushed apart
+  Reordering reordering = Reordering::lattice;  // see the header comment, step 7
   LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice mode: see LatticeInterpolation
 
   void check() const;  // throws std::invalid_argument naming the field and its valid range

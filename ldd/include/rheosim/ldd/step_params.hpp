@@ -1,0 +1,44 @@
+#pragma once
+// The settings every LDD step reads, whatever its scene (LDD §3.2): the material, the resolution,
+// the time step, the linear solves, the PBD and the divergence guard. The lattice cavity's
+// SolverParams (solver.hpp) and the free surface's FreeSurfaceParams (free_surface.hpp) extend it
+// with their scenes' own settings; where a free surface needs another default, FreeSurfaceParams'
+// constructor sets it.
+#include <cstddef>
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "rheosim/core/rheology.hpp"
+#include "rheosim/ldd/preconditioner.hpp"
+#include "rheosim/numerics/amg.hpp"
+
+namespace rheosim::ldd {
+
+struct StepParams {
+  double density = 1.0;                            // ρ [kg/m³], > 0
+  std::shared_ptr<const core::Rheology> rheology;  // μ(γ̇), not null
+  std::vector<double> gravity{0.0, 0.0};           // F_ext/ρ = g [m/s²], one entry per dimension
+  double spacing = 0;                              // Δ [m], > 0
+  double smoothing_ratio = 1.6;                    // h/Δ, [1.2, 3]
+  double time_step = 0;                            // δt [s], > 0
+  double pressure_tolerance = 1e-6;                // BiCGStab relative residual of the PPE (eq. 17), (0, 1)
+  double velocity_tolerance = 1e-8;                // BiCGStab relative residual of eq. 19, (0, 1)
+  int max_iterations = 2000;                       // per linear solve, >= 1
+  int pbd_iterations = 2;                          // PBD sweeps per step (0: no reordering)
+  double pbd_stiffness = 0.5;                      // fraction of the PBD shift applied per sweep, (0, 1]
+  double pbd_max_shift = 0.05;                     // per sweep, in units of Δ, (0, 0.5]
+  double wall_clearance = 0.5;                     // min fluid-node distance to a wall, units of Δ, (0, 1)
+  double max_courant = 1.0;                        // stop (diverged) when max|u| δt/Δ exceeds this, > 0
+  double neighbour_skin = 0.2;                     // search radius h + skin·Δ, [0, 1] (PBD moves nodes)
+  // Preconditioners of the PPE and eq. 19 (each solver's header says which it offers).
+  Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
+  Preconditioner velocity_preconditioner = Preconditioner::jacobi;
+  numerics::AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg
+
+  // Throws std::invalid_argument "<solver>: <field> = <value> is out of range, expected <range>"
+  // for the first field out of its range (gravity: one entry per dimension).
+  void check(std::string_view solver, std::size_t dimension) const;
+};
+
+}  // namespace rheosim::ldd

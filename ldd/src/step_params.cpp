@@ -1,0 +1,32 @@
+// The settings every LDD step reads (step_params.hpp).
+#include "rheosim/ldd/step_params.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace rheosim::ldd {
+
+void StepParams::check(std::string_view solver, std::size_t dimension) const {
+  const auto require = [&](bool ok, const char* field, double value, const char* range) {
+    if (!ok)
+      throw std::invalid_argument(fmt::format("{}: {} = {} is out of range, expected {}", solver, field, value, range));
+  };
+  require(density > 0, "density", density, "> 0 kg/m³");
+  if (!rheology) throw std::invalid_argument(fmt::format("{}: no rheology law", solver));
+  require(gravity.size() == dimension, "gravity entries", static_cast<double>(gravity.size()), "one per dimension");
+  require(spacing > 0, "spacing", spacing, "> 0 m");
+  require(smoothing_ratio >= 1.2 && smoothing_ratio <= 3.0, "smoothing_ratio", smoothing_ratio, "[1.2, 3]");
+  require(time_step > 0, "time_step", time_step, "> 0 s");
+  require(pressure_tolerance > 0 && pressure_tolerance < 1, "pressure_tolerance", pressure_tolerance, "(0, 1)");
+  require(velocity_tolerance > 0 && velocity_tolerance < 1, "velocity_tolerance", velocity_tolerance, "(0, 1)");
+  require(max_iterations >= 1, "max_iterations", max_iterations, ">= 1");
+  require(pbd_iterations >= 0, "pbd_iterations", pbd_iterations, ">= 0");
+  require(pbd_stiffness > 0 && pbd_stiffness <= 1, "pbd_stiffness", pbd_stiffness, "(0, 1]");
+  require(pbd_max_shift > 0 && pbd_max_shift <= 0.5, "pbd_max_shift", pbd_max_shift, "(0, 0.5]");
+  require(wall_clearance > 0 && wall_clearance < 1, "wall_clearance", wall_clearance, "(0, 1)");
+  require(max_courant > 0, "max_courant", max_courant, "> 0");
+  require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
+}
+
+}  // namespace rheosim::ldd
