@@ -11,6 +11,7 @@
 
 #include "free_surface_internal.hpp"
 #include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/numerics/sparse_lu.hpp"
 
 namespace rheosim::ldd {
 namespace {

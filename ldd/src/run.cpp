@@ -268,7 +268,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   int quiet_probes = 0;
   double step_seconds = 0;
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
-  StepStats stats;
+  CavityStepStats stats;
   const auto requested_preconditioner = solver.params().pressure_preconditioner;
   long pressure_unconverged = 0, velocity_unconverged = 0;
   double worst_ratio = 0.0;

@@ -41,8 +41,8 @@ constexpr double pressure_regularisation = 1e-6;
 
 }  // namespace
 
-StepStats Solver::step() {
-  StepStats stats;
+CavityStepStats Solver::step() {
+  CavityStepStats stats;
   const double next_time = time_ + params_.time_step;
 
   auto t0 = Clock::now();
@@ -86,7 +86,7 @@ StepStats Solver::step() {
 
 // 1. Operators (eqs. 13–16) on the current cloud (once in lattice mode: the cloud returns to the
 // same places every step).
-void Solver::update_operators(StepStats& stats) {
+void Solver::update_operators(CavityStepStats& stats) {
   if (!operators_valid_) {
     operators_ = build_operators(positions_, 2, neighbours_, OperatorSettings{support_radius_});
     operators_valid_ = true;
@@ -128,7 +128,7 @@ void Solver::update_viscosity() {
 //    the PPE use it), the explicit ∇·(μ(∇u)ᵀ) and the implicit matrix, each sum in the order
 //    of the separate operator passes it replaces (the same bits). Into new_velocity_; returns
 //    whether both components' solves converged.
-bool Solver::solve_momentum(StepStats& stats) {
+bool Solver::solve_momentum(CavityStepStats& stats) {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -243,7 +243,7 @@ bool Solver::solve_momentum(StepStats& stats) {
 
 // 4. Pressure Poisson equation (eq. 17) for the increment φ = p_n − p_{n−1} into increment_:
 //    interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, walls n·⟨∇φ⟩ = ρ n·F_ext − n·⟨∇p_{n−1}⟩, corners Shepard.
-numerics::KrylovResult Solver::solve_pressure(StepStats& stats) {
+numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -376,7 +376,7 @@ void Solver::correct_velocity() {
 
 // 5. Divergence checks before anything is committed.
 void Solver::check_divergence(double next_time, const numerics::KrylovResult& pressure, bool velocity_converged,
-                              StepStats& stats) const {
+                              CavityStepStats& stats) const {
   const std::size_t n = kinds_.size();
   const double dt = params_.time_step;
   double max_speed_squared = 0;

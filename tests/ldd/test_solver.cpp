@@ -144,7 +144,7 @@ TEST(Solver, AmgPreconditionersMatchTheDefaultSolvesAndRepeatExactly) {
     p.pressure_preconditioner = pressure;
     p.velocity_preconditioner = velocity;
     Solver solver(p, cavity.walls(), cavity.initial_cloud());
-    StepStats stats;
+    CavityStepStats stats;
     for (int k = 0; k < 3; ++k) stats = solver.step();
     if (velocity == Preconditioner::amg) {
       EXPECT_LT(stats.velocity_iterations, 20);

@@ -62,8 +62,7 @@
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
-#include "rheosim/ldd/solver.hpp"
-#include "rheosim/ldd/step_params.hpp"
+#include "rheosim/ldd/step.hpp"
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
@@ -134,7 +133,7 @@ struct FreeSurfaceCloud {
   void add(std::span<const double> x, bool wall, bool corner, std::span<const double> normal, int boundary_index);
 };
 
-// StepParams (step_params.hpp) and what a free surface adds; gravity has `dimension` entries.
+// StepParams (step.hpp) and what a free surface adds; gravity has `dimension` entries.
 // Its defaults where a free surface needs others than the cavity: eq. 19 solved to 1e-6, three
 // PBD sweeps, a 0.3 Δ search skin, sparse-LU preconditioners (2D; case runs choose AMG).
 struct FreeSurfaceParams : StepParams {
@@ -183,23 +182,15 @@ struct FreeSurfaceParams : StepParams {
   void check() const;  // throws std::invalid_argument naming the field and its range
 };
 
-struct FreeSurfaceStats {
-  int pressure_iterations = 0;
-  double pressure_residual = 0;
-  int velocity_iterations = 0;
-  double velocity_residual = 0;
-  double max_speed = 0, courant = 0;
+// The free-surface step's statistics: StepStats (step.hpp) and its own.
+struct FreeSurfaceStats : StepStats {
   std::size_t surface_nodes = 0, splash_nodes = 0;
   std::size_t positivity_guarded = 0;  // nodes whose Laplacian dropped the offset correction
-  double max_pbd_shift = 0;            // units of Δ
   // Solves that failed and were repeated: with a fresh AMG hierarchy when the kept one was built
   // for an older cloud, and in 2D a pressure solve with the matrix's sparse LU as preconditioner
-  // (the failed iterations are counted in the totals above).
+  // (the failed iterations are counted in the totals).
   int repeated_solves = 0;
   int repeated_with_lu = 0;  // of which: pressure solves repeated with the sparse LU (the rest: fresh AMG)
-  // The step's pressure / velocity solve did not converge and was accepted (its residual below
-  // 1000× the tolerance; beyond that the step stops as diverged).
-  bool pressure_accepted_unconverged = false, velocity_accepted_unconverged = false;
   // FreeSurfaceParams::stability_probe_iterations > 0: largest growth factor per step of the
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;

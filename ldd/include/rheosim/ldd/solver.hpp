@@ -47,7 +47,7 @@
 #include "rheosim/ldd/node_reordering.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
-#include "rheosim/ldd/step_params.hpp"
+#include "rheosim/ldd/step.hpp"
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
@@ -55,7 +55,7 @@
 
 namespace rheosim::ldd {
 
-// StepParams (step_params.hpp) and what the lattice cavity adds. The PPE's preconditioner: sparse
+// StepParams (step.hpp) and what the lattice cavity adds. The PPE's preconditioner: sparse
 // LU (lattice mode: factorised once; density mode falls back to Jacobi), AMG or Jacobi; eq. 19's:
 // Jacobi or AMG (hierarchy reused over steps, amg.hpp), a sparse LU is not offered. Gravity has
 // two entries.
@@ -69,34 +69,10 @@ struct SolverParams : StepParams {
   void check() const;  // throws std::invalid_argument naming the field and its valid range
 };
 
-// Thrown by step() when the solution diverges (NaN, Courant number, failed solves). The solver's
-// state is the last good step's.
-class DivergenceError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-struct StepStats {
-  int pressure_iterations = 0;    // BiCGStab iterations; a direct LU solve (lattice mode) counts as 1
-  double pressure_residual = 0;   // relative
-  int velocity_iterations = 0;    // both components
-  double velocity_residual = 0;   // relative, the larger of the two
-  double max_speed = 0;           // [m/s]
-  double courant = 0;             // max|u| δt/Δ
+// The cavity step's statistics: StepStats (step.hpp) and two of its own.
+struct CavityStepStats : StepStats {
   double max_divergence = 0;      // max |⟨∇·u⟩| over fluid nodes before the pressure step [1/s]
-  double max_pbd_shift = 0;       // largest PBD displacement this step, in units of Δ
   std::size_t guarded_nodes = 0;  // nodes using an operator guard (operators.hpp)
-  // The step's pressure / velocity solve did not converge and was accepted (its residual below
-  // 1000× the tolerance; beyond that the step stops as diverged).
-  bool pressure_accepted_unconverged = false, velocity_accepted_unconverged = false;
-};
-
-// Wall-clock seconds per phase, accumulated over all steps (for the benchmark and summary.json).
-struct PhaseTimes {
-  double neighbours = 0, operators = 0, rheology = 0, pressure = 0, momentum = 0, advection = 0, reordering = 0;
-  [[nodiscard]] double total() const {
-    return neighbours + operators + rheology + pressure + momentum + advection + reordering;
-  }
 };
 
 class Solver {
@@ -107,7 +83,7 @@ class Solver {
   Solver& operator=(Solver&&) noexcept;
 
   // Advances one time step δt. Throws DivergenceError (state unchanged) on divergence.
-  StepStats step();
+  CavityStepStats step();
 
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
@@ -131,13 +107,13 @@ class Solver {
 
  private:
   // The phases of step(), in order (solver_step.cpp).
-  void update_operators(StepStats& stats);
+  void update_operators(CavityStepStats& stats);
   void update_viscosity();
-  bool solve_momentum(StepStats& stats);
-  numerics::KrylovResult solve_pressure(StepStats& stats);
+  bool solve_momentum(CavityStepStats& stats);
+  numerics::KrylovResult solve_pressure(CavityStepStats& stats);
   void correct_velocity();
   void check_divergence(double next_time, const numerics::KrylovResult& pressure, bool velocity_converged,
-                        StepStats& stats) const;
+                        CavityStepStats& stats) const;
   void commit_and_advect();
   [[nodiscard]] double largest_pbd_shift() const;
 

@@ -1,5 +1,5 @@
-// The settings every LDD step reads (step_params.hpp).
-#include "rheosim/ldd/step_params.hpp"
+// The settings every LDD step reads (step.hpp).
+#include "rheosim/ldd/step.hpp"
 
 #include <fmt/format.h>
 

@@ -1,11 +1,13 @@
 #pragma once
-// The settings every LDD step reads, whatever its scene (LDD §3.2): the material, the resolution,
+// The vocabulary both LDD solvers share: their settings, statistics, phase timings and divergence
+// error. StepParams: the settings every LDD step reads, whatever its scene (LDD §3.2): the material, the resolution,
 // the time step, the linear solves, the PBD and the divergence guard. The lattice cavity's
 // SolverParams (solver.hpp) and the free surface's FreeSurfaceParams (free_surface.hpp) extend it
 // with their scenes' own settings; where a free surface needs another default, FreeSurfaceParams'
 // constructor sets it.
 #include <cstddef>
 #include <memory>
+#include <stdexcept>
 #include <string_view>
 #include <vector>
 
@@ -39,6 +41,35 @@ struct StepParams {
   // Throws std::invalid_argument "<solver>: <field> = <value> is out of range, expected <range>"
   // for the first field out of its range (gravity: one entry per dimension).
   void check(std::string_view solver, std::size_t dimension) const;
+};
+
+// Thrown by a solver's step() when the solution diverges (NaN, Courant number, failed solves).
+// The solver's state is the last good step's.
+class DivergenceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// What one step reports, whatever the scene (each solver extends it with its own).
+struct StepStats {
+  int pressure_iterations = 0;   // BiCGStab iterations (a direct LU solve counts as 1)
+  double pressure_residual = 0;  // relative
+  int velocity_iterations = 0;   // all components
+  double velocity_residual = 0;  // relative, the largest of the components'
+  double max_speed = 0;          // [m/s]
+  double courant = 0;            // max|u| δt/Δ
+  double max_pbd_shift = 0;      // largest PBD displacement this step, in units of Δ
+  // The step's pressure / velocity solve did not converge and was accepted (its residual below
+  // 1000× the tolerance; beyond that the step stops as diverged).
+  bool pressure_accepted_unconverged = false, velocity_accepted_unconverged = false;
+};
+
+// Wall-clock seconds per phase, accumulated over all steps (for the benchmark and summary.json).
+struct PhaseTimes {
+  double neighbours = 0, operators = 0, rheology = 0, pressure = 0, momentum = 0, advection = 0, reordering = 0;
+  [[nodiscard]] double total() const {
+    return neighbours + operators + rheology + pressure + momentum + advection + reordering;
+  }
 };
 
 }  // namespace rheosim::ldd
