@@ -221,16 +221,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 
   const Cavity cavity(*scene, l.spacing);
   SolverParams params;
-  params.density = l.fluid.density;
-  params.rheology = l.fluid.rheology;
-  params.gravity = {l.gravity.at(0), l.gravity.at(1)};
-  params.spacing = l.spacing;
-  params.smoothing_ratio = l.smoothing_ratio;
-  params.time_step = l.time_step;
-  params.pressure_tolerance = l.solver.pressure_tolerance;
-  params.velocity_tolerance = l.solver.velocity_tolerance;
-  params.max_iterations = l.solver.max_iterations;
-  params.max_courant = l.solver.max_courant;
+  detail::set_step_params(l, params);
   params.reordering = l.solver.reordering;
   params.interpolation = l.solver.interpolation;
   params.pressure_preconditioner = l.solver.pressure_preconditioner.value_or(params.pressure_preconditioner);

@@ -348,16 +348,7 @@ std::string read_checkpoint(const std::filesystem::path& path, const Case& c, Fr
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l) {
   FreeSurfaceParams p;
   p.dimension = l.dimension;
-  p.density = l.fluid.density;
-  p.rheology = l.fluid.rheology;
-  p.gravity = l.gravity;
-  p.spacing = l.spacing;
-  p.smoothing_ratio = l.smoothing_ratio;
-  p.time_step = l.time_step;
-  p.pressure_tolerance = l.solver.pressure_tolerance;
-  p.velocity_tolerance = l.solver.velocity_tolerance;
-  p.max_iterations = l.solver.max_iterations;
-  p.max_courant = l.solver.max_courant;
+  detail::set_step_params(l, p);
   p.pbd_iterations = l.solver.pbd_sweeps;
   p.min_moment_rcond = l.solver.moment_rcond;
   p.surface_moment_rcond = l.solver.surface_moment_rcond;

@@ -48,6 +48,21 @@ template <class Solver, class Result>
   });
 }
 
+// The settings of a case every LDD step reads (StepParams), for either solver: the material, the
+// resolution, the step and the solver block's tolerances and Courant guard.
+inline void set_step_params(const ldd::CaseSettings& l, StepParams& p) {
+  p.density = l.fluid.density;
+  p.rheology = l.fluid.rheology;
+  p.gravity = l.gravity;
+  p.spacing = l.spacing;
+  p.smoothing_ratio = l.smoothing_ratio;
+  p.time_step = l.time_step;
+  p.pressure_tolerance = l.solver.pressure_tolerance;
+  p.velocity_tolerance = l.solver.velocity_tolerance;
+  p.max_iterations = l.solver.max_iterations;
+  p.max_courant = l.solver.max_courant;
+}
+
 // Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps, time,
 // phase_times).
 template <class Solver>
