@@ -261,18 +261,10 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
   CavityStepStats stats;
   const auto requested_preconditioner = solver.params().pressure_preconditioner;
-  long pressure_unconverged = 0, velocity_unconverged = 0;
-  double worst_ratio = 0.0;
+  detail::AcceptedSolves accepted;
   for (std::size_t k = 1; k <= total_steps; ++k) {
     if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
-    if (stats.pressure_accepted_unconverged) {
-      ++pressure_unconverged;
-      worst_ratio = std::max(worst_ratio, stats.pressure_residual / solver.params().pressure_tolerance);
-    }
-    if (stats.velocity_accepted_unconverged) {
-      ++velocity_unconverged;
-      worst_ratio = std::max(worst_ratio, stats.velocity_residual / solver.params().velocity_tolerance);
-    }
+    accepted.add(stats, solver.params());
     if (k % probe_every == 0 || k == total_steps) {
       const Centerlines now = sample_centerlines(solver, cavity);
       const double residual = residual_between(now, last, solver.time() - last_probe_time, cavity);
@@ -337,12 +329,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   }
   {  // every rule the run bent
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    if (pressure_unconverged + velocity_unconverged > 0)
-      warnings.push_back(
-          fmt::format("linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, "
-                      "at most {:.3g}× "
-                      "the tolerance (a step stops as diverged beyond 1000×)",
-                      pressure_unconverged, velocity_unconverged, solver.steps(), worst_ratio));
+    if (const auto w = accepted.warning(solver.steps())) warnings.push_back(*w);
     if (solver.params().pressure_preconditioner != requested_preconditioner)
       warnings.push_back(
           "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi "

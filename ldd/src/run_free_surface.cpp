@@ -151,10 +151,7 @@ struct RunRecord {
   double step_seconds = 0, wall_seconds = 0;                // over all processes that ran the case
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
-  // Steps whose pressure or velocity solve did not converge and was accepted (up to 1000× its
-  // tolerance, the solver's limit before it stops as diverged), and the largest ratio
-  // residual/tolerance among them.
-  double pressure_above_tolerance = 0, velocity_above_tolerance = 0, worst_tolerance_ratio = 0;
+  detail::AcceptedSolves accepted;  // solves accepted above their tolerance
 };
 
 template <class T>
@@ -195,9 +192,9 @@ void write_checkpoint(const std::filesystem::path& path, const Case& c, const Fr
                   {"velocity_iterations", r.velocity_iterations},
                   {"repeated_solves", r.repeated_solves},
                   {"repeated_with_lu", r.repeated_with_lu},
-                  {"pressure_above_tolerance", r.pressure_above_tolerance},
-                  {"velocity_above_tolerance", r.velocity_above_tolerance},
-                  {"worst_tolerance_ratio", r.worst_tolerance_ratio},
+                  {"pressure_above_tolerance", r.accepted.pressure},
+                  {"velocity_above_tolerance", r.accepted.velocity},
+                  {"worst_tolerance_ratio", r.accepted.worst_ratio},
                   {"seconds_neighbours", t.neighbours},
                   {"seconds_operators", t.operators},
                   {"seconds_rheology", t.rheology},
@@ -324,9 +321,9 @@ std::string read_checkpoint(const std::filesystem::path& path, const Case& c, Fr
   r.velocity_iterations = number("velocity_iterations");
   r.repeated_solves = number("repeated_solves");
   r.repeated_with_lu = number("repeated_with_lu");
-  for (auto [name, value] : {std::pair<const char*, double*>{"pressure_above_tolerance", &r.pressure_above_tolerance},
-                             {"velocity_above_tolerance", &r.velocity_above_tolerance},
-                             {"worst_tolerance_ratio", &r.worst_tolerance_ratio}})
+  for (auto [name, value] : {std::pair<const char*, double*>{"pressure_above_tolerance", &r.accepted.pressure},
+                             {"velocity_above_tolerance", &r.accepted.velocity},
+                             {"worst_tolerance_ratio", &r.accepted.worst_ratio}})
     if (const auto it = a.find(name); it != a.end() && std::holds_alternative<double>(it->second.value))
       *value = std::get<double>(it->second.value);
   r.front_time = data("run/front_time");
@@ -517,19 +514,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
     ++steps_now;
     run.pressure_iterations += stats.pressure_iterations;
     run.velocity_iterations += stats.velocity_iterations;
-    {
-      const auto& params = solver.params();
-      if (stats.pressure_accepted_unconverged) {
-        ++run.pressure_above_tolerance;
-        run.worst_tolerance_ratio =
-            std::max(run.worst_tolerance_ratio, stats.pressure_residual / params.pressure_tolerance);
-      }
-      if (stats.velocity_accepted_unconverged) {
-        ++run.velocity_above_tolerance;
-        run.worst_tolerance_ratio =
-            std::max(run.worst_tolerance_ratio, stats.velocity_residual / params.velocity_tolerance);
-      }
-    }
+    run.accepted.add(stats, solver.params());
     if (stats.repeated_solves > 0) {
       run.repeated_solves += stats.repeated_solves;
       run.repeated_with_lu += stats.repeated_with_lu;
@@ -593,12 +578,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   summary["repeated_solves"] = static_cast<int>(run.repeated_solves);
   {  // every rule the run bent
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    if (run.pressure_above_tolerance + run.velocity_above_tolerance > 0)
-      warnings.push_back(fmt::format(
-          "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most "
-          "{:.3g}× "
-          "the tolerance (a step stops as diverged beyond 1000×)",
-          run.pressure_above_tolerance, run.velocity_above_tolerance, solver.steps(), run.worst_tolerance_ratio));
+    if (const auto w = run.accepted.warning(solver.steps())) warnings.push_back(*w);
     if (run.max_drift > volume_drift_tolerance)
       warnings.push_back(fmt::format("the fluid volume drifted by up to {:.3g} % (more than {:.3g} %)",
                                      1e2 * run.max_drift, 1e2 * volume_drift_tolerance));

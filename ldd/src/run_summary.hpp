@@ -3,7 +3,12 @@
 // divergence into the run's outcome, and the part of summary.json every run writes (the case,
 // the build, the outcome, the cloud, the step and where the time went), so both report the same
 // keys.
+#include <algorithm>
 #include <chrono>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
@@ -47,6 +52,31 @@ template <class Solver, class Result>
     result.message = message;
   });
 }
+
+// Steps whose pressure or velocity solve did not converge and was accepted (up to 1000× its
+// tolerance, the solver's limit before it stops as diverged), and the largest ratio
+// residual/tolerance among them: a rule the run bent, for its log and summary.json.
+struct AcceptedSolves {
+  double pressure = 0, velocity = 0, worst_ratio = 0;  // counts as doubles: a checkpoint stores them so
+  void add(const StepStats& s, const StepParams& p) {
+    if (s.pressure_accepted_unconverged) {
+      ++pressure;
+      worst_ratio = std::max(worst_ratio, s.pressure_residual / p.pressure_tolerance);
+    }
+    if (s.velocity_accepted_unconverged) {
+      ++velocity;
+      worst_ratio = std::max(worst_ratio, s.velocity_residual / p.velocity_tolerance);
+    }
+  }
+  // The warning of a run of `steps` steps, or nothing when every solve met its tolerance.
+  [[nodiscard]] std::optional<std::string> warning(std::size_t steps) const {
+    if (pressure + velocity == 0) return std::nullopt;
+    return fmt::format(
+        "linear solves accepted above their tolerance: {} pressure and {} velocity solves of {} steps, at most {:.3g}× "
+        "the tolerance (a step stops as diverged beyond 1000×)",
+        pressure, velocity, steps, worst_ratio);
+  }
+};
 
 // The settings of a case every LDD step reads (StepParams), for either solver: the material, the
 // resolution, the step and the solver block's tolerances and Courant guard.

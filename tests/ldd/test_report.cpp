@@ -219,3 +219,30 @@ TEST(GhiaReference, OnlyASquareNewtonianCavityAtATabulatedReynoldsNumber) {
 
 }  // namespace
 }  // namespace rheosim::ldd
+
+namespace rheosim::ldd {
+namespace {
+
+// A run that accepts a linear solve above its tolerance (one BiCGStab iteration a solve, below the
+// 1000× divergence limit) says so in summary.json `warnings`, with the counts and the worst ratio,
+// and its report lists it among the rules the run bent.
+TEST(LddRunWarnings, ASolveAcceptedAboveItsToleranceIsAWarning) {
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_accepted_solves";
+  std::filesystem::remove_all(dir);
+  const std::string deck =
+      "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+      "fluid: {density: 1, rheology: {model: newtonian, viscosity: 0.01}}\ngravity: [0, 0]\n"
+      "resolution: {spacing: 0.0625}\ntime: {step: 0.01, end: 0.1}\n"
+      "solver: {velocity_tolerance: 1.0e-4, max_iterations: 1, threads: 1}\n";
+  ASSERT_EQ(run_case(ldd::parse_case(deck, "accepted.yaml"), dir, core::Log::null()).status, "end_time");
+  const auto warnings = core::read_json(dir / "summary.json")["warnings"];
+  ASSERT_EQ(warnings.size(), 1u);
+  const std::string w = warnings[0].get<std::string>();
+  EXPECT_NE(w.find("linear solves accepted above their tolerance: 0 pressure and"), std::string::npos) << w;
+  EXPECT_NE(w.find("velocity solves of 10 steps, at most"), std::string::npos) << w;
+  EXPECT_NE(read_text(write_report(dir).html).find("linear solves accepted above their tolerance"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rheosim::ldd
