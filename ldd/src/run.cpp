@@ -85,26 +85,15 @@ void write_field(const Solver& s, const Cavity& cavity, const std::filesystem::p
 // function (frames/field_NNNN.vtk, for streamlines). Returns the node file, relative to dir.
 std::filesystem::path write_frame(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir, int index) {
   write_field(s, cavity, dir, std::filesystem::path("frames") / fmt::format("field_{:04d}.vtk", index), false);
-  const auto name = std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
-  std::vector<double> kind(s.node_count());
-  for (std::size_t i = 0; i < kind.size(); ++i) kind[i] = static_cast<double>(s.kinds()[i]);
-  core::write_vtk_points(dir / name, s.positions(),
-                         {{"velocity", 2, s.velocity()},
-                          {"pressure", 1, s.pressure()},
-                          {"shear_rate", 1, s.shear_rate()},
-                          {"viscosity", 1, s.viscosity()},
-                          {"kind", 1, kind}},
-                         2);
-  return name;
+  return detail::write_node_frame(s, dir, static_cast<std::size_t>(index));
 }
 
+// The node frames' indexes and the field frames' series beside them.
 void write_frame_indexes(const std::filesystem::path& dir, const std::vector<core::TimeSeriesEntry>& entries) {
-  std::vector<core::TimeSeriesEntry> beside_frames = entries;  // the series files sit in frames/
-  for (auto& e : beside_frames) e.file = e.file.filename();
-  core::write_vtk_series(dir / "frames" / "nodes.vtk.series", beside_frames);
-  for (auto& e : beside_frames) e.file = "field" + e.file.string().substr(std::string("nodes").size());
-  core::write_vtk_series(dir / "frames" / "field.vtk.series", beside_frames);
-  core::write_pvd(dir / "nodes.pvd", entries);
+  detail::write_node_frame_indexes(dir, entries);
+  std::vector<core::TimeSeriesEntry> fields = entries;  // the series file sits in frames/
+  for (auto& e : fields) e.file = "field" + e.file.filename().string().substr(std::string("nodes").size());
+  core::write_vtk_series(dir / "frames" / "field.vtk.series", fields);
 }
 
 // Velocity and stream function ψ (∂ψ/∂y = u, ∂ψ/∂x = −v; ψ = 0 on the walls) on a structured

@@ -106,31 +106,6 @@ double top_height(const FreeSurfaceSolver& s) {
   return top + 0.5 * s.params().spacing;
 }
 
-std::filesystem::path frame_name(std::size_t index) {
-  return std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
-}
-
-std::filesystem::path write_frame(const FreeSurfaceSolver& s, const std::filesystem::path& dir, int index) {
-  const auto name = frame_name(static_cast<std::size_t>(index));
-  std::vector<double> kind(s.node_count());
-  for (std::size_t i = 0; i < kind.size(); ++i) kind[i] = static_cast<double>(s.kinds()[i]);
-  core::write_vtk_points(dir / name, s.positions(),
-                         {{"velocity", s.dimension(), s.velocity()},
-                          {"pressure", 1, s.pressure()},
-                          {"shear_rate", 1, s.shear_rate()},
-                          {"viscosity", 1, s.viscosity()},
-                          {"kind", 1, kind}},
-                         s.dimension());
-  return name;
-}
-
-void write_frame_indexes(const std::filesystem::path& dir, const std::vector<core::TimeSeriesEntry>& entries) {
-  std::vector<core::TimeSeriesEntry> beside_frames = entries;
-  for (auto& e : beside_frames) e.file = e.file.filename();
-  core::write_vtk_series(dir / "frames" / "nodes.vtk.series", beside_frames);
-  core::write_pvd(dir / "nodes.pvd", entries);
-}
-
 FreeSurfaceScene build_scene(const ldd::CaseSettings& l) {
   // The case reader refuses dam_break and column outside 2D (ldd/src/case.cpp).
   if (const auto* d = std::get_if<ldd::DamBreakScene>(&l.scene)) return dam_break_scene(*d, l.spacing);
@@ -462,13 +437,14 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   };
   const auto frame_entries = [&] {
     std::vector<core::TimeSeriesEntry> entries;
-    for (std::size_t q = 0; q < run.frame_times.size(); ++q) entries.push_back({run.frame_times[q], frame_name(q)});
+    for (std::size_t q = 0; q < run.frame_times.size(); ++q)
+      entries.push_back({run.frame_times[q], detail::frame_name(q)});
     return entries;
   };
   const auto add_frame = [&] {
-    write_frame(solver, out_dir, static_cast<int>(run.frame_times.size()));
+    detail::write_node_frame(solver, out_dir, run.frame_times.size());
     run.frame_times.push_back(solver.time());
-    write_frame_indexes(out_dir, frame_entries());
+    detail::write_node_frame_indexes(out_dir, frame_entries());
   };
   const auto checkpoint_path = out_dir / "checkpoint.h5";
   double checkpoint_wall = 0;  // this process's wall time at the last checkpoint
@@ -553,7 +529,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   // that goes on are numbered as if it had never stopped.
   if ((run.frame_times.back() != solver.time() && outcome.status != "interrupted") || outcome.status == "diverged")
     add_frame();
-  write_frame_indexes(out_dir, frame_entries());
+  detail::write_node_frame_indexes(out_dir, frame_entries());
   core::write_csv(out_dir / probe_file, history);
   checkpoint();
   if (outcome.status == "interrupted")

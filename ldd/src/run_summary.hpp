@@ -5,13 +5,16 @@
 // keys.
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
+#include "rheosim/core/output.hpp"
 #include "rheosim/core/run_summary.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
@@ -77,6 +80,35 @@ struct AcceptedSolves {
         pressure, velocity, steps, worst_ratio);
   }
 };
+
+// A frame of the node cloud, frames/nodes_NNNN.vtk (relative to the run folder), and writing it
+// with velocity, pressure, shear rate, viscosity and node kind. Solver: ldd::Solver or
+// ldd::FreeSurfaceSolver.
+inline std::filesystem::path frame_name(std::size_t index) {
+  return std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
+}
+template <class Solver>
+std::filesystem::path write_node_frame(const Solver& s, const std::filesystem::path& dir, std::size_t index) {
+  const auto name = frame_name(index);
+  std::vector<double> kind(s.node_count());
+  for (std::size_t i = 0; i < kind.size(); ++i) kind[i] = static_cast<double>(s.kinds()[i]);
+  core::write_vtk_points(dir / name, s.positions(),
+                         {{"velocity", s.dimension(), s.velocity()},
+                          {"pressure", 1, s.pressure()},
+                          {"shear_rate", 1, s.shear_rate()},
+                          {"viscosity", 1, s.viscosity()},
+                          {"kind", 1, kind}},
+                         s.dimension());
+  return name;
+}
+// The ParaView indexes of the node frames: frames/nodes.vtk.series and nodes.pvd.
+inline void write_node_frame_indexes(const std::filesystem::path& dir,
+                                     const std::vector<core::TimeSeriesEntry>& entries) {
+  std::vector<core::TimeSeriesEntry> beside_frames = entries;  // the series file sits in frames/
+  for (auto& e : beside_frames) e.file = e.file.filename();
+  core::write_vtk_series(dir / "frames" / "nodes.vtk.series", beside_frames);
+  core::write_pvd(dir / "nodes.pvd", entries);
+}
 
 // The settings of a case every LDD step reads (StepParams), for either solver: the material, the
 // resolution, the step and the solver block's tolerances and Courant guard.

@@ -87,6 +87,7 @@ class Solver {
 
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
+  [[nodiscard]] static constexpr int dimension() { return 2; }
   [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const SolverParams& params() const { return params_; }
