@@ -1,18 +1,28 @@
 #include "rheosim/ldd/domain.hpp"
 
+#include <array>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
 namespace rheosim::ldd {
 
-Vec2 Wall::inward_normal() const {
+namespace {
+
+// The unit normal into the cavity of its side from `start` to `end` (counter-clockwise: the fluid
+// is on the left).
+Vec2 inward_normal(const Vec2& start, const Vec2& end) {
   const double tx = end[0] - start[0], ty = end[1] - start[1];
   const double length = std::hypot(tx, ty);
   return {-ty / length, tx / length};  // left of start → end
 }
+
+}  // namespace
 
 Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
     : width_(scene.size[0]),
@@ -25,7 +35,10 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
     throw std::invalid_argument(fmt::format("cavity: spacing {} m leaves {} × {} cells; at least 4 per side are needed",
                                             spacing, cells_[0], cells_[1]));
   const Vec2 a = point(0, 0), b = point(1, 0), c = point(1, 1), d = point(0, 1);
-  walls_ = {Wall{a, b, {0, 0}}, Wall{b, c, {0, 0}}, Wall{c, d, {lid_velocity_, 0}}, Wall{d, a, {0, 0}}};
+  const std::array<Vec2, 4> normals{inward_normal(a, b), inward_normal(b, c), inward_normal(c, d), inward_normal(d, a)};
+  for (const auto& [start, normal] : {std::pair{a, normals[0]}, {b, normals[1]}, {c, normals[2]}, {d, normals[3]}})
+    walls_.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{start[0], start[1]},
+                                                     std::vector<double>{normal[0], normal[1]}));
 
   const int nx = cells_[0], ny = cells_[1];
   for (int j = 0; j <= ny; ++j)
@@ -35,19 +48,18 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
       const bool left = i == 0, right = i == nx, bottom = j == 0, top = j == ny;
       Vec2 normal{0, 0}, velocity{0, 0};
       NodeKind kind = NodeKind::fluid;
-      const auto add_normal = [&](const Wall& w) {
-        const Vec2 n = w.inward_normal();
+      const auto add_normal = [&](const Vec2& n) {
         normal[0] += n[0];
         normal[1] += n[1];
       };
-      if (bottom) add_normal(walls_[0]);
-      if (right) add_normal(walls_[1]);
-      if (top) add_normal(walls_[2]);
-      if (left) add_normal(walls_[3]);
+      if (bottom) add_normal(normals[0]);
+      if (right) add_normal(normals[1]);
+      if (top) add_normal(normals[2]);
+      if (left) add_normal(normals[3]);
       const int sides = int{bottom} + int{right} + int{top} + int{left};
       if (sides == 1) {
         kind = NodeKind::wall;
-        if (top) velocity = walls_[2].velocity;  // the lid moves; its end points are corners
+        if (top) velocity = {lid_velocity_, 0};  // the lid moves along +x; its end points are corners
       } else if (sides == 2) {
         kind = NodeKind::corner;  // stationary: the lid's ends belong to the side walls
       }

@@ -34,7 +34,7 @@ void SolverParams::check() const {
     throw std::invalid_argument("LDD solver: velocity_preconditioner = sparse LU is not offered (jacobi or amg)");
 }
 
-Solver::Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud)
+Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> walls, NodeCloud cloud)
     : params_(std::move(params)),
       walls_(std::move(walls)),
       kinds_(std::move(cloud.kinds)),
@@ -90,18 +90,16 @@ void Solver::rebuild_neighbours() {
 
 void Solver::keep_inside(std::size_t i, std::span<double> velocity) {
   const double clearance = params_.wall_clearance * params_.spacing;
-  for (const Wall& w : walls_) {
-    const Vec2 normal = w.inward_normal();
-    const double distance =
-        normal[0] * (positions_[2 * i] - w.start[0]) + normal[1] * (positions_[2 * i + 1] - w.start[1]);
+  for (const auto& wall : walls_) {
+    double distance = 0, normal[2] = {0, 0};
+    if (!wall->distance(std::span<const double>(&positions_[2 * i], 2), time_, distance, normal)) continue;
     if (distance >= clearance) continue;
     positions_[2 * i] += (clearance - distance) * normal[0];
     positions_[2 * i + 1] += (clearance - distance) * normal[1];
     if (velocity.empty()) continue;
     // A node held off the wall must not keep running into it: drop the velocity component
-    // towards the wall (relative to the wall's own velocity, which is tangential).
-    const double approach =
-        normal[0] * (velocity[2 * i] - w.velocity[0]) + normal[1] * (velocity[2 * i + 1] - w.velocity[1]);
+    // towards the wall (a wall's own velocity, a lid's, is tangential: no normal part).
+    const double approach = normal[0] * velocity[2 * i] + normal[1] * velocity[2 * i + 1];
     if (approach < 0) {
       velocity[2 * i] -= approach * normal[0];
       velocity[2 * i + 1] -= approach * normal[1];

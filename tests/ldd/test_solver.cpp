@@ -59,11 +59,16 @@ TEST(Cavity, SkewedWallsHaveInwardUnitNormals) {
   const Cavity cavity(s, 0.1);
   EXPECT_NEAR(cavity.area(), std::sin(std::numbers::pi / 3), 1e-12);
   const Vec2 centre = cavity.point(0.5, 0.5);
-  for (const Wall& w : cavity.walls()) {
-    const Vec2 n = w.inward_normal();
+  ASSERT_EQ(cavity.walls().size(), 4u);
+  for (const auto& wall : cavity.walls()) {
+    double distance = 0, n[2] = {0, 0};
+    ASSERT_TRUE(wall->distance(centre, 0.0, distance, n));
     EXPECT_NEAR(std::hypot(n[0], n[1]), 1.0, 1e-12);
-    EXPECT_GT(n[0] * (centre[0] - w.start[0]) + n[1] * (centre[1] - w.start[1]), 0.0);
+    EXPECT_GT(distance, 0.0);
   }
+  double distance = 0, n[2] = {0, 0};  // the lid (third wall) passes through the top-left corner
+  ASSERT_TRUE(cavity.walls()[2]->distance(cavity.point(0, 1), 0.0, distance, n));
+  EXPECT_NEAR(distance, 0.0, 1e-12);
   const Vec2 top_left = cavity.point(0, 1);
   EXPECT_NEAR(top_left[0], 0.5, 1e-12);
   EXPECT_NEAR(top_left[1], std::sqrt(3.0) / 2, 1e-12);

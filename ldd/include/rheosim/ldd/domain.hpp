@@ -12,8 +12,10 @@
 // four corners are corner nodes (velocity of the stationary walls, see docs/ldd.md).
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "rheosim/ldd/boundary.hpp"
 #include "rheosim/ldd/scene.hpp"
 
 namespace rheosim::ldd {
@@ -21,12 +23,6 @@ namespace rheosim::ldd {
 using Vec2 = std::array<double, 2>;
 
 enum class NodeKind : std::uint8_t { fluid = 0, wall = 1, corner = 2 };
-
-struct Wall {
-  Vec2 start{}, end{};  // counter-clockwise around the domain: the fluid is on the left
-  Vec2 velocity{};      // [m/s], tangential (a lid) or zero
-  [[nodiscard]] Vec2 inward_normal() const;
-};
 
 // The initial point cloud: positions interleaved {x0, y0, x1, y1, ...} [m].
 struct NodeCloud {
@@ -44,7 +40,9 @@ class Cavity {
   // spacing that leaves fewer than 4 cells along a side.
   Cavity(const ldd::CavityScene& scene, double spacing);
 
-  [[nodiscard]] const std::vector<Wall>& walls() const { return walls_; }
+  // The four walls as planes (lines) through their sides, normals into the cavity, counter-
+  // clockwise from the bottom; the lid's motion is in the wall nodes' velocities (NodeCloud).
+  [[nodiscard]] const std::vector<std::shared_ptr<const Boundary>>& walls() const { return walls_; }
   [[nodiscard]] const NodeCloud& initial_cloud() const { return cloud_; }
   [[nodiscard]] double width() const { return width_; }
   [[nodiscard]] double side_length() const { return side_; }
@@ -59,7 +57,7 @@ class Cavity {
  private:
   double width_, side_, angle_, lid_velocity_;
   std::array<int, 2> cells_{};
-  std::vector<Wall> walls_;
+  std::vector<std::shared_ptr<const Boundary>> walls_;
   NodeCloud cloud_;
 };
 

@@ -77,7 +77,7 @@ struct CavityStepStats : StepStats {
 
 class Solver {
  public:
-  Solver(SolverParams params, std::vector<Wall> walls, NodeCloud cloud);
+  Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> walls, NodeCloud cloud);
   ~Solver();
   Solver(Solver&&) noexcept;
   Solver& operator=(Solver&&) noexcept;
@@ -123,7 +123,7 @@ class Solver {
   void keep_inside(std::size_t node, std::span<double> velocity);
 
   SolverParams params_;
-  std::vector<Wall> walls_;
+  std::vector<std::shared_ptr<const Boundary>> walls_;
   std::vector<NodeKind> kinds_;
   std::vector<double> normals_, wall_velocities_;
   std::vector<double> positions_, velocity_, previous_velocity_, pressure_;

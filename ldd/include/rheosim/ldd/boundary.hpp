@@ -1,0 +1,59 @@
+#pragma once
+// The walls as both LDD solvers see them: a rigid boundary keeps fluid nodes off it (the wall
+// nodes carry the boundary conditions). A cavity's walls are planes (lines); a free-surface scene
+// adds moving moulds and the solids of walls.hpp.
+#include <span>
+#include <vector>
+
+namespace rheosim::ldd {
+
+// A rigid boundary as the fluid sees it, in 2D or 3D. Used to keep fluid nodes off the walls
+// (the wall nodes carry the boundary conditions).
+class Boundary {
+ public:
+  virtual ~Boundary() = default;
+  // Signed distance of x from the boundary at time t [m], positive on the fluid side, and the
+  // unit normal pointing into the fluid. Returns false when the boundary does not constrain x
+  // (outside a mould's height range, say).
+  virtual bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const = 0;
+  // Velocity of the boundary at time t [m/s] (dimension entries).
+  virtual void velocity(double t, std::span<double> v) const = 0;
+  // Free slip: its wall nodes take the fluid's tangential velocity (a greased mould) instead of
+  // the no-slip condition.
+  [[nodiscard]] virtual bool slip() const { return false; }
+
+ protected:
+  Boundary() = default;
+  Boundary(const Boundary&) = default;
+  Boundary& operator=(const Boundary&) = default;
+};
+
+// A fixed plane (a line in 2D): the fluid is on the side its normal points to.
+class PlaneBoundary final : public Boundary {
+ public:
+  PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal);
+  bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const override;
+  void velocity(double t, std::span<double> v) const override;
+
+ private:
+  std::vector<double> point_, normal_;
+};
+
+// The inside of a truncated cone about the z axis (3D), bottom radius at z = z0 + v t, lifted at
+// speed v until the bottom reaches lift_height (then it stops): the Abrams mould (LDD §4.4).
+// Free slip: with no slip the lifted mould carried the Bingham concrete up with it (the coarse
+// slump grew to 0.41 m high); an oiled mould lets it slide.
+class ConeMouldBoundary final : public Boundary {
+ public:
+  ConeMouldBoundary(double bottom_radius, double top_radius, double height, double z0, double lift_velocity,
+                    double lift_height);
+  bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const override;
+  void velocity(double t, std::span<double> v) const override;
+  [[nodiscard]] bool slip() const override { return true; }
+  [[nodiscard]] double bottom(double t) const;  // z of the mould's bottom edge at time t
+
+ private:
+  double bottom_radius_, top_radius_, height_, z0_, lift_velocity_, lift_height_;
+};
+
+}  // namespace rheosim::ldd
