@@ -464,20 +464,15 @@ std::optional<PointResult> PointStore::load(const SweepPoint& point) const {
 // ---------------------------------------------------------------------------------------------
 // The sweep
 
-SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& log, const PointRunners& runners) {
-  const auto& sweep = std::get<SweepCase>(c.spec);
-  const auto& r = sweep.rheometer;
-  const auto start = std::chrono::steady_clock::now();
-  fs::create_directories(out_dir);
-  const PointStore store(out_dir, c.sha256);
-  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
-  const ParallelPlate plate = ParallelPlate::from(r.geometry);
+namespace {
 
-  const std::vector<SweepPoint> points = sweep_points(sweep);
+// Every point of the sweep: read back from the store when an earlier run finished it (counted in
+// outcome.reused_points), else run now and stored the moment it finishes (outcome.computed_points).
+std::vector<std::optional<PointResult>> compute_points(const RheometerCase& r, const std::vector<SweepPoint>& points,
+                                                       const PointStore& store, const core::Log& log,
+                                                       const PointRunners& runners, SweepOutcome& outcome) {
   const bool several_fluids = r.fluids.size() > 1;
   std::vector<std::optional<PointResult>> results(points.size());
-  SweepOutcome outcome;
-  outcome.points = static_cast<int>(points.size());
   for (const auto& p : points)
     if ((results[p.index] = store.load(p))) ++outcome.reused_points;
   if (outcome.reused_points > 0)
@@ -540,7 +535,17 @@ SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& 
     progress.update(++done, label);
   }
   progress.finish();
+  return results;
+}
 
+// summary.json (the points in sweep order, then the analysis), torque.csv, sweep.h5 and the
+// report; counts the failed points into outcome.
+void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
+                         const std::vector<std::optional<PointResult>>& results,
+                         std::chrono::steady_clock::time_point start, const fs::path& out_dir, SweepOutcome& outcome) {
+  const auto& sweep = std::get<SweepCase>(c.spec);
+  const auto& r = sweep.rheometer;
+  const ParallelPlate plate = ParallelPlate::from(r.geometry);
   // summary.json: the points in sweep order, then the analysis.
   nlohmann::ordered_json json_points = nlohmann::ordered_json::array();
   core::CsvTable table({{"volume_fraction", ""},
@@ -674,6 +679,21 @@ SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& 
   core::write_csv(out_dir / "torque.csv", table);
   core::write_json(out_dir / "summary.json", summary);
   write_report(out_dir);
+}
+
+}  // namespace
+
+SweepOutcome run_sweep(const Case& c, const fs::path& out_dir, const core::Log& log, const PointRunners& runners) {
+  const auto& sweep = std::get<SweepCase>(c.spec);
+  const auto start = std::chrono::steady_clock::now();
+  fs::create_directories(out_dir);
+  const PointStore store(out_dir, c.sha256);
+  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+  const std::vector<SweepPoint> points = sweep_points(sweep);
+  SweepOutcome outcome;
+  outcome.points = static_cast<int>(points.size());
+  const auto results = compute_points(sweep.rheometer, points, store, log, runners, outcome);
+  write_sweep_results(c, points, results, start, out_dir, outcome);
   outcome.summary = out_dir / "summary.json";
   return outcome;
 }
