@@ -325,7 +325,7 @@ void krylov_floor() {
     const ldd::FreeSurfaceScene built =
         l.dimension == 3 ? ldd::slump_scene(std::get<ldd::SlumpScene>(l.scene), scene.spacing, l.walls)
                          : ldd::dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), scene.spacing);
-    const ldd::FreeSurfaceCloud& cloud = built.cloud;
+    const ldd::NodeCloud& cloud = built.cloud;
     const numerics::NeighbourList nb = numerics::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
     const std::size_t n = nb.node_count();
     const double support = 1.6 * scene.spacing;
@@ -337,7 +337,7 @@ void krylov_floor() {
       }
     std::vector<double> fluid_sums;      // a full support: the median fluid node's (walls packed
     for (std::size_t i = 0; i < n; ++i)  // densely make some supports fuller than a full one)
-      if (!cloud.is_wall[i]) fluid_sums.push_back(kernel_sum[i]);
+      if (!cloud.is_wall(i)) fluid_sums.push_back(kernel_sum[i]);
     std::nth_element(fluid_sums.begin(), fluid_sums.begin() + static_cast<std::ptrdiff_t>(fluid_sums.size() / 2),
                      fluid_sums.end());
     const double full = fluid_sums[fluid_sums.size() / 2];
@@ -347,12 +347,12 @@ void krylov_floor() {
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
       pressure.diagonal[i] = 1.0;
-      if (cloud.is_wall[i]) {
+      if (cloud.is_wall(i)) {
         double fluid_sum = 0;
         for (std::size_t k = begin; k < end; ++k)
-          if (!cloud.is_wall[nb.indices[k]]) fluid_sum += weights[k];
+          if (!cloud.is_wall(nb.indices[k])) fluid_sum += weights[k];
         for (std::size_t k = begin; k < end; ++k)
-          if (!cloud.is_wall[nb.indices[k]] && fluid_sum > 0) pressure.off_diagonal[k] = -weights[k] / fluid_sum;
+          if (!cloud.is_wall(nb.indices[k]) && fluid_sum > 0) pressure.off_diagonal[k] = -weights[k] / fluid_sum;
         continue;
       }
       const bool surface = kernel_sum[i] < 0.85 * full;
@@ -391,7 +391,8 @@ void krylov_floor() {
         text += (level ? " > " : "") + std::to_string(amg.rows(level));
       return text;
     };
-    const auto walls = static_cast<std::size_t>(std::count(cloud.is_wall.begin(), cloud.is_wall.end(), 1));
+    const auto walls = static_cast<std::size_t>(std::count_if(
+        cloud.kinds.begin(), cloud.kinds.end(), [](ldd::NodeKind k) { return k != ldd::NodeKind::fluid; }));
     std::printf(
         "(%s: %zu wall nodes; PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n",
         scene.name, walls, sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(), sizes(velocity_amg).c_str(),

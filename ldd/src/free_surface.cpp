@@ -19,7 +19,7 @@ namespace rheosim::ldd {
 // ------------------------------------------------------------------------------ solver
 
 FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries,
-                                     FreeSurfaceCloud cloud)
+                                     NodeCloud cloud)
     : params_(std::move(params)), dim_(params_.dimension), boundaries_(std::move(boundaries)) {
   params_.check();
   pressure_amg_ = numerics::AmgPreconditioner(params_.pressure_amg);
@@ -27,17 +27,18 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
   const auto dim = static_cast<std::size_t>(dim_);
   const std::size_t n = cloud.size();
   if (cloud.dimension != dim_ || cloud.positions.size() != dim * n || cloud.normals.size() != dim * n ||
-      cloud.is_corner.size() != n || cloud.boundary.size() != n)
+      cloud.boundary.size() != n)
     throw std::invalid_argument("LDD free-surface solver: node cloud arrays have inconsistent sizes");
   for (int b : cloud.boundary)
     if (b >= static_cast<int>(boundaries_.size()))
       throw std::invalid_argument("LDD free-surface solver: a wall node names a boundary that does not exist");
   positions_ = std::move(cloud.positions);
   normals_ = std::move(cloud.normals);
-  corner_ = std::move(cloud.is_corner);
+  corner_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) corner_[i] = cloud.kinds[i] == NodeKind::corner ? 1 : 0;
   boundary_of_ = std::move(cloud.boundary);
   kinds_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) kinds_[i] = cloud.is_wall[i] ? FreeNode::wall : FreeNode::interior;
+  for (std::size_t i = 0; i < n; ++i) kinds_[i] = cloud.is_wall(i) ? FreeNode::wall : FreeNode::interior;
   support_radius_ = params_.smoothing_ratio * params_.spacing;
   search_radius_ = support_radius_ + params_.neighbour_skin * params_.spacing;
   velocity_.assign(dim * n, 0.0);

@@ -86,12 +86,10 @@ void ConeMouldBoundary::velocity(double t, std::span<double> v) const {
   if (lift_velocity_ * t < lift_height_) v[2] = lift_velocity_;
 }
 
-void FreeSurfaceCloud::add(std::span<const double> x, bool wall, bool corner, std::span<const double> normal,
-                           int boundary_index) {
+void NodeCloud::add(std::span<const double> x, NodeKind kind, std::span<const double> normal, int boundary_index) {
   positions.insert(positions.end(), x.begin(), x.end());
   normals.insert(normals.end(), normal.begin(), normal.end());
-  is_wall.push_back(wall ? 1 : 0);
-  is_corner.push_back(corner ? 1 : 0);
+  kinds.push_back(kind);
   boundary.push_back(boundary_index);
 }
 

@@ -32,18 +32,18 @@ FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, 
   s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{xl, 0.0}, std::vector<double>{1.0, 0.0}));
   s.boundaries.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{xr, 0.0}, std::vector<double>{-1.0, 0.0}));
   const double diagonal = std::numbers::sqrt2 / 2;
-  s.cloud.add(std::vector<double>{xl, yb}, true, true, std::vector<double>{diagonal, diagonal}, 0);
+  s.cloud.add(std::vector<double>{xl, yb}, NodeKind::corner, std::vector<double>{diagonal, diagonal}, 0);
   for (int i = 0; i < cells_x; ++i)
-    s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, yb}, true, false, std::vector<double>{0.0, 1.0}, 0);
-  s.cloud.add(std::vector<double>{xr, yb}, true, true, std::vector<double>{-diagonal, diagonal}, 0);
+    s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, yb}, NodeKind::wall, std::vector<double>{0.0, 1.0}, 0);
+  s.cloud.add(std::vector<double>{xr, yb}, NodeKind::corner, std::vector<double>{-diagonal, diagonal}, 0);
   for (int j = 0; j < wall_rows; ++j) {
-    s.cloud.add(std::vector<double>{xl, (j + 0.5) * dx}, true, false, std::vector<double>{1.0, 0.0}, 1);
-    s.cloud.add(std::vector<double>{xr, (j + 0.5) * dx}, true, false, std::vector<double>{-1.0, 0.0}, 2);
+    s.cloud.add(std::vector<double>{xl, (j + 0.5) * dx}, NodeKind::wall, std::vector<double>{1.0, 0.0}, 1);
+    s.cloud.add(std::vector<double>{xr, (j + 0.5) * dx}, NodeKind::wall, std::vector<double>{-1.0, 0.0}, 2);
   }
   const std::vector<double> none{0.0, 0.0};
   for (int j = 0; j < fluid_rows; ++j)
     for (int i = fluid_begin; i < fluid_end; ++i)
-      s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, (j + 0.5) * dx}, false, false, none, -1);
+      s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, (j + 0.5) * dx}, NodeKind::fluid, none, -1);
   return s;
 }
 
@@ -64,7 +64,7 @@ FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing) {
       for (int i = 0; i < nx; ++i) {
         const double x = (i + 0.5) * spacing, y = (j + 0.5) * spacing;
         if (y < height + amplitude * std::cos(std::numbers::pi * x / width))
-          s.cloud.add(std::vector<double>{x, y}, false, false, none, -1);
+          s.cloud.add(std::vector<double>{x, y}, NodeKind::fluid, none, -1);
       }
   }
   return s;
@@ -98,7 +98,7 @@ FreeSurfaceScene slump_scene(const ldd::SlumpScene& scene, double spacing, std::
     for (int j = -m; j < m; ++j) {
       const double x = (i + 0.5) * dx, y = (j + 0.5) * dx;
       if (std::hypot(x, y) <= floor_radius)
-        s.cloud.add(std::vector<double>{x, y, -0.5 * dx}, true, false, std::vector<double>{0.0, 0.0, 1.0}, 0);
+        s.cloud.add(std::vector<double>{x, y, -0.5 * dx}, NodeKind::wall, std::vector<double>{0.0, 0.0, 1.0}, 0);
     }
   // Mould rings every Δ from Δ/2 to H₀ + Δ, each with nodes about Δ apart.
   const double cosine = 1.0 / std::sqrt(1.0 + slope * slope);
@@ -109,7 +109,7 @@ FreeSurfaceScene slump_scene(const ldd::SlumpScene& scene, double spacing, std::
     for (int q = 0; q < count; ++q) {
       const double angle = 2 * std::numbers::pi * (q + 0.5 * (k % 2)) / count;
       const double c = std::cos(angle), sn = std::sin(angle);
-      s.cloud.add(std::vector<double>{r * c, r * sn, z}, true, false,
+      s.cloud.add(std::vector<double>{r * c, r * sn, z}, NodeKind::wall,
                   std::vector<double>{-c * cosine, -sn * cosine, -slope * cosine}, 1);
     }
   }
@@ -119,7 +119,7 @@ FreeSurfaceScene slump_scene(const ldd::SlumpScene& scene, double spacing, std::
     for (int i = -mr; i < mr; ++i)
       for (int j = -mr; j < mr; ++j) {
         const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, z = (k + 0.5) * dx;
-        if (std::hypot(x, y) <= rb - slope * z) s.cloud.add(std::vector<double>{x, y, z}, false, false, none, -1);
+        if (std::hypot(x, y) <= rb - slope * z) s.cloud.add(std::vector<double>{x, y, z}, NodeKind::fluid, none, -1);
       }
   if (!walls.empty()) {
     const std::vector<double> lower{-floor_radius, -floor_radius, -dx}, upper{floor_radius, floor_radius, 2 * height};
@@ -140,21 +140,20 @@ void add_walls(FreeSurfaceScene& s, std::span<const ldd::WallSettings> walls, do
   for (std::size_t w = 0; w < walls.size(); ++w) {
     BuiltWall built = make_wall(walls[w], dimension, spacing, region_lower, region_upper);
     const Boundary& boundary = *built.boundary;
-    FreeSurfaceCloud kept;
+    NodeCloud kept;
     kept.dimension = dimension;
     for (std::size_t i = 0; i < s.cloud.size(); ++i) {
       const std::span<const double> x(&s.cloud.positions[dim * i], dim);
-      if (!s.cloud.is_wall[i] && distance_to(boundary, x) < 0)
+      if (!s.cloud.is_wall(i) && distance_to(boundary, x) < 0)
         throw std::invalid_argument(
             fmt::format("LDD scene: fluid node at ({:.4g}, {:.4g}{}) lies behind wall {} ({}); the fluid must start on "
                         "the walls' fluid side",
                         x[0], x[1], dim == 3 ? fmt::format(", {:.4g}", x[2]) : std::string(), w + 1, walls[w].type));
       const int owner = s.cloud.boundary[i];
-      const bool fixed_wall = s.cloud.is_wall[i] && owner >= 0 &&
+      const bool fixed_wall = s.cloud.is_wall(i) && owner >= 0 &&
                               std::find(fixed.begin(), fixed.end(), static_cast<std::size_t>(owner)) != fixed.end();
       if (fixed_wall && distance_to(boundary, x) < -0.5 * spacing) continue;  // behind the new wall
-      kept.add(x, s.cloud.is_wall[i] != 0, s.cloud.is_corner[i] != 0,
-               std::span<const double>(&s.cloud.normals[dim * i], dim), owner);
+      kept.add(x, s.cloud.kinds[i], std::span<const double>(&s.cloud.normals[dim * i], dim), owner);
     }
     s.cloud = std::move(kept);
     const int index = static_cast<int>(s.boundaries.size());
@@ -162,7 +161,7 @@ void add_walls(FreeSurfaceScene& s, std::span<const ldd::WallSettings> walls, do
     // proximity search scans the existing wall nodes sorted by x within a ±Δ/2 window.
     std::vector<std::pair<double, std::size_t>> by_x;
     for (std::size_t i = 0; i < s.cloud.size(); ++i)
-      if (s.cloud.is_wall[i]) by_x.emplace_back(s.cloud.positions[dim * i], i);
+      if (s.cloud.is_wall(i)) by_x.emplace_back(s.cloud.positions[dim * i], i);
     std::sort(by_x.begin(), by_x.end());
     const double min_distance = 0.5 * spacing;
     for (const WallNode& node : built.nodes) {
@@ -182,7 +181,8 @@ void add_walls(FreeSurfaceScene& s, std::span<const ldd::WallSettings> walls, do
         near = r2 < min_distance * min_distance;
       }
       if (near) continue;
-      s.cloud.add(x, true, node.corner, std::span<const double>(node.normal.data(), dim), index);
+      s.cloud.add(x, node.corner ? NodeKind::corner : NodeKind::wall, std::span<const double>(node.normal.data(), dim),
+                  index);
     }
     s.boundaries.push_back(std::move(built.boundary));
     fixed.push_back(static_cast<std::size_t>(index));

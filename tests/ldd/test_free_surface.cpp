@@ -85,7 +85,7 @@ TEST(FreeSurface, JitteredColumnHasNoFalseSurfaceNodesInsideOrAlongWalls) {
   std::mt19937 random(7);
   std::uniform_real_distribution<double> jitter(-0.1 * dx, 0.1 * dx);
   for (std::size_t i = 0; i < scene.cloud.size(); ++i)
-    if (!scene.cloud.is_wall[i])
+    if (!scene.cloud.is_wall(i))
       for (std::size_t d = 0; d < 2; ++d) scene.cloud.positions[2 * i + d] += jitter(random);
   FreeSurfaceSolver s(column_params(dx, 1e-3, 1.0), scene.boundaries, scene.cloud);
   const double top = top_row(s);
@@ -195,14 +195,15 @@ TEST(FreeSurface, ReusedNeighbourListGivesTheSameRunWithFewerSearches) {
 TEST(FreeSurface, NodeSupportedOnlyByWallNodesIsOnTheSurface) {
   const double dx = 0.01;
   const auto build = [&](double fluid_weight_limit) {
-    FreeSurfaceCloud cloud;
+    NodeCloud cloud;
     cloud.dimension = 2;
     const std::vector<double> up{0.0, 1.0}, none{0.0, 0.0};
-    for (int i = -6; i < 6; ++i) cloud.add(std::vector<double>{(i + 0.5) * dx, -0.5 * dx}, true, false, up, 0);
-    cloud.add(std::vector<double>{0.0, 0.0}, false, false, none, -1);  // node 12: the lone node
+    for (int i = -6; i < 6; ++i) cloud.add(std::vector<double>{(i + 0.5) * dx, -0.5 * dx}, NodeKind::wall, up, 0);
+    cloud.add(std::vector<double>{0.0, 0.0}, NodeKind::fluid, none, -1);  // node 12: the lone node
     for (int q = 0; q <= 6; ++q) {
       const double angle = std::numbers::pi * q / 6;
-      cloud.add(std::vector<double>{1.75 * dx * std::cos(angle), 1.75 * dx * std::sin(angle)}, false, false, none, -1);
+      cloud.add(std::vector<double>{1.75 * dx * std::cos(angle), 1.75 * dx * std::sin(angle)}, NodeKind::fluid, none,
+                -1);
     }
     FreeSurfaceParams p = column_params(dx, 1e-3, 1.0);
     p.surface_fluid_weight = fluid_weight_limit;
@@ -219,7 +220,7 @@ TEST(FreeSurface, SplashNodeFallsFreelyWithoutUpsettingThePressure) {
   const double dx = 0.01, dt = 1e-3;
   FreeSurfaceScene scene = column_scene(column(0.1, 0.1), dx);
   const std::vector<double> drop{0.05, 0.25};
-  scene.cloud.add(drop, false, false, std::vector<double>{0.0, 0.0}, -1);
+  scene.cloud.add(drop, NodeKind::fluid, std::vector<double>{0.0, 0.0}, -1);
   FreeSurfaceSolver s(column_params(dx, dt, 1.0), scene.boundaries, scene.cloud);
   const std::size_t last = s.node_count() - 1;
   FreeSurfaceStats stats;
@@ -270,7 +271,8 @@ TEST(FreeSurface, RecedingGateReleasesAViscousColumnWithoutPressureCollapse) {
   scene.boundaries.push_back(std::make_shared<RecedingGate>(0.5 * dx, 0.1));
   const int gate = static_cast<int>(scene.boundaries.size()) - 1;
   for (int j = 0; j < 14; ++j)
-    scene.cloud.add(std::vector<double>{0.5 * dx, (j + 0.5) * dx}, true, false, std::vector<double>{-1.0, 0.0}, gate);
+    scene.cloud.add(std::vector<double>{0.5 * dx, (j + 0.5) * dx}, NodeKind::wall, std::vector<double>{-1.0, 0.0},
+                    gate);
   FreeSurfaceParams p = column_params(dx, dt, 1000.0);
   p.max_courant = 10;  // measure the speeds rather than stop at the guard
   FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
@@ -321,7 +323,7 @@ TEST(SlumpScene, FillsTheConeVolume) {
   const double dx = 0.01;
   const FreeSurfaceScene s = slump_scene(scene, dx);
   std::size_t fluid = 0;
-  for (auto w : s.cloud.is_wall) fluid += w ? 0 : 1;
+  for (const NodeKind k : s.cloud.kinds) fluid += k == NodeKind::fluid ? 1 : 0;
   const double cone_volume = std::numbers::pi * 0.3 / 3 * (0.01 + 0.005 + 0.0025);
   EXPECT_NEAR(static_cast<double>(fluid) * dx * dx * dx / cone_volume, 1.0, 0.03);
 }
@@ -337,7 +339,7 @@ TEST(ColumnScene, WaveAmplitudeShapesTheFirstSloshingMode) {
   std::size_t fluid = 0;
   double left = 0, right = 0;
   for (std::size_t i = 0; i < s.cloud.size(); ++i) {
-    if (s.cloud.is_wall[i]) continue;
+    if (s.cloud.is_wall(i)) continue;
     ++fluid;
     const double x = s.cloud.positions[2 * i], y = s.cloud.positions[2 * i + 1] + 0.5 * dx;
     if (x < dx) left = std::max(left, y);
@@ -348,7 +350,7 @@ TEST(ColumnScene, WaveAmplitudeShapesTheFirstSloshingMode) {
   EXPECT_NEAR(right, 0.05 - 0.005, dx);
   double wall_top = 0;  // the side walls rise above the crest
   for (std::size_t i = 0; i < s.cloud.size(); ++i)
-    if (s.cloud.is_wall[i]) wall_top = std::max(wall_top, s.cloud.positions[2 * i + 1]);
+    if (s.cloud.is_wall(i)) wall_top = std::max(wall_top, s.cloud.positions[2 * i + 1]);
   EXPECT_GT(wall_top, 0.055 + 3 * dx);
 }
 

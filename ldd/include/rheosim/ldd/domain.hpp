@@ -16,22 +16,12 @@
 #include <vector>
 
 #include "rheosim/ldd/boundary.hpp"
+#include "rheosim/ldd/node_cloud.hpp"
 #include "rheosim/ldd/scene.hpp"
 
 namespace rheosim::ldd {
 
 using Vec2 = std::array<double, 2>;
-
-enum class NodeKind : std::uint8_t { fluid = 0, wall = 1, corner = 2 };
-
-// The initial point cloud: positions interleaved {x0, y0, x1, y1, ...} [m].
-struct NodeCloud {
-  std::vector<double> positions;
-  std::vector<NodeKind> kinds;
-  std::vector<double> normals;          // inward unit normal per node (0 for fluid nodes; corners: bisector)
-  std::vector<double> wall_velocities;  // per node [m/s] (0 for fluid nodes)
-  [[nodiscard]] std::size_t size() const { return kinds.size(); }
-};
 
 // A parallelogram cavity (square when the skew angle is 90°).
 class Cavity {

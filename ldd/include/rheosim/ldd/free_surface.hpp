@@ -61,6 +61,7 @@
 
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/ldd/boundary.hpp"
+#include "rheosim/ldd/node_cloud.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/step.hpp"
@@ -72,18 +73,6 @@ namespace rheosim::ldd {
 
 // Per-node state of a free-surface cloud (fluid kinds change each step).
 enum class FreeNode : std::uint8_t { interior = 0, surface = 1, splash = 2, wall = 3, corner = 4, idle_wall = 5 };
-
-// The initial cloud: positions interleaved with stride dimension.
-struct FreeSurfaceCloud {
-  int dimension = 2;
-  std::vector<double> positions;
-  std::vector<std::uint8_t> is_wall;    // 1: wall node (fixed or moving with its boundary)
-  std::vector<std::uint8_t> is_corner;  // 1: wall node where walls meet (no unique normal)
-  std::vector<double> normals;          // inward unit normal per node (0 for fluid nodes)
-  std::vector<int> boundary;            // index into the boundaries of the wall node, −1 for fluid
-  [[nodiscard]] std::size_t size() const { return is_wall.size(); }
-  void add(std::span<const double> x, bool wall, bool corner, std::span<const double> normal, int boundary_index);
-};
 
 // StepParams (step.hpp) and what a free surface adds; gravity has `dimension` entries.
 // Its defaults where a free surface needs others than the cavity: eq. 19 solved to 1e-6, three
@@ -165,8 +154,7 @@ struct FreeSurfaceState {
 
 class FreeSurfaceSolver {
  public:
-  FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries,
-                    FreeSurfaceCloud cloud);
+  FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries, NodeCloud cloud);
 
   // One time step; throws DivergenceError (state of the last good step kept) on divergence.
   FreeSurfaceStats step();

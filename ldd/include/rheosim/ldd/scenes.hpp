@@ -23,7 +23,7 @@
 namespace rheosim::ldd {
 
 struct FreeSurfaceScene {
-  FreeSurfaceCloud cloud;
+  NodeCloud cloud;
   std::vector<std::shared_ptr<const Boundary>> boundaries;
 };
 

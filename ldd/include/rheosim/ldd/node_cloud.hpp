@@ -1,0 +1,32 @@
+#pragma once
+// The initial node cloud of an LDD scene, for either solver: a cavity's lattice (domain.hpp) or a
+// free-surface scene's fluid and wall nodes (scenes.hpp).
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace rheosim::ldd {
+
+// What a node starts as: fluid, or a wall node (a corner where walls meet has no unique normal).
+enum class NodeKind : std::uint8_t { fluid = 0, wall = 1, corner = 2 };
+
+struct NodeCloud {
+  int dimension = 2;
+  std::vector<double> positions;  // interleaved with stride dimension [m]
+  std::vector<NodeKind> kinds;
+  std::vector<double> normals;  // inward unit normal per node (0 for fluid nodes; corners: bisector)
+  // The wall node's velocity [m/s] when it is a property of the node (a cavity's lid), one entry
+  // per coordinate; empty where wall nodes move with their boundary (free-surface scenes).
+  std::vector<double> wall_velocities;
+  // Index of the wall node's boundary in the scene's list, −1 for fluid nodes (free-surface
+  // scenes; empty for a cavity, whose walls are planes through its lattice's outer ring).
+  std::vector<int> boundary;
+
+  [[nodiscard]] std::size_t size() const { return kinds.size(); }
+  [[nodiscard]] bool is_wall(std::size_t i) const { return kinds[i] != NodeKind::fluid; }
+  // Appends a node of a free-surface scene (position and normal with dimension entries).
+  void add(std::span<const double> x, NodeKind kind, std::span<const double> normal, int boundary_index);
+};
+
+}  // namespace rheosim::ldd
