@@ -128,7 +128,7 @@ void FreeSurfaceSolver::update_viscosity() {
     shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
-  // Optional (SolverParams::transpose_stress): (∇·(μ(∇u)ᵀ))_a = Σ_b ∂_b(μ ∂u_b/∂x_a) explicit, on
+  // Optional (FreeSurfaceParams::transpose_stress): (∇·(μ(∇u)ᵀ))_a = Σ_b ∂_b(μ ∂u_b/∂x_a) explicit, on
   // interior nodes. Off by default: explicit, it is unstable once δt μ_max/(ρΔ²) ≫ 1 (Bingham
   // m = 1000 s: μ_max = 25 025 Pa·s, ratio ~10²–10³) — the dam break blew up within 0.35 s with
   // it (docs/ldd.md). It vanishes for constant μ.
