@@ -19,6 +19,19 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// The preconditioner `choice` of a solve on `matrix`, into settings: the matrix's sparse LU (2D
+// only; Jacobi where the factorisation fails), the AMG hierarchy (kept while it fits, amg.hpp), or
+// Jacobi (settings left empty). Returns whether an AMG hierarchy was built for this matrix.
+bool set_preconditioner(Preconditioner choice, int dimension, const numerics::StencilMatrix& matrix,
+                        numerics::SparseLu& lu, numerics::AmgPreconditioner& amg, numerics::KrylovSettings& settings) {
+  if (choice == Preconditioner::sparse_lu && dimension == 2 && lu.factorise(matrix))
+    settings.preconditioner = lu.as_preconditioner();
+  if (choice != Preconditioner::amg) return false;
+  const bool fresh = amg.prepare(matrix);
+  settings.preconditioner = amg.as_preconditioner();
+  return fresh;
+}
+
 double norm_of(const std::vector<double>& g) {
   return std::sqrt(std::inner_product(g.begin(), g.end(), g.begin(), 0.0));
 }
@@ -232,15 +245,9 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
                        params_.velocity_tolerance * rho * std::max(g_norm * dt, 1e-12) * sqrt_n,
                        params_.max_iterations,
                        {}};
-  if (params_.velocity_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
-      solves.momentum_lu.factorise(momentum_matrix_))
-    velocity_settings.preconditioner = solves.momentum_lu.as_preconditioner();
   const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
-  bool velocity_hierarchy_fresh = false;
-  if (velocity_amg) {
-    velocity_hierarchy_fresh = velocity_amg_.prepare(momentum_matrix_);
-    velocity_settings.preconditioner = velocity_amg_.as_preconditioner();
-  }
+  bool velocity_hierarchy_fresh = set_preconditioner(params_.velocity_preconditioner, dim_, momentum_matrix_,
+                                                     solves.momentum_lu, velocity_amg_, velocity_settings);
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
   for (std::size_t d = 0; d < dim; ++d) {
@@ -342,15 +349,9 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
                        params_.pressure_tolerance * rho * std::max(g_norm, 1e-12) / params_.spacing * sqrt_n,
                        params_.max_iterations,
                        {}};
-  if (params_.pressure_preconditioner == Preconditioner::sparse_lu && dim_ == 2 &&
-      solves.pressure_lu.factorise(pressure_matrix_))
-    pressure_settings.preconditioner = solves.pressure_lu.as_preconditioner();
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
-  bool pressure_hierarchy_fresh = false;
-  if (pressure_amg) {
-    pressure_hierarchy_fresh = pressure_amg_.prepare(pressure_matrix_);
-    pressure_settings.preconditioner = pressure_amg_.as_preconditioner();
-  }
+  const bool pressure_hierarchy_fresh = set_preconditioner(params_.pressure_preconditioner, dim_, pressure_matrix_,
+                                                           solves.pressure_lu, pressure_amg_, pressure_settings);
   auto pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
   const auto repeat_pressure_solve = [&] {
     ++stats.repeated_solves;
