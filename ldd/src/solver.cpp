@@ -38,9 +38,9 @@ Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>>
     : params_(std::move(params)),
       walls_(std::move(walls)),
       kinds_(std::move(cloud.kinds)),
-      normals_(std::move(cloud.normals)),
-      wall_velocities_(std::move(cloud.wall_velocities)),
-      positions_(std::move(cloud.positions)) {
+      wall_velocities_(std::move(cloud.wall_velocities)) {
+  normals_ = std::move(cloud.normals);
+  positions_ = std::move(cloud.positions);
   params_.check();
   pressure_amg_ = numerics::AmgPreconditioner(params_.pressure_amg);
   velocity_amg_ = numerics::AmgPreconditioner(params_.velocity_amg);

@@ -62,6 +62,7 @@
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/ldd/boundary.hpp"
 #include "rheosim/ldd/node_cloud.hpp"
+#include "rheosim/ldd/node_state.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/step.hpp"
@@ -152,7 +153,7 @@ struct FreeSurfaceState {
   numerics::AmgState pressure_amg, velocity_amg;
 };
 
-class FreeSurfaceSolver {
+class FreeSurfaceSolver : public NodeState {
  public:
   FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries, NodeCloud cloud);
 
@@ -160,18 +161,10 @@ class FreeSurfaceSolver {
   FreeSurfaceStats step();
 
   [[nodiscard]] int dimension() const { return dim_; }
-  [[nodiscard]] double time() const { return time_; }
-  [[nodiscard]] std::size_t steps() const { return steps_; }
   [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const FreeSurfaceParams& params() const { return params_; }
-  [[nodiscard]] std::span<const double> positions() const { return positions_; }
-  [[nodiscard]] std::span<const double> velocity() const { return velocity_; }
-  [[nodiscard]] std::span<const double> pressure() const { return pressure_; }
-  [[nodiscard]] std::span<const double> shear_rate() const { return shear_rate_; }
-  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }
   [[nodiscard]] std::span<const FreeNode> kinds() const { return kinds_; }
-  [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= FreeNode::splash; }
 
   [[nodiscard]] FreeSurfaceState state() const;
@@ -238,26 +231,15 @@ class FreeSurfaceSolver {
   std::vector<FreeNode> kinds_, last_kinds_;  // last_kinds_: the classification of the previous step
   std::vector<std::uint8_t> corner_;
   std::vector<int> boundary_of_;
-  std::vector<double> normals_, probe_directions_;
-  std::vector<double> positions_, velocity_, previous_velocity_, pressure_, shear_rate_, viscosity_;
-  double support_radius_ = 0, search_radius_ = 0, rest_density_ = 0, rest_count_ = 0;
-  double time_ = 0;
-  std::size_t steps_ = 0, laplacian_guarded_ = 0;
-  bool first_step_ = true;
-  numerics::NeighbourList neighbours_;
+  std::vector<double> probe_directions_;
+  double search_radius_ = 0, rest_count_ = 0;
+  std::size_t laplacian_guarded_ = 0;
   numerics::NeighbourList candidates_;       // Verlet list (neighbour_reuse_skin); empty after a plain search
   std::vector<double> candidate_positions_;  // where the nodes were at the last search
   std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
-  Operators operators_;
-  PhaseTimes times_;
-  numerics::KrylovWorkspace krylov_;
-  numerics::AmgPreconditioner pressure_amg_, velocity_amg_;
-  numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
-  std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, increment_gradient_;
+  std::vector<double> increment_gradient_;
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
-  std::vector<double> new_pressure_;       // p_n until the step commits
   std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
-  std::vector<double> rhs_, new_velocity_, component_, increment_, shift_;
   std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
   std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (regradient_for_boundary_values)
 };

@@ -45,6 +45,7 @@
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/lattice_interpolation.hpp"
 #include "rheosim/ldd/node_reordering.hpp"
+#include "rheosim/ldd/node_state.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/step.hpp"
@@ -75,7 +76,7 @@ struct CavityStepStats : StepStats {
   std::size_t guarded_nodes = 0;  // nodes using an operator guard (operators.hpp)
 };
 
-class Solver {
+class Solver : public NodeState {
  public:
   Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> walls, NodeCloud cloud);
   ~Solver();
@@ -85,19 +86,11 @@ class Solver {
   // Advances one time step δt. Throws DivergenceError (state unchanged) on divergence.
   CavityStepStats step();
 
-  [[nodiscard]] double time() const { return time_; }
-  [[nodiscard]] std::size_t steps() const { return steps_; }
   [[nodiscard]] static constexpr int dimension() { return 2; }
   [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const SolverParams& params() const { return params_; }
-  [[nodiscard]] std::span<const double> positions() const { return positions_; }
-  [[nodiscard]] std::span<const double> velocity() const { return velocity_; }
-  [[nodiscard]] std::span<const double> pressure() const { return pressure_; }
-  [[nodiscard]] std::span<const double> shear_rate() const { return shear_rate_; }
-  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }
   [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
-  [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
 
   // Velocity at arbitrary points (interleaved x, y) by Shepard interpolation (eq. 12) with a
   // first-order gradient correction: ⟨u(x)⟩ = Σ W_j (u_j + ⟨∇u⟩_j·(x − x_j)) / Σ W_j over the
@@ -125,29 +118,13 @@ class Solver {
   SolverParams params_;
   std::vector<std::shared_ptr<const Boundary>> walls_;
   std::vector<NodeKind> kinds_;
-  std::vector<double> normals_, wall_velocities_;
-  std::vector<double> positions_, velocity_, previous_velocity_, pressure_;
-  std::vector<double> shear_rate_, viscosity_;
-  double support_radius_ = 0;
-  double rest_density_ = 0;  // ρ₀ of the PBD constraint (kernel sum, dimensionless)
-  double time_ = 0;
-  std::size_t steps_ = 0;
-  bool first_step_ = true;
-  numerics::NeighbourList neighbours_;
-  Operators operators_;
+  std::vector<double> wall_velocities_;
   bool operators_valid_ = false;
   numerics::SparseLu pressure_lu_;          // lattice mode only
   QuadraticFit lattice_fit_;                // lattice mode, quadratic interpolation
   std::vector<double> advection_velocity_;  // a of eq. 20 on every node
-  numerics::AmgPreconditioner pressure_amg_, velocity_amg_;
-  PhaseTimes times_;
-  // Work buffers reused across steps.
-  numerics::KrylovWorkspace krylov_;
   numerics::PairKrylovWorkspace pair_krylov_;
-  numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
-  std::vector<double> velocity_gradient_, divergence_, rhs_, momentum_rhs_, pressure_gradient_;
-  std::vector<double> new_velocity_, component_, shift_, increment_;
-  std::vector<double> new_pressure_;  // p_n until the step commits
+  std::vector<double> momentum_rhs_;
   // u* − u of the last two committed momentum solves (Jacobi: the next initial guess), and this step's.
   std::vector<double> momentum_increment_, older_momentum_increment_, next_momentum_increment_;
 };

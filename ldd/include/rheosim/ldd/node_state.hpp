@@ -1,0 +1,52 @@
+#pragma once
+// What both LDD solvers hold alike for their node cloud (solver.hpp, free_surface.hpp): the
+// fields, the neighbour list and operators of the current cloud, the two linear systems with
+// their preconditioners and workspaces, the clock and the phase timings. Each solver derives
+// from it and adds what its scenes need.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "rheosim/ldd/operators.hpp"
+#include "rheosim/ldd/step.hpp"
+#include "rheosim/numerics/amg.hpp"
+#include "rheosim/numerics/krylov.hpp"
+#include "rheosim/numerics/neighbours.hpp"
+
+namespace rheosim::ldd {
+
+class NodeState {
+ public:
+  [[nodiscard]] double time() const { return time_; }
+  [[nodiscard]] std::size_t steps() const { return steps_; }
+  [[nodiscard]] std::span<const double> positions() const { return positions_; }    // interleaved [m]
+  [[nodiscard]] std::span<const double> velocity() const { return velocity_; }      // [m/s]
+  [[nodiscard]] std::span<const double> pressure() const { return pressure_; }      // [Pa]
+  [[nodiscard]] std::span<const double> shear_rate() const { return shear_rate_; }  // γ̇ [1/s]
+  [[nodiscard]] std::span<const double> viscosity() const { return viscosity_; }    // μ(γ̇) [Pa·s]
+  [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
+
+ protected:
+  NodeState() = default;
+
+  std::vector<double> positions_, velocity_, previous_velocity_, pressure_, shear_rate_, viscosity_;
+  std::vector<double> normals_;  // inward unit normal of wall nodes (0 for fluid nodes)
+  double support_radius_ = 0;    // h [m]
+  double rest_density_ = 0;      // ρ₀ of the PBD constraint (kernel sum, dimensionless)
+  double time_ = 0;
+  std::size_t steps_ = 0;
+  bool first_step_ = true;  // the first advection is first order (no u_{n−1} yet)
+  numerics::NeighbourList neighbours_;
+  Operators operators_;
+  PhaseTimes times_;
+  numerics::KrylovWorkspace krylov_;
+  numerics::AmgPreconditioner pressure_amg_, velocity_amg_;
+  numerics::StencilMatrix pressure_matrix_, momentum_matrix_;
+  // Work buffers reused across steps.
+  std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, rhs_, new_velocity_, component_;
+  std::vector<double> increment_;     // φ = p_n − p_{n−1}
+  std::vector<double> shift_;         // this step's PBD displacement per node
+  std::vector<double> new_pressure_;  // p_n until the step commits
+};
+
+}  // namespace rheosim::ldd
