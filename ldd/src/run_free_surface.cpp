@@ -315,6 +315,119 @@ std::string read_checkpoint(const std::filesystem::path& path, const Case& c, Fr
   return text("git_revision");
 }
 
+// The probe file's columns: time, the scene's probe (front; diameter and height; left-wall
+// height), the stability probe's when asked for, then the energy, volume and solver records.
+std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bool probe_stability) {
+  const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
+  const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
+  std::vector<core::CsvTable::Column> columns{{"time", "s"}};
+  if (dam_break) columns.push_back({"front", "m"});
+  if (slump) {
+    columns.push_back({"diameter", "m"});
+    columns.push_back({"height", "m"});
+  }
+  if (!dam_break && !slump) columns.push_back({"left_wall_height", "m"});
+  if (probe_stability)
+    for (core::CsvTable::Column col : std::vector<core::CsvTable::Column>{
+             {"step_map_growth", ""}, {"step_map_node_x", "m"}, {"step_map_node_y", "m"}})
+      columns.push_back(col);
+  for (core::CsvTable::Column col :
+       std::vector<core::CsvTable::Column>{{"kinetic_energy", l.dimension == 2 ? "J/m" : "J"},
+                                           {"potential_energy_released", l.dimension == 2 ? "J/m" : "J"},
+                                           {"volume_drift", ""},
+                                           {"surface_nodes", ""},
+                                           {"splash_nodes", ""},
+                                           {"pressure_iterations", ""},
+                                           {"velocity_iterations", ""},
+                                           {"courant", ""},
+                                           {"max_pbd_shift", ""}})
+    columns.push_back(col);
+  return columns;
+}
+
+// summary.json of a finished (or stopped) run: the head every LDD run writes, the energy and
+// volume records, the rules the run bent, the probes, and a dam break's or slump's final shape
+// (a dam break also writes profile.csv and its references' files).
+nlohmann::ordered_json run_summary(const Case& c, const FreeSurfaceSolver& solver, const RunRecord& run,
+                                   const core::CsvTable& history, const RunOutcome& outcome, int threads,
+                                   const std::filesystem::path& out_dir, const core::Log& log) {
+  const auto& l = c.settings;
+  const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
+  const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
+  nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
+  summary["volume_drift"] = run.max_drift;
+  summary["kinetic_energy_peak"] = run.peak_energy;
+  // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only
+  // where a release drives the flow; a resting column releases nothing but noise (null).
+  const bool released_flow = (dam_break || slump) && run.max_released > 0;
+  const double energy_gain = released_flow ? run.max_energy_excess / run.max_released : 0.0;
+  if (released_flow)
+    summary["energy_gain"] = energy_gain;
+  else
+    summary["energy_gain"] = nullptr;
+  summary["repeated_solves"] = static_cast<int>(run.repeated_solves);
+  {  // every rule the run bent
+    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
+    if (const auto w = run.accepted.warning(solver.steps())) warnings.push_back(*w);
+    if (run.max_drift > volume_drift_tolerance)
+      warnings.push_back(fmt::format("the fluid volume drifted by up to {:.3g} % (more than {:.3g} %)",
+                                     1e2 * run.max_drift, 1e2 * volume_drift_tolerance));
+    if (energy_gain > energy_gain_tolerance)
+      warnings.push_back(fmt::format(
+          "the kinetic energy exceeded the potential energy released by {:.3g} % of the latter: the scheme created "
+          "energy",
+          1e2 * energy_gain));
+    if (run.repeated_solves > 0)
+      warnings.push_back(fmt::format("{} linear solves failed and were repeated ({} with the sparse LU)",
+                                     run.repeated_solves, run.repeated_with_lu));
+    for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
+    summary["warnings"] = warnings;
+  }
+  summary["repeated_with_lu"] =
+      static_cast<int>(run.repeated_with_lu);  // of which; the rest with a fresh AMG hierarchy
+  // Krylov iterations per step (velocity: all components), to compare preconditioners.
+  const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
+  summary["iterations_per_step"] = {{"pressure", run.pressure_iterations / steps_done},
+                                    {"velocity", run.velocity_iterations / steps_done}};
+  // Neighbour searches by this process (the other steps filtered the Verlet list).
+  summary["neighbour_searches"] = solver.neighbour_searches();
+  summary["wall_time"] = run.wall_seconds;
+  summary["resumed_at_steps"] = from_doubles<std::size_t>(run.resumed_at_steps);
+  nlohmann::ordered_json probes = nlohmann::ordered_json::array();
+  for (std::size_t q = 0; q < history.row_count(); ++q) {
+    const auto row = history.row(q);
+    if (dam_break) probes.push_back({{"t", row[0]}, {"x", row[1]}});
+    if (slump) probes.push_back({{"t", row[0]}, {"diameter", row[1]}, {"height", row[2]}});
+  }
+  if (dam_break) {
+    summary["front"] = probes;
+    detail::compare_dam_break_front(l, run.front_time, run.front, out_dir, summary, log);
+  }
+  if (slump) summary["spread"] = probes;
+  if (dam_break || slump) {
+    // The final shape, and whether the material has stopped by the yield criterion.
+    const double yield_stress = l.fluid.rheology->yield_stress();
+    if (dam_break) {
+      summary["final_spread"] = mass_front(solver);
+      summary["final_height"] = top_height(solver);
+      core::write_csv(out_dir / "profile.csv", final_profile(solver, l));
+    } else {
+      const auto [diameter, height] = spread(solver);
+      summary["final_spread"] = diameter;
+      summary["final_height"] = height;
+    }
+    if (yield_stress > 0) {
+      const double share = yielded_fraction(solver, yield_stress);
+      summary["yielded_fraction"] = share;
+      summary["arrested"] = outcome.status != "diverged" && share == 0.0;
+    } else {
+      summary["yielded_fraction"] = nullptr;
+      summary["arrested"] = false;  // no yield stress: a liquid does not arrest
+    }
+  }
+  return summary;
+}
+
 }  // namespace
 
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l) {
@@ -379,31 +492,9 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   double mould_clear_time = 0;
   if (const auto* s = std::get_if<ldd::SlumpScene>(&l.scene)) mould_clear_time = s->cone_height / s->lift_velocity;
 
-  std::vector<core::CsvTable::Column> columns{{"time", "s"}};
-  if (dam_break) columns.push_back({"front", "m"});
-  if (slump) {
-    columns.push_back({"diameter", "m"});
-    columns.push_back({"height", "m"});
-  }
   const bool column = !dam_break && !slump;
-  if (column) columns.push_back({"left_wall_height", "m"});
   const bool probe_stability = control.stability_probe_iterations > 0;
-  if (probe_stability)
-    for (core::CsvTable::Column col : std::vector<core::CsvTable::Column>{
-             {"step_map_growth", ""}, {"step_map_node_x", "m"}, {"step_map_node_y", "m"}})
-      columns.push_back(col);
-  for (core::CsvTable::Column col :
-       std::vector<core::CsvTable::Column>{{"kinetic_energy", l.dimension == 2 ? "J/m" : "J"},
-                                           {"potential_energy_released", l.dimension == 2 ? "J/m" : "J"},
-                                           {"volume_drift", ""},
-                                           {"surface_nodes", ""},
-                                           {"splash_nodes", ""},
-                                           {"pressure_iterations", ""},
-                                           {"velocity_iterations", ""},
-                                           {"courant", ""},
-                                           {"max_pbd_shift", ""}})
-    columns.push_back(col);
-  core::CsvTable history(columns);
+  core::CsvTable history(probe_columns(l, probe_stability));
   const std::string probe_file = probe_file_name(l.scene_type);
   RunRecord run;
 
@@ -540,77 +631,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
 
   outcome.steps = solver.steps();
   outcome.ms_per_step = solver.steps() > 0 ? 1e3 * run.step_seconds / static_cast<double>(solver.steps()) : 0.0;
-  nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
-  summary["volume_drift"] = run.max_drift;
-  summary["kinetic_energy_peak"] = run.peak_energy;
-  // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only
-  // where a release drives the flow; a resting column releases nothing but noise (null).
-  const bool released_flow = (dam_break || slump) && run.max_released > 0;
-  const double energy_gain = released_flow ? run.max_energy_excess / run.max_released : 0.0;
-  if (released_flow)
-    summary["energy_gain"] = energy_gain;
-  else
-    summary["energy_gain"] = nullptr;
-  summary["repeated_solves"] = static_cast<int>(run.repeated_solves);
-  {  // every rule the run bent
-    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    if (const auto w = run.accepted.warning(solver.steps())) warnings.push_back(*w);
-    if (run.max_drift > volume_drift_tolerance)
-      warnings.push_back(fmt::format("the fluid volume drifted by up to {:.3g} % (more than {:.3g} %)",
-                                     1e2 * run.max_drift, 1e2 * volume_drift_tolerance));
-    if (energy_gain > energy_gain_tolerance)
-      warnings.push_back(fmt::format(
-          "the kinetic energy exceeded the potential energy released by {:.3g} % of the latter: the scheme created "
-          "energy",
-          1e2 * energy_gain));
-    if (run.repeated_solves > 0)
-      warnings.push_back(fmt::format("{} linear solves failed and were repeated ({} with the sparse LU)",
-                                     run.repeated_solves, run.repeated_with_lu));
-    for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
-    summary["warnings"] = warnings;
-  }
-  summary["repeated_with_lu"] =
-      static_cast<int>(run.repeated_with_lu);  // of which; the rest with a fresh AMG hierarchy
-  // Krylov iterations per step (velocity: all components), to compare preconditioners.
-  const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
-  summary["iterations_per_step"] = {{"pressure", run.pressure_iterations / steps_done},
-                                    {"velocity", run.velocity_iterations / steps_done}};
-  // Neighbour searches by this process (the other steps filtered the Verlet list).
-  summary["neighbour_searches"] = solver.neighbour_searches();
-  summary["wall_time"] = run.wall_seconds;
-  summary["resumed_at_steps"] = from_doubles<std::size_t>(run.resumed_at_steps);
-  nlohmann::ordered_json probes = nlohmann::ordered_json::array();
-  for (std::size_t q = 0; q < history.row_count(); ++q) {
-    const auto row = history.row(q);
-    if (dam_break) probes.push_back({{"t", row[0]}, {"x", row[1]}});
-    if (slump) probes.push_back({{"t", row[0]}, {"diameter", row[1]}, {"height", row[2]}});
-  }
-  if (dam_break) {
-    summary["front"] = probes;
-    detail::compare_dam_break_front(l, run.front_time, run.front, out_dir, summary, log);
-  }
-  if (slump) summary["spread"] = probes;
-  if (dam_break || slump) {
-    // The final shape, and whether the material has stopped by the yield criterion.
-    const double yield_stress = l.fluid.rheology->yield_stress();
-    if (dam_break) {
-      summary["final_spread"] = mass_front(solver);
-      summary["final_height"] = top_height(solver);
-      core::write_csv(out_dir / "profile.csv", final_profile(solver, l));
-    } else {
-      const auto [diameter, height] = spread(solver);
-      summary["final_spread"] = diameter;
-      summary["final_height"] = height;
-    }
-    if (yield_stress > 0) {
-      const double share = yielded_fraction(solver, yield_stress);
-      summary["yielded_fraction"] = share;
-      summary["arrested"] = outcome.status != "diverged" && share == 0.0;
-    } else {
-      summary["yielded_fraction"] = nullptr;
-      summary["arrested"] = false;  // no yield stress: a liquid does not arrest
-    }
-  }
+  const nlohmann::ordered_json summary = run_summary(c, solver, run, history, outcome, threads, out_dir, log);
   core::write_json(out_dir / "summary.json", summary);
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,
