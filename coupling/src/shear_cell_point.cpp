@@ -119,22 +119,14 @@ NearFieldScene make_near_field_scene(const dem::ShearCellScene& scene) {
   return s;
 }
 
-ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
-  check_settings(settings);
-  const auto start = Clock::now();
-  const auto& q = settings.particles;
-  const double area = settings.cell_length * settings.cell_width;
-  const std::size_t count = q.volume_fraction > 0.0
-                                ? dem::shear_cell_particle_count(settings.gap, settings.cell_length,
-                                                                 settings.cell_width, q.diameter, q.volume_fraction)
-                                : 0;
+namespace {
 
-  ShearCellPoint out;
-  out.shear_rate = settings.shear_rate;
-  out.cell_length = settings.cell_length;
-  out.cell_width = settings.cell_width;
-
+// The cell's LIGGGHTS scene for `count` particles (none at φ = 0), with the pair-virial fix the
+// bulk-stress cross-check reads; records the DEM step, particles and φ in out.
+std::unique_ptr<dem::ShearCellScene> make_scene(const ShearCellPointSettings& settings, std::size_t count,
+                                                ShearCellPoint& out) {
   std::unique_ptr<dem::ShearCellScene> scene;
+  const auto& q = settings.particles;
   if (count > 0) {
     const double g = core::units::standard_gravity;
     std::optional<std::array<double, 3>> gravity;
@@ -170,6 +162,61 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
                                 : 1e-7 / 0.3;
     out.dem_time_step = settings.dem_time_step ? *settings.dem_time_step : settings.time_step_fraction * rayleigh;
   }
+  return scene;
+}
+
+// The point's stress and its parts from the run's series (out.series), at the detector's end.
+void set_steady_stress(const SteadyStateDetector& detector, double time, const ShearCellPointSettings& settings,
+                       ShearCellPoint& out) {
+  const auto estimate = detector.estimate();
+  out.converged = estimate.steady;
+  out.strain = detector.strain();
+  // Steady: the detector's last window. Not steady by max_strain (a dense suspension whose stress
+  // wanders over several strain units, e.g. with lubrication at φ = 0.3): the last window's mean
+  // and batch error understate that wandering, so the second half of the run is used instead,
+  // with the standard error of 5 batch means.
+  double from_time = time - settings.steady.strain_window / settings.shear_rate;
+  if (estimate.steady) {
+    out.stress = estimate.mean;
+    out.stress_error = estimate.standard_error;
+  } else {
+    from_time = 0.5 * time;
+    std::vector<double> values;
+    for (const auto& r : out.series)
+      if (r.time >= from_time) values.push_back(r.total_top());
+    const auto [mean, error] = batch_mean(values, 5);
+    out.stress = mean;
+    out.stress_error = error;
+  }
+  const auto means = window_means(out.series, from_time);
+  out.stress_fluid = means.fluid_top;
+  out.stress_contact = means.contact_top;
+  out.stress_lubrication = means.lubrication_top;
+  out.stress_stresslet = means.stresslet;
+  out.stress_couple = means.couple;
+  out.bottom_stress = means.bottom;
+  out.bulk_stress = means.bulk;
+  out.bulk_parts = means.parts;
+}
+
+}  // namespace
+
+ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
+  check_settings(settings);
+  const auto start = Clock::now();
+  const auto& q = settings.particles;
+  const double area = settings.cell_length * settings.cell_width;
+  const std::size_t count = q.volume_fraction > 0.0
+                                ? dem::shear_cell_particle_count(settings.gap, settings.cell_length,
+                                                                 settings.cell_width, q.diameter, q.volume_fraction)
+                                : 0;
+
+  ShearCellPoint out;
+  out.shear_rate = settings.shear_rate;
+  out.cell_length = settings.cell_length;
+  out.cell_width = settings.cell_width;
+
+  std::unique_ptr<dem::ShearCellScene> scene = make_scene(settings, count, out);
   const double dt = settings.coupling_interval * out.dem_time_step;
   out.fluid_time_step = dt;
 
@@ -333,35 +380,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
     detector.add(time, record.total_top());
   }
 
-  const auto estimate = detector.estimate();
-  out.converged = estimate.steady;
-  out.strain = detector.strain();
-  // Steady: the detector's last window. Not steady by max_strain (a dense suspension whose stress
-  // wanders over several strain units, e.g. with lubrication at φ = 0.3): the last window's mean
-  // and batch error understate that wandering, so the second half of the run is used instead,
-  // with the standard error of 5 batch means.
-  double from_time = time - settings.steady.strain_window / settings.shear_rate;
-  if (estimate.steady) {
-    out.stress = estimate.mean;
-    out.stress_error = estimate.standard_error;
-  } else {
-    from_time = 0.5 * time;
-    std::vector<double> values;
-    for (const auto& r : out.series)
-      if (r.time >= from_time) values.push_back(r.total_top());
-    const auto [mean, error] = batch_mean(values, 5);
-    out.stress = mean;
-    out.stress_error = error;
-  }
-  const auto means = window_means(out.series, from_time);
-  out.stress_fluid = means.fluid_top;
-  out.stress_contact = means.contact_top;
-  out.stress_lubrication = means.lubrication_top;
-  out.stress_stresslet = means.stresslet;
-  out.stress_couple = means.couple;
-  out.bottom_stress = means.bottom;
-  out.bulk_stress = means.bulk;
-  out.bulk_parts = means.parts;
+  set_steady_stress(detector, time, settings, out);
   out.cost.near_field = near_field_seconds;  // spent inside the DEM steps
   out.cost.dem = std::max(0.0, out.cost.dem - near_field_seconds);
   out.wall_time = seconds_since(start);
