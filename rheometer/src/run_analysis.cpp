@@ -130,22 +130,10 @@ nlohmann::ordered_json correlation_json(const CorrelationComparison& c) {
   return j;
 }
 
-}  // namespace
-
-void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs& in) {
-  if (in.fluids.empty()) throw std::invalid_argument("add_flow_analysis: no fluids");
-  auto& points = summary["points"];
-  // Flow curves carry φ in their label when the run has suspension points.
-  const bool has_suspension = std::any_of(points.begin(), points.end(), [](const auto& p) {
-    return p.contains("volume_fraction") && p["volume_fraction"].template get<double>() > 0;
-  });
-  std::vector<std::string> fluid_names;
-  for (const auto& p : points) {
-    const std::string name = p.value("fluid", in.fluids.front().name);
-    if (std::find(fluid_names.begin(), fluid_names.end(), name) == fluid_names.end()) fluid_names.push_back(name);
-  }
-
-  // Group the points into flow curves, in order of first appearance.
+// The points grouped into flow curves (fluid, φ), in order of first appearance; each keeps its
+// converged points with a positive torque.
+std::vector<Series> group_into_series(const nlohmann::ordered_json& points, const RunAnalysisInputs& in,
+                                      const std::vector<std::string>& fluid_names, bool has_suspension) {
   std::vector<Series> series;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto& p = points[i];
@@ -164,239 +152,269 @@ void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs&
     if (p.value("converged", false) && torque > 0 && std::isfinite(torque)) it->point_indices.push_back(i);
   }
 
-  auto series_json = nlohmann::ordered_json::array();
-  auto fits_json = nlohmann::ordered_json::array();
-  auto yield_json_all = nlohmann::ordered_json::array();
-  // Per fluid: φ → (best fit of that φ) for the relative viscosity.
+  return series;
+}
+
+// What the flow curves add to summary.json, and each fluid's best fit per φ for η_r(φ).
+struct SeriesAnalysis {
+  nlohmann::ordered_json series = nlohmann::ordered_json::array();
+  nlohmann::ordered_json fits = nlohmann::ordered_json::array();
+  nlohmann::ordered_json yields = nlohmann::ordered_json::array();
   std::map<std::string, std::vector<std::pair<double, FitResult>>> best_fits;
+};
 
-  for (auto& s : series) {
-    std::sort(s.point_indices.begin(), s.point_indices.end(), [&](std::size_t a, std::size_t b) {
-      return number(points[a], "shear_rate") < number(points[b], "shear_rate");
-    });
-    nlohmann::ordered_json sj;
-    sj["label"] = s.label;
-    sj["fluid"] = s.fluid;
-    sj["volume_fraction"] = s.volume_fraction;
-    sj["points"] = s.point_indices.size();
-    auto warnings = nlohmann::ordered_json::array();
-    const auto& fluid = find_fluid(in, s.fluid).properties;
+// One flow curve: the rim stress and validity of its points (written into them), the fits ranked
+// by AICc, the yield stresses, into `out`.
+void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysisInputs& in, SeriesAnalysis& out) {
+  std::sort(s.point_indices.begin(), s.point_indices.end(), [&](std::size_t a, std::size_t b) {
+    return number(points[a], "shear_rate") < number(points[b], "shear_rate");
+  });
+  nlohmann::ordered_json sj;
+  sj["label"] = s.label;
+  sj["fluid"] = s.fluid;
+  sj["volume_fraction"] = s.volume_fraction;
+  sj["points"] = s.point_indices.size();
+  auto warnings = nlohmann::ordered_json::array();
+  const auto& fluid = find_fluid(in, s.fluid).properties;
 
-    std::vector<double> rates, torques, relative_errors;
-    bool all_errors = true;
-    for (std::size_t i : s.point_indices) {
-      rates.push_back(number(points[i], "shear_rate"));
-      torques.push_back(number(points[i], "torque"));
-      const double se = number(points[i], "torque_std_error");
-      all_errors = all_errors && se > 0;
-      relative_errors.push_back(se / torques.back());
-    }
-    if (!all_errors) relative_errors.clear();
+  std::vector<double> rates, torques, relative_errors;
+  bool all_errors = true;
+  for (std::size_t i : s.point_indices) {
+    rates.push_back(number(points[i], "shear_rate"));
+    torques.push_back(number(points[i], "torque"));
+    const double se = number(points[i], "torque_std_error");
+    all_errors = all_errors && se > 0;
+    relative_errors.push_back(se / torques.back());
+  }
+  if (!all_errors) relative_errors.clear();
 
-    if (rates.size() < 2) {
-      warnings.push_back(fmt::format("{}: {} finished point(s): the plate correction and the fits need at least 2",
-                                     s.label, rates.size()));
-      sj["warnings"] = warnings;
-      series_json.push_back(sj);
-      continue;
-    }
-
-    const RimStressCurve curve = rim_stress_curve(in.plate, rates, torques, relative_errors);
-    std::vector<bool> valid(rates.size(), true);
-    const double particle_density = in.particles ? in.particles->density : 0.0;
-    for (std::size_t k = 0; k < rates.size(); ++k) {
-      auto& p = points[s.point_indices[k]];
-      p["log_slope"] = finite_or_null(curve.log_slope[k]);
-      p["log_slope_std_error"] = finite_or_null(curve.log_slope_std_error[k]);
-      p["apparent_stress"] = curve.apparent_stress[k];
-      p["rim_stress"] = curve.corrected_stress[k];
-      p["apparent_viscosity"] = curve.apparent_viscosity[k];
-      p["viscosity"] = curve.corrected_viscosity[k];
-      // Validity at this point: the sample's density is the mixture's, its viscosity the measured one.
-      PointConditions cond;
-      cond.rim_shear_rate = rates[k];
-      cond.density = (1.0 - s.volume_fraction) * fluid.density + s.volume_fraction * particle_density;
-      cond.viscosity = curve.corrected_viscosity[k] > 0 ? curve.corrected_viscosity[k] : curve.apparent_viscosity[k];
-      cond.fluid_density = fluid.density;
-      cond.fluid_viscosity = fluid.rheology->viscosity(rates[k]);
-      if (s.volume_fraction > 0 && in.particles) {
-        cond.particle_diameter = in.particles->diameter;
-        cond.particle_density = in.particles->density;
-      }
-      if (cond.viscosity > 0) {
-        const PointValidity v = check_validity(in.plate, cond);
-        nlohmann::ordered_json vj;
-        vj["gap_reynolds"] = v.gap_reynolds;
-        vj["particle_reynolds"] = cond.particle_diameter > 0 ? nlohmann::ordered_json(v.particle_reynolds) : nullptr;
-        vj["stokes"] = cond.particle_diameter > 0 ? nlohmann::ordered_json(v.stokes) : nullptr;
-        vj["gap_to_diameter"] = finite_or_null(v.gap_to_diameter);
-        vj["gap_reynolds_ok"] = v.gap_reynolds_ok;
-        vj["particle_reynolds_ok"] = v.particle_reynolds_ok;
-        vj["stokes_ok"] = v.stokes_ok;
-        vj["gap_to_diameter_ok"] = v.gap_to_diameter_ok;
-        vj["valid"] = v.is_valid();
-        vj["messages"] = v.messages;
-        p["validity"] = vj;
-        valid[k] = v.is_valid();
-      }
-    }
-
-    // Fit only the points that pass the validity checks: a torque raised by secondary flow or
-    // particle inertia is not the material's flow curve (it reads as shear thickening or a yield
-    // stress). With fewer than 3 valid points every point is fitted, with a warning.
-    const auto valid_count = static_cast<std::size_t>(std::count(valid.begin(), valid.end(), true));
-    const bool fit_valid_only = valid_count >= 3 && valid_count < rates.size();
-    std::vector<double> fit_rates, fit_stress, fit_torques;
-    for (std::size_t k = 0; k < rates.size(); ++k) {
-      const bool used = !fit_valid_only || valid[k];
-      points[s.point_indices[k]]["used_in_fits"] = used;
-      if (!used) continue;
-      fit_rates.push_back(rates[k]);
-      fit_stress.push_back(curve.corrected_stress[k]);
-      fit_torques.push_back(torques[k]);
-    }
-    if (fit_valid_only)
-      warnings.push_back(
-          fmt::format("{}: {} of {} points fail the validity checks (see the point table) and are left "
-                      "out of the fits and yield-stress estimates",
-                      s.label, rates.size() - valid_count, rates.size()));
-    else if (valid_count < rates.size())
-      warnings.push_back(
-          fmt::format("{}: {} of {} points fail the validity checks; too few valid points remain, so all "
-                      "are fitted: read the fits and yield stresses with that in mind",
-                      s.label, rates.size() - valid_count, rates.size()));
-    sj["fitted_points"] = fit_rates.size();
-
-    // Every flow model on (γ̇_R, τ_R), ranked by AICc.
-    std::vector<FitResult> fits;
-    for (const auto& name : builtin_flow_models().names()) {
-      try {
-        fits.push_back(fit_flow_curve(name, fit_rates, fit_stress));
-      } catch (const std::exception& e) {
-        warnings.push_back(fmt::format("{}: the {} fit failed: {}", s.label, name, e.what()));
-      }
-    }
-    const auto ranking = rank_by_aic(fits);
-    std::vector<nlohmann::ordered_json> fit_entries;
-    for (const auto& f : fits) fit_entries.push_back(fit_json(f, s));
-    for (std::size_t r = 0; r < ranking.size(); ++r) {
-      auto& fj = fit_entries[ranking[r].fit_index];
-      fj["rank"] = r + 1;
-      fj["delta"] = finite_or_null(ranking[r].delta);
-      fj["akaike_weight"] = finite_or_null(ranking[r].weight);
-    }
-    for (auto& fj : fit_entries) fits_json.push_back(fj);
-    if (!ranking.empty()) {
-      const FitResult& best = fits[ranking.front().fit_index];
-      sj["best_model"] = best.model_name;
-      best_fits[s.fluid].emplace_back(s.volume_fraction, best);
-    }
-
-    // Yield stress, four ways kept apart (analysis.hpp §3).
-    for (const auto& [model, method] :
-         {std::pair{"bingham", "bingham_intercept"}, std::pair{"casson", "casson_intercept"},
-          std::pair{"herschel_bulkley", "herschel_bulkley"}}) {
-      const auto it = std::find_if(fits.begin(), fits.end(), [&](const FitResult& f) { return f.model_name == model; });
-      if (it == fits.end()) continue;
-      auto yj = yield_json(yield_stress_from_fit(*it, method), s);
-      // How much the data support the model the estimate comes from (an intercept of a model
-      // with weight ~0 is a fitting artefact, not a material property).
-      const auto index = static_cast<std::size_t>(it - fits.begin());
-      for (const auto& r : ranking)
-        if (r.fit_index == index) yj["akaike_weight"] = finite_or_null(r.weight);
-      yield_json_all.push_back(yj);
-    }
-    const TorqueLineFit line = fit_torque_line(in.plate, fit_rates, fit_torques);
-    yield_json_all.push_back(yield_json(line.yield_stress, s));
-    sj["torque_line"] = {{"intercept", line.intercept},
-                         {"intercept_std_error", finite_or_null(line.intercept_std_error)},
-                         {"slope", line.slope},
-                         {"slope_std_error", finite_or_null(line.slope_std_error)},
-                         {"plastic_viscosity", line.plastic_viscosity},
-                         {"plastic_viscosity_ci95", interval(line.plastic_viscosity_ci95)},
-                         {"residuals", line.residuals}};
+  if (rates.size() < 2) {
+    warnings.push_back(fmt::format("{}: {} finished point(s): the plate correction and the fits need at least 2",
+                                   s.label, rates.size()));
     sj["warnings"] = warnings;
-    series_json.push_back(sj);
+    out.series.push_back(sj);
+    return;
   }
 
+  const RimStressCurve curve = rim_stress_curve(in.plate, rates, torques, relative_errors);
+  std::vector<bool> valid(rates.size(), true);
+  const double particle_density = in.particles ? in.particles->density : 0.0;
+  for (std::size_t k = 0; k < rates.size(); ++k) {
+    auto& p = points[s.point_indices[k]];
+    p["log_slope"] = finite_or_null(curve.log_slope[k]);
+    p["log_slope_std_error"] = finite_or_null(curve.log_slope_std_error[k]);
+    p["apparent_stress"] = curve.apparent_stress[k];
+    p["rim_stress"] = curve.corrected_stress[k];
+    p["apparent_viscosity"] = curve.apparent_viscosity[k];
+    p["viscosity"] = curve.corrected_viscosity[k];
+    // Validity at this point: the sample's density is the mixture's, its viscosity the measured one.
+    PointConditions cond;
+    cond.rim_shear_rate = rates[k];
+    cond.density = (1.0 - s.volume_fraction) * fluid.density + s.volume_fraction * particle_density;
+    cond.viscosity = curve.corrected_viscosity[k] > 0 ? curve.corrected_viscosity[k] : curve.apparent_viscosity[k];
+    cond.fluid_density = fluid.density;
+    cond.fluid_viscosity = fluid.rheology->viscosity(rates[k]);
+    if (s.volume_fraction > 0 && in.particles) {
+      cond.particle_diameter = in.particles->diameter;
+      cond.particle_density = in.particles->density;
+    }
+    if (cond.viscosity > 0) {
+      const PointValidity v = check_validity(in.plate, cond);
+      nlohmann::ordered_json vj;
+      vj["gap_reynolds"] = v.gap_reynolds;
+      vj["particle_reynolds"] = cond.particle_diameter > 0 ? nlohmann::ordered_json(v.particle_reynolds) : nullptr;
+      vj["stokes"] = cond.particle_diameter > 0 ? nlohmann::ordered_json(v.stokes) : nullptr;
+      vj["gap_to_diameter"] = finite_or_null(v.gap_to_diameter);
+      vj["gap_reynolds_ok"] = v.gap_reynolds_ok;
+      vj["particle_reynolds_ok"] = v.particle_reynolds_ok;
+      vj["stokes_ok"] = v.stokes_ok;
+      vj["gap_to_diameter_ok"] = v.gap_to_diameter_ok;
+      vj["valid"] = v.is_valid();
+      vj["messages"] = v.messages;
+      p["validity"] = vj;
+      valid[k] = v.is_valid();
+    }
+  }
+
+  // Fit only the points that pass the validity checks: a torque raised by secondary flow or
+  // particle inertia is not the material's flow curve (it reads as shear thickening or a yield
+  // stress). With fewer than 3 valid points every point is fitted, with a warning.
+  const auto valid_count = static_cast<std::size_t>(std::count(valid.begin(), valid.end(), true));
+  const bool fit_valid_only = valid_count >= 3 && valid_count < rates.size();
+  std::vector<double> fit_rates, fit_stress, fit_torques;
+  for (std::size_t k = 0; k < rates.size(); ++k) {
+    const bool used = !fit_valid_only || valid[k];
+    points[s.point_indices[k]]["used_in_fits"] = used;
+    if (!used) continue;
+    fit_rates.push_back(rates[k]);
+    fit_stress.push_back(curve.corrected_stress[k]);
+    fit_torques.push_back(torques[k]);
+  }
+  if (fit_valid_only)
+    warnings.push_back(
+        fmt::format("{}: {} of {} points fail the validity checks (see the point table) and are left "
+                    "out of the fits and yield-stress estimates",
+                    s.label, rates.size() - valid_count, rates.size()));
+  else if (valid_count < rates.size())
+    warnings.push_back(
+        fmt::format("{}: {} of {} points fail the validity checks; too few valid points remain, so all "
+                    "are fitted: read the fits and yield stresses with that in mind",
+                    s.label, rates.size() - valid_count, rates.size()));
+  sj["fitted_points"] = fit_rates.size();
+
+  // Every flow model on (γ̇_R, τ_R), ranked by AICc.
+  std::vector<FitResult> fits;
+  for (const auto& name : builtin_flow_models().names()) {
+    try {
+      fits.push_back(fit_flow_curve(name, fit_rates, fit_stress));
+    } catch (const std::exception& e) {
+      warnings.push_back(fmt::format("{}: the {} fit failed: {}", s.label, name, e.what()));
+    }
+  }
+  const auto ranking = rank_by_aic(fits);
+  std::vector<nlohmann::ordered_json> fit_entries;
+  for (const auto& f : fits) fit_entries.push_back(fit_json(f, s));
+  for (std::size_t r = 0; r < ranking.size(); ++r) {
+    auto& fj = fit_entries[ranking[r].fit_index];
+    fj["rank"] = r + 1;
+    fj["delta"] = finite_or_null(ranking[r].delta);
+    fj["akaike_weight"] = finite_or_null(ranking[r].weight);
+  }
+  for (auto& fj : fit_entries) out.fits.push_back(fj);
+  if (!ranking.empty()) {
+    const FitResult& best = fits[ranking.front().fit_index];
+    sj["best_model"] = best.model_name;
+    out.best_fits[s.fluid].emplace_back(s.volume_fraction, best);
+  }
+
+  // Yield stress, four ways kept apart (analysis.hpp §3).
+  for (const auto& [model, method] :
+       {std::pair{"bingham", "bingham_intercept"}, std::pair{"casson", "casson_intercept"},
+        std::pair{"herschel_bulkley", "herschel_bulkley"}}) {
+    const auto it = std::find_if(fits.begin(), fits.end(), [&](const FitResult& f) { return f.model_name == model; });
+    if (it == fits.end()) continue;
+    auto yj = yield_json(yield_stress_from_fit(*it, method), s);
+    // How much the data support the model the estimate comes from (an intercept of a model
+    // with weight ~0 is a fitting artefact, not a material property).
+    const auto index = static_cast<std::size_t>(it - fits.begin());
+    for (const auto& r : ranking)
+      if (r.fit_index == index) yj["akaike_weight"] = finite_or_null(r.weight);
+    out.yields.push_back(yj);
+  }
+  const TorqueLineFit line = fit_torque_line(in.plate, fit_rates, fit_torques);
+  out.yields.push_back(yield_json(line.yield_stress, s));
+  sj["torque_line"] = {{"intercept", line.intercept},
+                       {"intercept_std_error", finite_or_null(line.intercept_std_error)},
+                       {"slope", line.slope},
+                       {"slope_std_error", finite_or_null(line.slope_std_error)},
+                       {"plastic_viscosity", line.plastic_viscosity},
+                       {"plastic_viscosity_ci95", interval(line.plastic_viscosity_ci95)},
+                       {"residuals", line.residuals}};
+  sj["warnings"] = warnings;
+  out.series.push_back(sj);
+}
+
+// η_r(φ) of one fluid at the largest shear rate every φ of that fluid reached, against the
+// correlations.
+nlohmann::ordered_json relative_viscosity_of(const std::string& name, const SeriesAnalysis& analysis,
+                                             const std::vector<Series>& series, const nlohmann::ordered_json& points,
+                                             const RunAnalysisInputs& in) {
+  nlohmann::ordered_json rj;
+  rj["fluid"] = name;
+  auto warnings = nlohmann::ordered_json::array();
+  const auto found = analysis.best_fits.find(name);
+  if (found == analysis.best_fits.end()) {
+    warnings.push_back(name + ": no flow curve could be fitted, so there is no relative viscosity");
+    rj["warnings"] = warnings;
+    return rj;
+  }
+  const auto& by_phi = found->second;
+  double reference_rate = std::numeric_limits<double>::infinity();
+  for (const auto& [phi, fit] : by_phi) reference_rate = std::min(reference_rate, fit.max_shear_rate);
+  rj["reference_shear_rate"] = reference_rate;
+
+  // The liquid's viscosity: its measured flow curve (φ = 0) when there is one, so plate and
+  // inertia effects cancel in the ratio; else its rheology law.
+  const auto liquid_fit = std::find_if(by_phi.begin(), by_phi.end(), [](const auto& e) { return e.first == 0.0; });
+  FlowPrediction liquid;
+  if (liquid_fit != by_phi.end()) {
+    liquid = predict(liquid_fit->second, reference_rate);
+    rj["liquid_viscosity_source"] = "measured flow curve at φ = 0 (" + liquid_fit->second.model_name + " fit)";
+  } else {
+    liquid.shear_rate = reference_rate;
+    liquid.viscosity = find_fluid(in, name).properties.rheology->viscosity(reference_rate);
+    liquid.viscosity_std_error = 0;
+    rj["liquid_viscosity_source"] = "the liquid's rheology law (no φ = 0 points)";
+  }
+  rj["liquid_viscosity"] = liquid.viscosity;
+  rj["liquid_viscosity_std_error"] = finite_or_null(liquid.viscosity_std_error);
+
+  std::vector<RelativeViscosityPoint> rv;
+  auto rv_json = nlohmann::ordered_json::array();
+  for (const auto& [phi, fit] : by_phi) {
+    FlowPrediction suspension = predict(fit, reference_rate);
+    // The fit sees only the scatter between the points; an error they share (one suspension
+    // box serving every rate of a φ, so its statistical error moves every torque together)
+    // it cannot see. The smallest relative torque error of the φ's points bounds it from below.
+    double shared = std::numeric_limits<double>::infinity();
+    for (const auto& s : series)
+      if (s.fluid == name && s.volume_fraction == phi)
+        for (const std::size_t i : s.point_indices)
+          shared = std::min(shared, number(points[i], "torque_std_error") / number(points[i], "torque"));
+    const bool floored = std::isfinite(shared) && shared * suspension.viscosity > suspension.viscosity_std_error;
+    if (floored) suspension.viscosity_std_error = shared * suspension.viscosity;
+    RelativeViscosityPoint p = relative_viscosity(phi, suspension, liquid);
+    if (phi == 0.0 && liquid_fit != by_phi.end()) p = {0.0, 1.0, 0.0};  // the liquid against itself
+    rv.push_back(p);
+    rv_json.push_back({{"volume_fraction", phi},
+                       {"relative_viscosity", p.relative_viscosity},
+                       {"std_error", p.std_error},
+                       {"viscosity", suspension.viscosity},
+                       {"viscosity_std_error", finite_or_null(suspension.viscosity_std_error)},
+                       {"std_error_source", floored ? "the points' shared statistical error" : "the flow-curve fit"},
+                       {"model", fit.model_name}});
+  }
+  rj["points"] = rv_json;
+  auto correlations = nlohmann::ordered_json::array();
+  try {
+    const RelativeViscosityAnalysis a = analyze_relative_viscosity(rv);
+    for (const auto* c : {&a.einstein, &a.batchelor, &a.krieger_dougherty, &a.maron_pierce})
+      correlations.push_back(correlation_json(*c));
+  } catch (const std::exception& e) {
+    warnings.push_back(fmt::format("{}: correlations not compared: {}", name, e.what()));
+  }
+  if (std::none_of(rv.begin(), rv.end(), [](const auto& p) { return p.volume_fraction > 0; }))
+    warnings.push_back(name + ": no finished point with φ > 0: η_r(φ) is the liquid alone and φ_m is not fitted");
+  rj["correlations"] = correlations;
+  rj["warnings"] = warnings;
+  return rj;
+}
+
+}  // namespace
+
+void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs& in) {
+  if (in.fluids.empty()) throw std::invalid_argument("add_flow_analysis: no fluids");
+  auto& points = summary["points"];
+  // Flow curves carry φ in their label when the run has suspension points.
+  const bool has_suspension = std::any_of(points.begin(), points.end(), [](const auto& p) {
+    return p.contains("volume_fraction") && p["volume_fraction"].template get<double>() > 0;
+  });
+  std::vector<std::string> fluid_names;
+  for (const auto& p : points) {
+    const std::string name = p.value("fluid", in.fluids.front().name);
+    if (std::find(fluid_names.begin(), fluid_names.end(), name) == fluid_names.end()) fluid_names.push_back(name);
+  }
+
+  std::vector<Series> series = group_into_series(points, in, fluid_names, has_suspension);
+  SeriesAnalysis analysis;
+  for (auto& s : series) analyse_series(s, points, in, analysis);
   // η_r(φ) per fluid at the largest shear rate every φ of that fluid reached.
   auto relative = nlohmann::ordered_json::array();
-  for (const auto& name : fluid_names) {
-    nlohmann::ordered_json rj;
-    rj["fluid"] = name;
-    auto warnings = nlohmann::ordered_json::array();
-    const auto found = best_fits.find(name);
-    if (found == best_fits.end()) {
-      warnings.push_back(name + ": no flow curve could be fitted, so there is no relative viscosity");
-      rj["warnings"] = warnings;
-      relative.push_back(rj);
-      continue;
-    }
-    const auto& by_phi = found->second;
-    double reference_rate = std::numeric_limits<double>::infinity();
-    for (const auto& [phi, fit] : by_phi) reference_rate = std::min(reference_rate, fit.max_shear_rate);
-    rj["reference_shear_rate"] = reference_rate;
+  for (const auto& name : fluid_names) relative.push_back(relative_viscosity_of(name, analysis, series, points, in));
 
-    // The liquid's viscosity: its measured flow curve (φ = 0) when there is one, so plate and
-    // inertia effects cancel in the ratio; else its rheology law.
-    const auto liquid_fit = std::find_if(by_phi.begin(), by_phi.end(), [](const auto& e) { return e.first == 0.0; });
-    FlowPrediction liquid;
-    if (liquid_fit != by_phi.end()) {
-      liquid = predict(liquid_fit->second, reference_rate);
-      rj["liquid_viscosity_source"] = "measured flow curve at φ = 0 (" + liquid_fit->second.model_name + " fit)";
-    } else {
-      liquid.shear_rate = reference_rate;
-      liquid.viscosity = find_fluid(in, name).properties.rheology->viscosity(reference_rate);
-      liquid.viscosity_std_error = 0;
-      rj["liquid_viscosity_source"] = "the liquid's rheology law (no φ = 0 points)";
-    }
-    rj["liquid_viscosity"] = liquid.viscosity;
-    rj["liquid_viscosity_std_error"] = finite_or_null(liquid.viscosity_std_error);
-
-    std::vector<RelativeViscosityPoint> rv;
-    auto rv_json = nlohmann::ordered_json::array();
-    for (const auto& [phi, fit] : by_phi) {
-      FlowPrediction suspension = predict(fit, reference_rate);
-      // The fit sees only the scatter between the points; an error they share (one suspension
-      // box serving every rate of a φ, so its statistical error moves every torque together)
-      // it cannot see. The smallest relative torque error of the φ's points bounds it from below.
-      double shared = std::numeric_limits<double>::infinity();
-      for (const auto& s : series)
-        if (s.fluid == name && s.volume_fraction == phi)
-          for (const std::size_t i : s.point_indices)
-            shared = std::min(shared, number(points[i], "torque_std_error") / number(points[i], "torque"));
-      const bool floored = std::isfinite(shared) && shared * suspension.viscosity > suspension.viscosity_std_error;
-      if (floored) suspension.viscosity_std_error = shared * suspension.viscosity;
-      RelativeViscosityPoint p = relative_viscosity(phi, suspension, liquid);
-      if (phi == 0.0 && liquid_fit != by_phi.end()) p = {0.0, 1.0, 0.0};  // the liquid against itself
-      rv.push_back(p);
-      rv_json.push_back({{"volume_fraction", phi},
-                         {"relative_viscosity", p.relative_viscosity},
-                         {"std_error", p.std_error},
-                         {"viscosity", suspension.viscosity},
-                         {"viscosity_std_error", finite_or_null(suspension.viscosity_std_error)},
-                         {"std_error_source", floored ? "the points' shared statistical error" : "the flow-curve fit"},
-                         {"model", fit.model_name}});
-    }
-    rj["points"] = rv_json;
-    auto correlations = nlohmann::ordered_json::array();
-    try {
-      const RelativeViscosityAnalysis a = analyze_relative_viscosity(rv);
-      for (const auto* c : {&a.einstein, &a.batchelor, &a.krieger_dougherty, &a.maron_pierce})
-        correlations.push_back(correlation_json(*c));
-    } catch (const std::exception& e) {
-      warnings.push_back(fmt::format("{}: correlations not compared: {}", name, e.what()));
-    }
-    if (std::none_of(rv.begin(), rv.end(), [](const auto& p) { return p.volume_fraction > 0; }))
-      warnings.push_back(name + ": no finished point with φ > 0: η_r(φ) is the liquid alone and φ_m is not fitted");
-    rj["correlations"] = correlations;
-    rj["warnings"] = warnings;
-    relative.push_back(rj);
-  }
-
-  summary["series"] = series_json;
-  summary["fits"] = fits_json;
-  summary["yield_stress"] = yield_json_all;
+  summary["series"] = analysis.series;
+  summary["fits"] = analysis.fits;
+  summary["yield_stress"] = analysis.yields;
   summary["relative_viscosity"] = relative;
 }
 
