@@ -25,7 +25,6 @@
 // between two samples. On divergence (NaN, Courant number, failed solves, residual > 1e3) the
 // run stops, the last good state is written as a frame and summary.json says "diverged".
 #include <filesystem>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,7 +32,6 @@
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/free_surface.hpp"
-#include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd {
 
