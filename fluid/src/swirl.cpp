@@ -9,14 +9,15 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "rheosim/numerics/anderson.hpp"
-#include "rheosim/numerics/gmres.hpp"
 #include "swirl_discretisation.hpp"
+#include "swirl_iteration.hpp"
 
 namespace rheosim::fluid {
 
@@ -98,6 +99,17 @@ SwirlState interpolate_state(const CylindricalGrid& from, const SwirlState& s, c
   return out;
 }
 
+// μ ← μ_old + α(μ_new − μ_old) on every viscosity field of the iteration; α = 1: unchanged.
+void relax_viscosity(ViscosityField& next, const ViscosityField& old, double alpha) {
+  if (alpha >= 1) return;
+  const auto relax = [alpha](std::vector<double>& now, const std::vector<double>& before) {
+    for (std::size_t j = 0; j < now.size(); ++j) now[j] = before[j] + alpha * (now[j] - before[j]);
+  };
+  relax(next.centre, old.centre);
+  relax(next.axial_flux, old.axial_flux);
+  relax(next.radial, old.radial);
+}
+
 }  // namespace
 
 SwirlSolver::SwirlSolver(SwirlParams params) : params_(std::move(params)), grid_(params_.grid) {
@@ -125,16 +137,8 @@ SwirlState SwirlSolver::rest_state() const {
   return s;
 }
 
-SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling,
-                                 double beta_start, int max_iterations) const {
-  const auto start = std::chrono::steady_clock::now();
+SwirlState SwirlSolver::start_state(double angular_velocity, const SwirlState* initial) const {
   const Layout L(grid_, params_.inertia);
-  if (!coupling.void_fraction.empty() && coupling.void_fraction.size() != L.nc)
-    throw std::invalid_argument("SwirlSolver: void_fraction needs one value per cell");
-  if (!coupling.torque_density.empty() && coupling.torque_density.size() != L.nc)
-    throw std::invalid_argument("SwirlSolver: torque_density needs one value per cell");
-  const Discretisation disc(L, params_, angular_velocity, coupling.void_fraction);
-
   SwirlState state = rest_state();
   if (initial) {
     if (initial->angular_velocity.size() != L.nc)
@@ -149,114 +153,38 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
     std::fill(state.radial_velocity.begin(), state.radial_velocity.end(), 0.0);
     std::fill(state.axial_velocity.begin(), state.axial_velocity.end(), 0.0);
   }
+  return state;
+}
+
+SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling,
+                                 double beta_start, int max_iterations) const {
+  const auto start = std::chrono::steady_clock::now();
+  const Layout L(grid_, params_.inertia);
+  if (!coupling.void_fraction.empty() && coupling.void_fraction.size() != L.nc)
+    throw std::invalid_argument("SwirlSolver: void_fraction needs one value per cell");
+  if (!coupling.torque_density.empty() && coupling.torque_density.size() != L.nc)
+    throw std::invalid_argument("SwirlSolver: torque_density needs one value per cell");
+  const Discretisation disc(L, params_, angular_velocity, coupling.void_fraction);
+  SwirlSystem system(L, disc, coupling.torque_density, angular_velocity, rest_state());
+  SwirlState state = start_state(angular_velocity, initial);
 
   SwirlResult result;
   ViscosityField mu = disc.viscosity(state);
   Triplets triplets;
   Eigen::VectorXd rhs;
   Eigen::SparseMatrix<double> matrix(static_cast<Eigen::Index>(L.unknowns()), static_cast<Eigen::Index>(L.unknowns()));
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+  SparseLu lu;
   bool pattern_known = false;
   double torque = disc.wall_torque(state, mu, true);
-  const double velocity_scale = std::abs(angular_velocity) * L.rf[L.nr] + 1e-300;
-  const double omega_scale = std::abs(angular_velocity) + 1e-300;
 
   double beta = beta_start;
-  int rising = 0;  // consecutive iterations whose change grew
+  int rising = 0;       // consecutive iterations whose change grew
+  int below_floor = 0;  // consecutive Newton changes below the floor's limit
   // Newton–Krylov (inertia only): the Picard linearisation leaves out how μ depends on the
   // secondary flow and on the cross gradients, which strong shear thinning makes large; GMRES
   // with the exact Jacobian supplies it, and the Picard LU is its preconditioner.
   const bool krylov = L.inertia && params_.newton_krylov;
   numerics::AndersonMixer mixer(krylov ? 0 : params_.anderson_depth);
-  // System vector (ω, p, interior u_r, u_z) ↔ state; pressure pinned to 0 at cell (0, 0) as in
-  // the assembled continuity rows.
-  const auto to_system = [&](const SwirlState& st) {
-    Eigen::VectorXd z(static_cast<Eigen::Index>(L.unknowns()));
-    for (std::size_t c = 0; c < L.nc; ++c) {
-      z[static_cast<Eigen::Index>(L.omega(c / L.nz, c % L.nz))] = st.angular_velocity[c];
-      z[static_cast<Eigen::Index>(L.pressure(c / L.nz, c % L.nz))] = st.pressure[c] - st.pressure[0];
-    }
-    for (std::size_t i = 1; i < L.nr; ++i)
-      for (std::size_t k = 0; k < L.nz; ++k)
-        z[static_cast<Eigen::Index>(L.radial(i, k))] = st.radial_velocity[L.ur_index(i, k)];
-    for (std::size_t i = 0; i < L.nr; ++i)
-      for (std::size_t k = 1; k < L.nz; ++k)
-        z[static_cast<Eigen::Index>(L.axial(i, k))] = st.axial_velocity[L.uz_index(i, k)];
-    return z;
-  };
-  const auto from_system = [&](const Eigen::VectorXd& z, SwirlState& st) {
-    for (std::size_t c = 0; c < L.nc; ++c) {
-      st.angular_velocity[c] = z[static_cast<Eigen::Index>(L.omega(c / L.nz, c % L.nz))];
-      st.pressure[c] = z[static_cast<Eigen::Index>(L.pressure(c / L.nz, c % L.nz))];
-    }
-    for (std::size_t i = 1; i < L.nr; ++i)
-      for (std::size_t k = 0; k < L.nz; ++k)
-        st.radial_velocity[L.ur_index(i, k)] = z[static_cast<Eigen::Index>(L.radial(i, k))];
-    for (std::size_t i = 0; i < L.nr; ++i)
-      for (std::size_t k = 1; k < L.nz; ++k)
-        st.axial_velocity[L.uz_index(i, k)] = z[static_cast<Eigen::Index>(L.axial(i, k))];
-  };
-  // Steady residual A(z) z − b(z) of the discrete equations (the Newton terms of the
-  // linearisation cancel at its own expansion point, so this is the nonlinear residual).
-  SwirlState scratch = rest_state();
-  Triplets residual_triplets;
-  Eigen::VectorXd residual_rhs;
-  const auto steady_residual = [&](const Eigen::VectorXd& z) {
-    from_system(z, scratch);
-    const ViscosityField m = disc.viscosity(scratch);
-    disc.assemble(scratch, m, coupling.torque_density, std::numeric_limits<double>::infinity(), residual_triplets,
-                  residual_rhs);
-    Eigen::VectorXd f = -residual_rhs;
-    for (const auto& e : residual_triplets) f[e.row()] += e.value() * z[e.col()];
-    return f;
-  };
-  // One inexact Newton step from `state`: solves (J + D) δ = −F by GMRES, left-preconditioned
-  // with the Picard LU (whose solution x_picard gives the first Krylov vector), in variables
-  // scaled by Ω, ΩR and the pressure's magnitude; J·v by a forward difference of F. D is the
-  // pseudo-time term, so with it each step is one implicit pseudo-time step.
-  int floor_count = 0;          // consecutive Newton changes below floor_limit that gain nothing
-  double newton_step_size = 0;  // ‖δ‖∞ of the last full Newton step (scaled), for the stopping test
-  const auto newton_krylov_step = [&](const Eigen::VectorXd& x_picard, double dtau, const auto& factor) {
-    const Eigen::VectorXd y0 = to_system(state);
-    const Eigen::VectorXd f0 = steady_residual(y0);
-    double p_scale = 0;
-    for (std::size_t c = 0; c < L.nc; ++c)
-      p_scale = std::max(p_scale, std::abs(x_picard[static_cast<Eigen::Index>(L.nc + c)]));
-    Eigen::VectorXd scale = Eigen::VectorXd::Constant(y0.size(), velocity_scale);
-    scale.head(static_cast<Eigen::Index>(L.nc)).setConstant(omega_scale);
-    scale.segment(static_cast<Eigen::Index>(L.nc), static_cast<Eigen::Index>(L.nc))
-        .setConstant(p_scale > 0 ? p_scale : 1.0);
-    Eigen::VectorXd pseudo = Eigen::VectorXd::Zero(y0.size());
-    if (std::isfinite(dtau)) {
-      Triplets tp;
-      Eigen::VectorXd unused = Eigen::VectorXd::Zero(y0.size());
-      disc.add_pseudo_time(state, dtau, tp, unused);
-      for (const auto& e : tp) pseudo[e.row()] += e.value();
-    }
-    const Eigen::VectorXd b = (x_picard - y0).cwiseQuotient(scale);
-    constexpr double h = 1e-7;  // forward-difference step in the scaled variables (O(1))
-    const auto apply = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-      const Eigen::VectorXd w = v.cwiseProduct(scale);
-      const Eigen::VectorXd jw = (steady_residual(y0 + h * w) - f0) / h + pseudo.cwiseProduct(w);
-      return Eigen::VectorXd(factor.solve(jw)).cwiseQuotient(scale);
-    };
-    // Inexact Newton: the linear tolerance follows the size of the step (superlinear near the end).
-    const double eta = std::clamp(b.lpNorm<Eigen::Infinity>(), 1e-6, 1e-2);
-    const Eigen::VectorXd delta = numerics::gmres(apply, b, eta, 30);
-    newton_step_size = delta.lpNorm<Eigen::Infinity>();
-    // Backtracking on the row-scaled residual (rows scaled by Σ|a_rj| of the linearised
-    // system): far from the solution the full step can overshoot, as plain Newton does.
-    Eigen::VectorXd row_scale = Eigen::VectorXd::Constant(y0.size(), 1e-300);
-    for (const auto& e : triplets) row_scale[e.row()] += std::abs(e.value());
-    const double merit = f0.cwiseQuotient(row_scale).norm();
-    const Eigen::VectorXd step = delta.cwiseProduct(scale);
-    double lambda = 1;
-    for (int trial = 0; trial < 6; ++trial, lambda *= 0.5) {
-      const Eigen::VectorXd f = steady_residual(y0 + lambda * step);
-      if (f.allFinite() && f.cwiseQuotient(row_scale).norm() < (1 - 1e-4 * lambda) * merit) break;
-    }
-    return Eigen::VectorXd(y0 + lambda * step);
-  };
   // Pseudo-time step: starts at a fraction of a revolution, only used with inertia.
   const double pseudo_start = params_.pseudo_time_step > 0
                                   ? params_.pseudo_time_step / (std::abs(angular_velocity) + 1e-300)
@@ -264,30 +192,6 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
   double pseudo_dt = params_.inertia ? pseudo_start : std::numeric_limits<double>::infinity();
   double best_residual = std::numeric_limits<double>::infinity();
   double previous_residual = std::numeric_limits<double>::infinity();
-  // The fixed-point variable: ω/Ω and (with inertia) interior u_r, u_z over ΩR, so that one
-  // tolerance fits all components. Pressure follows from each linear solve.
-  const auto pack = [&](const SwirlState& st) {
-    Eigen::VectorXd v(static_cast<Eigen::Index>(L.inertia ? L.nc + (L.nr - 1) * L.nz + L.nr * (L.nz - 1) : L.nc));
-    Eigen::Index j = 0;
-    for (double w : st.angular_velocity) v[j++] = w / omega_scale;
-    if (L.inertia) {
-      for (std::size_t i = 1; i < L.nr; ++i)
-        for (std::size_t k = 0; k < L.nz; ++k) v[j++] = st.radial_velocity[L.ur_index(i, k)] / velocity_scale;
-      for (std::size_t i = 0; i < L.nr; ++i)
-        for (std::size_t k = 1; k < L.nz; ++k) v[j++] = st.axial_velocity[L.uz_index(i, k)] / velocity_scale;
-    }
-    return v;
-  };
-  const auto unpack = [&](const Eigen::VectorXd& v, SwirlState& st) {
-    Eigen::Index j = 0;
-    for (double& w : st.angular_velocity) w = v[j++] * omega_scale;
-    if (L.inertia) {
-      for (std::size_t i = 1; i < L.nr; ++i)
-        for (std::size_t k = 0; k < L.nz; ++k) st.radial_velocity[L.ur_index(i, k)] = v[j++] * velocity_scale;
-      for (std::size_t i = 0; i < L.nr; ++i)
-        for (std::size_t k = 1; k < L.nz; ++k) st.axial_velocity[L.uz_index(i, k)] = v[j++] * velocity_scale;
-    }
-  };
   for (int iteration = 1; iteration <= max_iterations; ++iteration) {
     disc.assemble(state, mu, coupling.torque_density, pseudo_dt, triplets, rhs);
     matrix.setFromTriplets(triplets.begin(), triplets.end());
@@ -301,40 +205,19 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       break;
     }
     Eigen::VectorXd x = lu.solve(rhs);
-    if (krylov && all_finite(x)) x = newton_krylov_step(x, pseudo_dt, lu);
+    if (krylov && all_finite(x)) x = system.newton_krylov_step(state, x, pseudo_dt, lu, triplets);
     if (!all_finite(x)) {
       result.failure = "non-finite values (NaN/inf) at iteration " + std::to_string(iteration);
       break;
     }
 
     // The Picard map's output G(y); its mix with earlier iterates (Anderson) is the next y.
-    SwirlState picard = state;
-    for (std::size_t c = 0; c < L.nc; ++c) picard.angular_velocity[c] = x[static_cast<Eigen::Index>(c)];
-    if (L.inertia) {
-      double mean_p = 0;
-      for (std::size_t c = 0; c < L.nc; ++c) mean_p += x[static_cast<Eigen::Index>(L.nc + c)];
-      mean_p /= static_cast<double>(L.nc);
-      for (std::size_t c = 0; c < L.nc; ++c) picard.pressure[c] = x[static_cast<Eigen::Index>(L.nc + c)] - mean_p;
-      for (std::size_t i = 1; i < L.nr; ++i)
-        for (std::size_t k = 0; k < L.nz; ++k)
-          picard.radial_velocity[L.ur_index(i, k)] = x[static_cast<Eigen::Index>(L.radial(i, k))];
-      for (std::size_t i = 0; i < L.nr; ++i)
-        for (std::size_t k = 1; k < L.nz; ++k)
-          picard.axial_velocity[L.uz_index(i, k)] = x[static_cast<Eigen::Index>(L.axial(i, k))];
-    }
-    const Eigen::VectorXd y = pack(state), g = pack(picard);
-    const double residual =
-        krylov ? std::max(newton_step_size, (g - y).lpNorm<Eigen::Infinity>()) : (g - y).lpNorm<Eigen::Infinity>();
+    const SwirlState picard = system.picard_state(x, state);
+    const Eigen::VectorXd y = system.pack(state), g = system.pack(picard);
+    const double residual = krylov ? std::max(system.newton_step_size(), (g - y).lpNorm<Eigen::Infinity>())
+                                   : (g - y).lpNorm<Eigen::Infinity>();
     if (residual > 10 * best_residual) mixer.reset();  // a bad extrapolation: restart the history
-    if (std::isfinite(pseudo_dt)) {
-      // Switched evolution relaxation: Δτ follows the residual's fall, and is dropped (steady
-      // Picard/Newton) once it exceeds 10⁴ revolutions.
-      if (residual < previous_residual)
-        pseudo_dt *= std::min(4.0, 1.5 * previous_residual / residual);
-      else
-        pseudo_dt *= 0.5;
-      if (pseudo_dt * std::abs(angular_velocity) > 1e4) pseudo_dt = std::numeric_limits<double>::infinity();
-    }
+    pseudo_dt = next_pseudo_time_step(pseudo_dt, residual, previous_residual, angular_velocity);
     previous_residual = residual;
     best_residual = std::min(best_residual, residual);
     const Eigen::VectorXd y_next = mixer.next(y, g, krylov ? 1.0 : beta);  // Newton: damped by its line search
@@ -343,18 +226,10 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       break;
     }
     SwirlState next = picard;
-    unpack(y_next, next);
+    system.unpack(y_next, next);
 
     ViscosityField next_mu = disc.viscosity(next);
-    const double alpha = params_.viscosity_relaxation;
-    if (alpha < 1) {
-      const auto relax = [alpha](std::vector<double>& now, const std::vector<double>& old) {
-        for (std::size_t j = 0; j < now.size(); ++j) now[j] = old[j] + alpha * (now[j] - old[j]);
-      };
-      relax(next_mu.centre, mu.centre);
-      relax(next_mu.axial_flux, mu.axial_flux);
-      relax(next_mu.radial, mu.radial);
-    }
+    relax_viscosity(next_mu, mu, params_.viscosity_relaxation);
     const double next_torque = disc.wall_torque(next, next_mu, true);
     const double change = std::max(residual, std::abs(next_torque - torque) / (std::abs(next_torque) + 1e-300));
     // A change that keeps growing means the Picard map overshoots: damp it (down to β = 0.05).
@@ -379,22 +254,11 @@ SwirlResult SwirlSolver::attempt(double angular_velocity, const SwirlState* init
       result.converged = true;
       break;
     }
-    // Newton reaches a floor that may sit above a tight tolerance: the rounding of the
-    // residual's cancelling terms at large Re (~1e-9 of their size), or the stiff regularised
-    // viscosity of a yield-stress liquid at low Bingham numbers (~1e-7). Five changes in a row
-    // below floor_limit that gain less than a decade together, where a working Newton step
-    // would have gained orders, count as converged at that floor, which is reported.
-    constexpr double floor_limit = 1e-5;
-    floor_count = krylov && change < floor_limit ? floor_count + 1 : 0;
-    if (floor_count >= 5) {
-      const auto window = result.residual_history.end() - 5;
-      const double largest = *std::max_element(window, result.residual_history.end());
-      const double smallest = *std::min_element(window, result.residual_history.end());
-      if (largest < 10.0 * smallest || largest < 1e-8) {
-        result.converged = true;
-        result.accepted_change = largest;
-        break;
-      }
+    if (!krylov) continue;
+    if (const std::optional<double> floor = newton_floor(result.residual_history, below_floor)) {
+      result.converged = true;  // at the floor, which is reported
+      result.accepted_change = *floor;
+      break;
     }
   }
   if (!result.converged && result.failure.empty())

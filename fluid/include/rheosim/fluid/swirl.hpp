@@ -118,6 +118,9 @@ class SwirlSolver {
 
  private:
   SwirlResult solve_from(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling) const;
+  // `initial` checked against the grid, or the creeping profile ω = Ωz/H; no secondary flow
+  // without inertia.
+  SwirlState start_state(double angular_velocity, const SwirlState* initial) const;
   SwirlResult attempt(double angular_velocity, const SwirlState* initial, const SwirlCoupling& coupling,
                       double relaxation, int max_iterations) const;
 
