@@ -171,224 +171,291 @@ KrylovResult bicgstab(const StencilMatrix& a, std::span<const double> b, std::sp
   return finish(residual);
 }
 
-std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
-                                                 const KrylovSettings& settings, PairKrylovWorkspace& w) {
-  const std::size_t n = a.size();
-  if (b.size() != 2 * n || x.size() != 2 * n || a.pattern == nullptr || a.pattern->node_count() != n ||
-      a.off_diagonal.size() != a.pattern->pair_count())
-    throw std::invalid_argument(fmt::format("bicgstab_jacobi_pair: sizes do not match a {}-row stencil matrix", n));
-  if (settings.preconditioner) throw std::invalid_argument("bicgstab_jacobi_pair: Jacobi only");
-  // p and v enter the first update p = r + β (p − ω v) and start at 0; the others are written
-  // before they are read.
-  for (auto* v : {&w.p, &w.v}) v->assign(2 * n, 0.0);
-  for (auto* v : {&w.r, &w.r_hat, &w.s, &w.t, &w.p_hat, &w.s_hat}) v->resize(2 * n);
+namespace {
+
+// bicgstab_jacobi_pair's iteration, one method per fused pass over memory. Per component c:
+// the scalars of bicgstab() (ρ, α, ω, the residual and its target); `active` until it
+// converges or breaks down.
+class JacobiPairBicgstab {
+ public:
+  JacobiPairBicgstab(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
+                     const KrylovSettings& settings, PairKrylovWorkspace& w)
+      : n_(a.size()), a_(a), b_(b), x_(x), settings_(settings), w_(w) {
+    if (b.size() != 2 * n_ || x.size() != 2 * n_ || a.pattern == nullptr || a.pattern->node_count() != n_ ||
+        a.off_diagonal.size() != a.pattern->pair_count())
+      throw std::invalid_argument(fmt::format("bicgstab_jacobi_pair: sizes do not match a {}-row stencil matrix", n_));
+    if (settings.preconditioner) throw std::invalid_argument("bicgstab_jacobi_pair: Jacobi only");
+    if (a.pattern->pair_count() >= std::numeric_limits<std::uint32_t>::max())
+      throw std::invalid_argument("bicgstab_jacobi_pair: more than 2³² pairs");
+    // p and v enter the first update p = r + β (p − ω v) and start at 0; the others are written
+    // before they are read.
+    for (auto* v : {&w.p, &w.v}) v->assign(2 * n_, 0.0);
+    for (auto* v : {&w.r, &w.r_hat, &w.s, &w.t, &w.p_hat, &w.s_hat}) v->resize(2 * n_);
+    copy_pattern();
+    diagonal_ = a.diagonal.data();
+    off_diagonal_ = a.off_diagonal.data();
+  }
+
+  std::array<KrylovResult, 2> solve() {
+    start();
+    for (int it = 1; it <= settings_.max_iterations && (active_[0] || active_[1]); ++it) {
+      if (!next_rho(it)) break;
+      update_direction();
+      multiply_direction();
+      intermediate_residual();
+      multiply_intermediate();
+      update_solution();
+    }
+    for (std::size_t c = 0; c < 2; ++c)
+      if (active_[c]) finish(c, residual_[c]);
+    return result_;
+  }
+
+ private:
   // 32-bit copies of the pattern: the matrix products stream the stencil from cache, and
   // 4-byte columns cut the bytes per pair from 16 to 12 (the copy costs a fraction of one product).
-  w.offsets.resize(n + 1);
-  w.columns.resize(a.pattern->pair_count());
-  if (a.pattern->pair_count() >= std::numeric_limits<std::uint32_t>::max())
-    throw std::invalid_argument("bicgstab_jacobi_pair: more than 2³² pairs");
-  for_blocks(n, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      w.offsets[i] = static_cast<std::uint32_t>(a.pattern->offsets[i]);
-      for (std::size_t k = a.pattern->offsets[i]; k < a.pattern->offsets[i + 1]; ++k)
-        w.columns[k] = static_cast<std::uint32_t>(a.pattern->indices[k]);
-    }
-  });
-  w.offsets[n] = static_cast<std::uint32_t>(a.pattern->pair_count());
-  const std::uint32_t* offsets = w.offsets.data();
-  const std::uint32_t* columns = w.columns.data();
-  const double* diagonal = a.diagonal.data();
-  const double* off_diagonal = a.off_diagonal.data();
+  void copy_pattern() {
+    const NeighbourList& pattern = *a_.pattern;
+    w_.offsets.resize(n_ + 1);
+    w_.columns.resize(pattern.pair_count());
+    for_blocks(n_, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        w_.offsets[i] = static_cast<std::uint32_t>(pattern.offsets[i]);
+        for (std::size_t k = pattern.offsets[i]; k < pattern.offsets[i + 1]; ++k)
+          w_.columns[k] = static_cast<std::uint32_t>(pattern.indices[k]);
+      }
+    });
+    w_.offsets[n_] = static_cast<std::uint32_t>(pattern.pair_count());
+    offsets_ = w_.offsets.data();
+    columns_ = w_.columns.data();
+  }
+
   // (A in)_i for both components, summed in StencilMatrix::multiply's order.
-  const auto row = [&](const double* in, std::size_t i, double& out0, double& out1) {
-    double sum0 = diagonal[i] * in[2 * i], sum1 = diagonal[i] * in[2 * i + 1];
-    for (std::size_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const std::size_t j = columns[k];
-      sum0 += off_diagonal[k] * in[2 * j];
-      sum1 += off_diagonal[k] * in[2 * j + 1];
+  void row(const double* in, std::size_t i, double& out0, double& out1) const {
+    double sum0 = diagonal_[i] * in[2 * i], sum1 = diagonal_[i] * in[2 * i + 1];
+    for (std::size_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+      const std::size_t j = columns_[k];
+      sum0 += off_diagonal_[k] * in[2 * j];
+      sum1 += off_diagonal_[k] * in[2 * j + 1];
     }
     out0 = sum0;
     out1 = sum1;
-  };
+  }
   // Jacobi: 1/diagonal (1 where the diagonal vanishes), as bicgstab().
-  const auto jacobi = [&](double value, std::size_t i) { return diagonal[i] != 0 ? value / diagonal[i] : value; };
+  double jacobi(double value, std::size_t i) const { return diagonal_[i] != 0 ? value / diagonal_[i] : value; }
 
-  std::array<KrylovResult, 2> result{};
-  std::array<bool, 2> active{true, true};
-  std::array<double, 2> target{}, residual{}, residual_squared{}, r_hat_squared{}, rho_next{};
-  std::array<double, 2> rho{1, 1}, alpha{1, 1}, omega{1, 1};
-  const auto bb = block_sums<2>(n, [&](std::size_t begin, std::size_t end) {
-    double s0 = 0, s1 = 0;
-    for (std::size_t i = begin; i < end; ++i) {
-      s0 += b[2 * i] * b[2 * i];
-      s1 += b[2 * i + 1] * b[2 * i + 1];
-    }
-    return std::array<double, 2>{s0, s1};
-  });
-  std::array<double, 2> b_norm{std::sqrt(bb[0]), std::sqrt(bb[1])};
-  const auto finish = [&](std::size_t c, double final_residual) {
-    result[c].residual = final_residual;
-    result[c].relative_residual = b_norm[c] > 0 ? final_residual / b_norm[c] : final_residual;
-    result[c].converged = final_residual <= target[c];
-    active[c] = false;
-  };
-  for (std::size_t c = 0; c < 2; ++c)
-    target[c] = std::max(settings.relative_tolerance * b_norm[c], settings.absolute_tolerance);
-
-  // r = b − A x, r̂ = r.
-  residual_squared = block_sums<2>(n, [&](std::size_t begin, std::size_t end) {
-    double s0 = 0, s1 = 0;
-    for (std::size_t i = begin; i < end; ++i) {
-      double ax0, ax1;
-      row(x.data(), i, ax0, ax1);
-      const double r0 = b[2 * i] - ax0, r1 = b[2 * i + 1] - ax1;
-      w.r[2 * i] = w.r_hat[2 * i] = r0;
-      w.r[2 * i + 1] = w.r_hat[2 * i + 1] = r1;
-      s0 += r0 * r0;
-      s1 += r1 * r1;
-    }
-    return std::array<double, 2>{s0, s1};
-  });
-  for (std::size_t c = 0; c < 2; ++c) {
-    residual[c] = std::sqrt(residual_squared[c]);
-    r_hat_squared[c] = rho_next[c] = residual_squared[c];  // r̂ = r
-    if (residual[c] <= target[c]) finish(c, residual[c]);
+  void finish(std::size_t c, double final_residual) {
+    result_[c].residual = final_residual;
+    result_[c].relative_residual = b_norm_[c] > 0 ? final_residual / b_norm_[c] : final_residual;
+    result_[c].converged = final_residual <= target_[c];
+    active_[c] = false;
   }
 
-  for (int it = 1; it <= settings.max_iterations && (active[0] || active[1]); ++it) {
-    std::array<double, 2> beta{};
-    std::array<bool, 2> restart{false, false};
-    for (std::size_t c = 0; c < 2; ++c) {
-      if (!active[c]) continue;
-      result[c].iterations = it;
-      double rho_new = rho_next[c];
-      if (!std::isfinite(rho_new)) {
-        finish(c, residual[c]);
-        continue;
-      }
-      beta[c] = (rho_new / rho[c]) * (alpha[c] / omega[c]);
-      if (std::abs(rho_new) <= restart_threshold * std::sqrt(r_hat_squared[c]) * residual[c]) {
-        // The shadow residual became orthogonal to r: restart with r̂ = r (see bicgstab()).
-        restart[c] = true;
-        r_hat_squared[c] = residual_squared[c];
-        rho_new = residual[c] * residual[c];
-        beta[c] = 0;
-        omega[c] = 1;
-      }
-      rho[c] = rho_new;
-    }
-    if (!active[0] && !active[1]) break;
-    const std::array<bool, 2> running = active;
-    // p = r + β (p − ω v), p̂ = M⁻¹ p.
-    for_blocks(n, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-        for (std::size_t c = 0; c < 2; ++c) {
-          if (!running[c]) continue;
-          const std::size_t m = 2 * i + c;
-          if (restart[c]) {
-            w.r_hat[m] = w.r[m];
-            w.p[m] = w.v[m] = 0.0;
-          }
-          w.p[m] = w.r[m] + beta[c] * (w.p[m] - omega[c] * w.v[m]);
-          w.p_hat[m] = jacobi(w.p[m], i);
-        }
-    });
-    // v = A p̂, r̂·v.
-    const auto r_hat_v = block_sums<2>(n, [&](std::size_t begin, std::size_t end) {
+  // ‖b‖, the targets, r = b − A x, r̂ = r.
+  void start() {
+    const auto bb = block_sums<2>(n_, [&](std::size_t begin, std::size_t end) {
       double s0 = 0, s1 = 0;
       for (std::size_t i = begin; i < end; ++i) {
-        double v0, v1;
-        row(w.p_hat.data(), i, v0, v1);
-        w.v[2 * i] = v0;
-        w.v[2 * i + 1] = v1;
-        s0 += w.r_hat[2 * i] * v0;
-        s1 += w.r_hat[2 * i + 1] * v1;
+        s0 += b_[2 * i] * b_[2 * i];
+        s1 += b_[2 * i + 1] * b_[2 * i + 1];
+      }
+      return std::array<double, 2>{s0, s1};
+    });
+    b_norm_ = {std::sqrt(bb[0]), std::sqrt(bb[1])};
+    for (std::size_t c = 0; c < 2; ++c)
+      target_[c] = std::max(settings_.relative_tolerance * b_norm_[c], settings_.absolute_tolerance);
+    residual_squared_ = block_sums<2>(n_, [&](std::size_t begin, std::size_t end) {
+      double s0 = 0, s1 = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        double ax0, ax1;
+        row(x_.data(), i, ax0, ax1);
+        const double r0 = b_[2 * i] - ax0, r1 = b_[2 * i + 1] - ax1;
+        w_.r[2 * i] = w_.r_hat[2 * i] = r0;
+        w_.r[2 * i + 1] = w_.r_hat[2 * i + 1] = r1;
+        s0 += r0 * r0;
+        s1 += r1 * r1;
       }
       return std::array<double, 2>{s0, s1};
     });
     for (std::size_t c = 0; c < 2; ++c) {
-      if (!active[c]) continue;
-      if (r_hat_v[c] == 0 || !std::isfinite(r_hat_v[c])) {
-        finish(c, residual[c]);
+      residual_[c] = std::sqrt(residual_squared_[c]);
+      r_hat_squared_[c] = rho_next_[c] = residual_squared_[c];  // r̂ = r
+      if (residual_[c] <= target_[c]) finish(c, residual_[c]);
+    }
+  }
+
+  // ρ and β of iteration `it`, or a restart; false when no component is left.
+  bool next_rho(int it) {
+    beta_ = {};
+    restart_ = {false, false};
+    for (std::size_t c = 0; c < 2; ++c) {
+      if (!active_[c]) continue;
+      result_[c].iterations = it;
+      double rho_new = rho_next_[c];
+      if (!std::isfinite(rho_new)) {
+        finish(c, residual_[c]);
         continue;
       }
-      alpha[c] = rho[c] / r_hat_v[c];
+      beta_[c] = (rho_new / rho_[c]) * (alpha_[c] / omega_[c]);
+      if (std::abs(rho_new) <= restart_threshold * std::sqrt(r_hat_squared_[c]) * residual_[c]) {
+        // The shadow residual became orthogonal to r: restart with r̂ = r (see bicgstab()).
+        restart_[c] = true;
+        r_hat_squared_[c] = residual_squared_[c];
+        rho_new = residual_[c] * residual_[c];
+        beta_[c] = 0;
+        omega_[c] = 1;
+      }
+      rho_[c] = rho_new;
     }
-    // s = r − α v, ŝ = M⁻¹ s, s·s.
-    const std::array<bool, 2> solving = active;
-    const auto s_s = block_sums<2>(n, [&](std::size_t begin, std::size_t end) {
+    return active_[0] || active_[1];
+  }
+
+  // p = r + β (p − ω v), p̂ = M⁻¹ p.
+  void update_direction() {
+    const std::array<bool, 2> running = active_;
+    for_blocks(n_, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        for (std::size_t c = 0; c < 2; ++c) {
+          if (!running[c]) continue;
+          const std::size_t m = 2 * i + c;
+          if (restart_[c]) {
+            w_.r_hat[m] = w_.r[m];
+            w_.p[m] = w_.v[m] = 0.0;
+          }
+          w_.p[m] = w_.r[m] + beta_[c] * (w_.p[m] - omega_[c] * w_.v[m]);
+          w_.p_hat[m] = jacobi(w_.p[m], i);
+        }
+    });
+  }
+
+  // v = A p̂, r̂·v, α.
+  void multiply_direction() {
+    const auto r_hat_v = block_sums<2>(n_, [&](std::size_t begin, std::size_t end) {
+      double s0 = 0, s1 = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        double v0, v1;
+        row(w_.p_hat.data(), i, v0, v1);
+        w_.v[2 * i] = v0;
+        w_.v[2 * i + 1] = v1;
+        s0 += w_.r_hat[2 * i] * v0;
+        s1 += w_.r_hat[2 * i + 1] * v1;
+      }
+      return std::array<double, 2>{s0, s1};
+    });
+    for (std::size_t c = 0; c < 2; ++c) {
+      if (!active_[c]) continue;
+      if (r_hat_v[c] == 0 || !std::isfinite(r_hat_v[c])) {
+        finish(c, residual_[c]);
+        continue;
+      }
+      alpha_[c] = rho_[c] / r_hat_v[c];
+    }
+  }
+
+  // s = r − α v, ŝ = M⁻¹ s, s·s. A component whose s is already small takes x += α p̂ and stops
+  // (`half` an iteration); the others go on (`full`).
+  void intermediate_residual() {
+    const std::array<bool, 2> solving = active_;
+    const auto s_s = block_sums<2>(n_, [&](std::size_t begin, std::size_t end) {
       double sums[2] = {0, 0};
       for (std::size_t i = begin; i < end; ++i)
         for (std::size_t c = 0; c < 2; ++c) {
           if (!solving[c]) continue;
           const std::size_t m = 2 * i + c;
-          const double value = w.r[m] - alpha[c] * w.v[m];
-          w.s[m] = value;
-          w.s_hat[m] = jacobi(value, i);
+          const double value = w_.r[m] - alpha_[c] * w_.v[m];
+          w_.s[m] = value;
+          w_.s_hat[m] = jacobi(value, i);
           sums[c] += value * value;
         }
       return std::array<double, 2>{sums[0], sums[1]};
     });
-    // A component whose s is already small takes x += α p̂ and stops (half an iteration).
-    std::array<bool, 2> half{false, false}, full{false, false};
-    std::array<double, 2> s_norm{};
+    half_ = {false, false};
+    full_ = {false, false};
+    s_norm_ = {};
     for (std::size_t c = 0; c < 2; ++c) {
       if (!solving[c]) continue;
-      s_norm[c] = std::sqrt(s_s[c]);
-      (s_norm[c] <= target[c] ? half : full)[c] = true;
+      s_norm_[c] = std::sqrt(s_s[c]);
+      (s_norm_[c] <= target_[c] ? half_ : full_)[c] = true;
     }
-    // t = A ŝ, t·t, t·s.
-    std::array<double, 4> t_sums{};
-    if (full[0] || full[1])
-      t_sums = block_sums<4>(n, [&](std::size_t begin, std::size_t end) {
-        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-        for (std::size_t i = begin; i < end; ++i) {
-          double t0, t1;
-          row(w.s_hat.data(), i, t0, t1);
-          w.t[2 * i] = t0;
-          w.t[2 * i + 1] = t1;
-          s0 += t0 * t0;
-          s1 += t1 * t1;
-          s2 += t0 * w.s[2 * i];
-          s3 += t1 * w.s[2 * i + 1];
-        }
-        return std::array<double, 4>{s0, s1, s2, s3};
-      });
+  }
+
+  // t = A ŝ, t·t, t·s, ω.
+  void multiply_intermediate() {
+    if (!full_[0] && !full_[1]) return;
+    const auto t_sums = block_sums<4>(n_, [&](std::size_t begin, std::size_t end) {
+      double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+      for (std::size_t i = begin; i < end; ++i) {
+        double t0, t1;
+        row(w_.s_hat.data(), i, t0, t1);
+        w_.t[2 * i] = t0;
+        w_.t[2 * i + 1] = t1;
+        s0 += t0 * t0;
+        s1 += t1 * t1;
+        s2 += t0 * w_.s[2 * i];
+        s3 += t1 * w_.s[2 * i + 1];
+      }
+      return std::array<double, 4>{s0, s1, s2, s3};
+    });
     for (std::size_t c = 0; c < 2; ++c)
-      if (full[c]) omega[c] = t_sums[c] > 0 ? t_sums[2 + c] / t_sums[c] : 0.0;
-    // x += α p̂ + ω ŝ, r = s − ω t, r·r and r̂·r (the next ρ); or x += α p̂ (half).
-    const auto r_sums = block_sums<4>(n, [&](std::size_t begin, std::size_t end) {
+      if (full_[c]) omega_[c] = t_sums[c] > 0 ? t_sums[2 + c] / t_sums[c] : 0.0;
+  }
+
+  // x += α p̂ + ω ŝ, r = s − ω t, r·r and r̂·r (the next ρ); or x += α p̂ (half).
+  void update_solution() {
+    const auto r_sums = block_sums<4>(n_, [&](std::size_t begin, std::size_t end) {
       double sums[4] = {0, 0, 0, 0};
       for (std::size_t i = begin; i < end; ++i)
         for (std::size_t c = 0; c < 2; ++c) {
           const std::size_t m = 2 * i + c;
-          if (half[c]) {
-            x[m] += alpha[c] * w.p_hat[m];
-          } else if (full[c]) {
-            x[m] += alpha[c] * w.p_hat[m] + omega[c] * w.s_hat[m];
-            const double value = w.s[m] - omega[c] * w.t[m];
-            w.r[m] = value;
+          if (half_[c]) {
+            x_[m] += alpha_[c] * w_.p_hat[m];
+          } else if (full_[c]) {
+            x_[m] += alpha_[c] * w_.p_hat[m] + omega_[c] * w_.s_hat[m];
+            const double value = w_.s[m] - omega_[c] * w_.t[m];
+            w_.r[m] = value;
             sums[c] += value * value;
-            sums[2 + c] += w.r_hat[m] * value;
+            sums[2 + c] += w_.r_hat[m] * value;
           }
         }
       return std::array<double, 4>{sums[0], sums[1], sums[2], sums[3]};
     });
     for (std::size_t c = 0; c < 2; ++c) {
-      if (half[c]) {
-        finish(c, s_norm[c]);
-      } else if (full[c]) {
-        residual_squared[c] = r_sums[c];
-        residual[c] = std::sqrt(r_sums[c]);
-        rho_next[c] = r_sums[2 + c];
-        if (!std::isfinite(residual[c]) || residual[c] <= target[c] || omega[c] == 0) finish(c, residual[c]);
+      if (half_[c]) {
+        finish(c, s_norm_[c]);
+      } else if (full_[c]) {
+        residual_squared_[c] = r_sums[c];
+        residual_[c] = std::sqrt(r_sums[c]);
+        rho_next_[c] = r_sums[2 + c];
+        if (!std::isfinite(residual_[c]) || residual_[c] <= target_[c] || omega_[c] == 0) finish(c, residual_[c]);
       }
     }
   }
-  for (std::size_t c = 0; c < 2; ++c)
-    if (active[c]) finish(c, residual[c]);
-  return result;
+
+  std::size_t n_;
+  const StencilMatrix& a_;
+  std::span<const double> b_;
+  std::span<double> x_;
+  const KrylovSettings& settings_;
+  PairKrylovWorkspace& w_;
+  const std::uint32_t* offsets_ = nullptr;
+  const std::uint32_t* columns_ = nullptr;
+  const double* diagonal_ = nullptr;
+  const double* off_diagonal_ = nullptr;
+
+  std::array<KrylovResult, 2> result_{};
+  std::array<bool, 2> active_{true, true};
+  std::array<double, 2> b_norm_{}, target_{}, residual_{}, residual_squared_{}, r_hat_squared_{}, rho_next_{};
+  std::array<double, 2> rho_{1, 1}, alpha_{1, 1}, omega_{1, 1};
+  // Of the current iteration.
+  std::array<double, 2> beta_{}, s_norm_{};
+  std::array<bool, 2> restart_{}, half_{}, full_{};
+};
+
+}  // namespace
+
+std::array<KrylovResult, 2> bicgstab_jacobi_pair(const StencilMatrix& a, std::span<const double> b, std::span<double> x,
+                                                 const KrylovSettings& settings, PairKrylovWorkspace& work) {
+  return JacobiPairBicgstab(a, b, x, settings, work).solve();
 }
 
 FloatingGroups floating_groups(const StencilMatrix& a) {
