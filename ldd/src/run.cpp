@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -19,6 +21,7 @@
 #include "rheosim/ldd/cavity_reference.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "run_loop.hpp"
 #include "run_summary.hpp"
 
 namespace rheosim::ldd {
@@ -195,6 +198,75 @@ nlohmann::ordered_json compare_with_ghia(const Solver& solver, const Cavity& cav
   core::write_csv(dir / "ghia.csv", csv);
   return {{"reynolds", reynolds}, {"max_error", max_error}, {"points", rows}};
 }
+
+// The cavity's part of the run loop: the lattice Solver, its centre-line probes and steady
+// residual, node and field frames. Keeps no checkpoint (cavity runs take minutes), so it runs
+// to its end whatever the caller's step and wall-time limits.
+class CavityRun final : public detail::SceneRun {
+ public:
+  CavityRun(const CaseSettings& l, const Cavity& cavity, Solver& solver, const std::filesystem::path& out_dir)
+      : l_(l), cavity_(cavity), solver_(solver), out_dir_(out_dir), last_(sample_centerlines(solver, cavity)) {
+    frames_.push_back({0.0, write_frame(solver_, cavity_, out_dir_, 0)});
+  }
+
+  [[nodiscard]] double time() const override { return solver_.time(); }
+  [[nodiscard]] std::size_t steps() const override { return solver_.steps(); }
+  [[nodiscard]] bool step(std::size_t, bool, RunOutcome& outcome) override {
+    if (!detail::timed_step(solver_, stats_, outcome, step_seconds_)) return false;
+    accepted_.add(stats_, solver_.params());
+    return true;
+  }
+  [[nodiscard]] std::optional<std::string> probe(std::size_t step, core::Progress& progress,
+                                                 RunOutcome& outcome) override {
+    const Centerlines now = sample_centerlines(solver_, cavity_);
+    const double residual = residual_between(now, last_, solver_.time() - last_probe_time_, cavity_);
+    history_.add_row({solver_.time(), residual, solver_.kinetic_energy(),
+                      static_cast<double>(stats_.pressure_iterations), static_cast<double>(stats_.velocity_iterations),
+                      stats_.max_divergence, stats_.courant});
+    last_ = now;
+    last_probe_time_ = solver_.time();
+    progress.update(step, fmt::format("t {:.3f} s, residual {:.2e}", solver_.time(), residual));
+    if (!(residual < blow_up_residual)) {
+      outcome.message = fmt::format("steady-state residual {:.3g} at t = {:.6g} s (blow-up limit {:g})", residual,
+                                    solver_.time(), blow_up_residual);
+      return "diverged";
+    }
+    quiet_probes_ = (l_.steady_tolerance > 0 && residual < l_.steady_tolerance) ? quiet_probes_ + 1 : 0;
+    if (quiet_probes_ >= 3) return "steady";
+    return std::nullopt;
+  }
+  void add_frame() override {
+    frames_.push_back({solver_.time(), write_frame(solver_, cavity_, out_dir_, static_cast<int>(frames_.size()))});
+    write_frame_indexes(out_dir_, frames_);
+  }
+  [[nodiscard]] double last_frame_time() const override { return frames_.back().time; }
+  void save() override { write_frame_indexes(out_dir_, frames_); }
+
+  [[nodiscard]] const core::CsvTable& history() const { return history_; }
+  [[nodiscard]] double step_seconds() const { return step_seconds_; }
+  [[nodiscard]] const detail::AcceptedSolves& accepted() const { return accepted_; }
+
+ private:
+  const CaseSettings& l_;
+  const Cavity& cavity_;
+  Solver& solver_;
+  std::filesystem::path out_dir_;
+  core::CsvTable history_{{{"time", "s"},
+                           {"residual", ""},
+                           {"kinetic_energy", "J/m"},
+                           {"pressure_iterations", ""},
+                           {"velocity_iterations", ""},
+                           {"max_divergence", "1/s"},
+                           {"courant", ""}}};
+  std::vector<core::TimeSeriesEntry> frames_;
+  Centerlines last_;
+  double last_probe_time_ = 0;
+  int quiet_probes_ = 0;
+  double step_seconds_ = 0;
+  CavityStepStats stats_;
+  detail::AcceptedSolves accepted_;
+};
+
 }  // namespace
 
 RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const core::Log& log,
@@ -225,69 +297,10 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   log.info("LDD {}: {} nodes ({} fluid), Δ = {} m, δt = {} s, {} threads, Re(U/L) ≈ {:.4g}", l.scene_type,
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads, reynolds);
 
-  const auto total_steps = static_cast<std::size_t>(std::llround(l.end_time / l.time_step));
-  const auto steps_for = [&](double interval) {
-    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(interval / l.time_step)));
-  };
-  const std::size_t frame_every = steps_for(l.output.frame_interval_for(l.end_time));
-  const std::size_t probe_every = steps_for(l.output.probe_interval_for(l.end_time));
-
-  core::CsvTable history({{"time", "s"},
-                          {"residual", ""},
-                          {"kinetic_energy", "J/m"},
-                          {"pressure_iterations", ""},
-                          {"velocity_iterations", ""},
-                          {"max_divergence", "1/s"},
-                          {"courant", ""}});
-  std::vector<core::TimeSeriesEntry> frames;
-  frames.push_back({0.0, write_frame(solver, cavity, out_dir, 0)});
-  Centerlines last = sample_centerlines(solver, cavity);
-  double last_probe_time = 0;
-  RunOutcome outcome;
-  outcome.status = "end_time";
-  int quiet_probes = 0;
-  double step_seconds = 0;
-  core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
-  CavityStepStats stats;
   const auto requested_preconditioner = solver.params().pressure_preconditioner;
-  detail::AcceptedSolves accepted;
-  for (std::size_t k = 1; k <= total_steps; ++k) {
-    if (!detail::timed_step(solver, stats, outcome, step_seconds)) break;
-    accepted.add(stats, solver.params());
-    if (k % probe_every == 0 || k == total_steps) {
-      const Centerlines now = sample_centerlines(solver, cavity);
-      const double residual = residual_between(now, last, solver.time() - last_probe_time, cavity);
-      history.add_row({solver.time(), residual, solver.kinetic_energy(), static_cast<double>(stats.pressure_iterations),
-                       static_cast<double>(stats.velocity_iterations), stats.max_divergence, stats.courant});
-      last = now;
-      last_probe_time = solver.time();
-      progress.update(k, fmt::format("t {:.3f} s, residual {:.2e}", solver.time(), residual));
-      if (!(residual < blow_up_residual)) {
-        outcome.status = "diverged";
-        outcome.message = fmt::format("steady-state residual {:.3g} at t = {:.6g} s (blow-up limit {:g})", residual,
-                                      solver.time(), blow_up_residual);
-        break;
-      }
-      quiet_probes = (l.steady_tolerance > 0 && residual < l.steady_tolerance) ? quiet_probes + 1 : 0;
-      if (quiet_probes >= 3) {
-        outcome.status = "steady";
-        break;
-      }
-    }
-    if (k % frame_every == 0) {
-      frames.push_back({solver.time(), write_frame(solver, cavity, out_dir, static_cast<int>(frames.size()))});
-      write_frame_indexes(out_dir, frames);
-    }
-  }
-  if (outcome.status == "diverged") {
-    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame.", outcome.message,
-              solver.time());
-  } else {
-    progress.finish();
-  }
-  if (frames.back().time != solver.time() || outcome.status == "diverged")
-    frames.push_back({solver.time(), write_frame(solver, cavity, out_dir, static_cast<int>(frames.size()))});
-  write_frame_indexes(out_dir, frames);
+  CavityRun run(l, cavity, solver, out_dir);
+  RunOutcome outcome = detail::run_steps(run, detail::RunSchedule::of(l), control, wall_start, log);
+  const core::CsvTable& history = run.history();
 
   const Centerlines final_lines = sample_centerlines(solver, cavity);
   core::CsvTable vertical({{"y", ""}, {"u", ""}}), horizontal({{"x", ""}, {"v", ""}});
@@ -305,7 +318,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   write_field(solver, cavity, out_dir, "field.vtk", true);
 
   outcome.steps = solver.steps();
-  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * step_seconds / static_cast<double>(solver.steps()) : 0.0;
+  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * run.step_seconds() / static_cast<double>(solver.steps()) : 0.0;
   nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
   summary["reynolds_number"] = reynolds;
   summary["final_residual"] = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
@@ -318,7 +331,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   }
   {  // every rule the run bent
     nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    if (const auto w = accepted.warning(solver.steps())) warnings.push_back(*w);
+    if (const auto w = run.accepted().warning(solver.steps())) warnings.push_back(*w);
     if (solver.params().pressure_preconditioner != requested_preconditioner)
       warnings.push_back(
           "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi "

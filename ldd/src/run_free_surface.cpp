@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -19,6 +20,7 @@
 #include "rheosim/core/version.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
+#include "run_loop.hpp"
 #include "run_summary.hpp"
 
 namespace rheosim::ldd {
@@ -428,6 +430,163 @@ nlohmann::ordered_json run_summary(const Case& c, const FreeSurfaceSolver& solve
   return summary;
 }
 
+// The free surfaces' part of the run loop: the FreeSurfaceSolver, the scene's probes (the dam
+// break's front after every step; spread; left-wall height), the energy and volume records, node
+// frames and the checkpoint the next run into the same folder resumes from.
+class FreeSurfaceRun final : public detail::SceneRun {
+ public:
+  FreeSurfaceRun(const Case& c, FreeSurfaceSolver& solver, const std::filesystem::path& out_dir,
+                 const RunControl& control, std::chrono::steady_clock::time_point wall_start, const core::Log& log)
+      : c_(c),
+        l_(c.settings),
+        solver_(solver),
+        out_dir_(out_dir),
+        wall_start_(wall_start),
+        dam_break_(std::holds_alternative<ldd::DamBreakScene>(l_.scene)),
+        slump_(std::holds_alternative<ldd::SlumpScene>(l_.scene)),
+        probe_stability_(control.stability_probe_iterations > 0),
+        stability_probe_iterations_(control.stability_probe_iterations),
+        history_(probe_columns(l_, probe_stability_)),
+        probe_file_(probe_file_name(l_.scene_type)),
+        checkpoint_path_(out_dir / "checkpoint.h5"),
+        log_(log) {
+    // Slump: the mould clears the fluid when its bottom passes the initial height.
+    if (const auto* s = std::get_if<ldd::SlumpScene>(&l_.scene)) mould_clear_time_ = s->cone_height / s->lift_velocity;
+  }
+
+  // Continues from checkpoint.h5 when the folder holds one, else records the start.
+  void resume_or_start(std::size_t total_steps) {
+    if (std::filesystem::exists(checkpoint_path_)) {
+      const std::string writer = read_checkpoint(checkpoint_path_, c_, solver_, run_, history_);
+      run_.resumed_at_steps.push_back(static_cast<double>(solver_.steps()));
+      log_.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path_.string(), solver_.time(),
+                solver_.steps(), total_steps);
+      if (writer != core::git_revision)
+        log_.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build",
+                  writer, core::git_revision);
+      return;
+    }
+    run_.volume0 = solver_.fluid_volume();
+    run_.potential0 = solver_.potential_energy();
+    add_frame();
+    record(FreeSurfaceStats{});
+    if (dam_break_) {
+      run_.front_time.push_back(0.0);
+      run_.front.push_back(mass_front(solver_));
+    }
+  }
+
+  [[nodiscard]] double time() const override { return solver_.time(); }
+  [[nodiscard]] std::size_t steps() const override { return solver_.steps(); }
+  [[nodiscard]] bool step(std::size_t, bool probed, RunOutcome& outcome) override {
+    // The step map is probed only on the steps that are recorded (it costs ~3 solves an iteration).
+    if (probe_stability_) solver_.set_stability_probe(probed ? stability_probe_iterations_ : 0);
+    if (!detail::timed_step(solver_, stats_, outcome, run_.step_seconds)) return false;
+    run_.pressure_iterations += stats_.pressure_iterations;
+    run_.velocity_iterations += stats_.velocity_iterations;
+    run_.accepted.add(stats_, solver_.params());
+    if (stats_.repeated_solves > 0) {
+      run_.repeated_solves += stats_.repeated_solves;
+      run_.repeated_with_lu += stats_.repeated_with_lu;
+      log_.warn(
+          "t = {:.6g} s: {} linear solve(s) failed and were repeated ({} with a fresh AMG hierarchy, {} with "
+          "the pressure matrix's sparse LU)",
+          solver_.time(), stats_.repeated_solves, stats_.repeated_solves - stats_.repeated_with_lu,
+          stats_.repeated_with_lu);
+    }
+    if (dam_break_) {
+      run_.front_time.push_back(solver_.time());
+      run_.front.push_back(mass_front(solver_));
+    }
+    return true;
+  }
+  [[nodiscard]] std::optional<std::string> probe(std::size_t step, core::Progress& progress, RunOutcome&) override {
+    const double energy = record(stats_);
+    run_.peak_energy = std::max(run_.peak_energy, energy);
+    progress.update(step,
+                    fmt::format("t {:.3f} s, KE {:.3g}, {} surface", solver_.time(), energy, stats_.surface_nodes));
+    if (slump_ && solver_.time() > mould_clear_time_ && energy < slump_energy_decay * run_.peak_energy)
+      return "settled";
+    return std::nullopt;
+  }
+  void add_frame() override {
+    detail::write_node_frame(solver_, out_dir_, run_.frame_times.size());
+    run_.frame_times.push_back(solver_.time());
+    detail::write_node_frame_indexes(out_dir_, frame_entries());
+  }
+  [[nodiscard]] double last_frame_time() const override { return run_.frame_times.back(); }
+  void save() override {
+    core::write_csv(out_dir_ / probe_file_, history_);
+    checkpoint();
+  }
+  [[nodiscard]] std::optional<std::filesystem::path> checkpoint_file() const override { return checkpoint_path_; }
+  void checkpoint() override {
+    run_.wall_seconds += wall_seconds() - checkpoint_wall_;
+    checkpoint_wall_ = wall_seconds();
+    write_checkpoint(checkpoint_path_, c_, solver_, run_, history_);
+  }
+  [[nodiscard]] double seconds_since_checkpoint() const override { return wall_seconds() - checkpoint_wall_; }
+
+  [[nodiscard]] const RunRecord& record_so_far() const { return run_; }
+  [[nodiscard]] const core::CsvTable& history() const { return history_; }
+
+ private:
+  [[nodiscard]] double wall_seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+  }
+  std::vector<core::TimeSeriesEntry> frame_entries() const {
+    std::vector<core::TimeSeriesEntry> entries;
+    for (std::size_t q = 0; q < run_.frame_times.size(); ++q)
+      entries.push_back({run_.frame_times[q], detail::frame_name(q)});
+    return entries;
+  }
+  // One probe row; returns the kinetic energy.
+  double record(const FreeSurfaceStats& st) {
+    const double drift = solver_.fluid_volume() / run_.volume0 - 1;
+    run_.max_drift = std::max(run_.max_drift, std::abs(drift));
+    const double energy = solver_.kinetic_energy();
+    const double released = run_.potential0 - solver_.potential_energy();
+    run_.max_released = std::max(run_.max_released, released);
+    run_.max_energy_excess = std::max(run_.max_energy_excess, energy - released);
+    std::vector<double> row{solver_.time()};
+    if (dam_break_) row.push_back(mass_front(solver_));
+    if (slump_) {
+      const auto [diameter, height] = spread(solver_);
+      row.push_back(diameter);
+      row.push_back(height);
+    }
+    if (!dam_break_ && !slump_) row.push_back(left_wall_height(solver_));
+    if (probe_stability_) {
+      const std::size_t at = st.step_map_node * static_cast<std::size_t>(solver_.dimension());
+      row.push_back(st.step_map_growth);
+      row.push_back(st.step_map_growth > 0 ? solver_.positions()[at] : 0.0);
+      row.push_back(st.step_map_growth > 0 ? solver_.positions()[at + 1] : 0.0);
+    }
+    for (double v : {energy, released, drift, static_cast<double>(st.surface_nodes),
+                     static_cast<double>(st.splash_nodes), static_cast<double>(st.pressure_iterations),
+                     static_cast<double>(st.velocity_iterations), st.courant, st.max_pbd_shift})
+      row.push_back(v);
+    history_.add_row(row);
+    return energy;
+  }
+
+  const Case& c_;
+  const CaseSettings& l_;
+  FreeSurfaceSolver& solver_;
+  std::filesystem::path out_dir_;
+  std::chrono::steady_clock::time_point wall_start_;
+  bool dam_break_, slump_, probe_stability_;
+  int stability_probe_iterations_;
+  double mould_clear_time_ = 0;
+  core::CsvTable history_;
+  std::string probe_file_;
+  std::filesystem::path checkpoint_path_;
+  double checkpoint_wall_ = 0;  // this process's wall time at the last checkpoint
+  RunRecord run_;
+  FreeSurfaceStats stats_;
+  const core::Log& log_;
+};
+
 }  // namespace
 
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l) {
@@ -466,9 +625,6 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
                                  const RunControl& control) {
   const auto& l = c.settings;
   const auto wall_start = std::chrono::steady_clock::now();
-  const auto wall_seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  };
   if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
   const int threads = omp_get_max_threads();
   std::filesystem::create_directories(out_dir / "frames");
@@ -476,166 +632,23 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
 
   FreeSurfaceScene scene = build_scene(l);
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));
-  const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
-  const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
   if (!l.time_step_rule.empty()) log.info("time step {}", l.time_step_rule);
   log.info("LDD {} ({}D): {} nodes ({} fluid), Δ = {} m, δt = {} s, {} threads", l.scene_type, l.dimension,
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads);
 
-  const auto total_steps = static_cast<std::size_t>(std::llround(l.end_time / l.time_step));
-  const auto steps_for = [&](double interval) {
-    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(interval / l.time_step)));
-  };
-  const std::size_t frame_every = steps_for(l.output.frame_interval_for(l.end_time));
-  const std::size_t probe_every = steps_for(l.output.probe_interval_for(l.end_time));
-  // Slump: the mould clears the fluid when its bottom passes the initial height.
-  double mould_clear_time = 0;
-  if (const auto* s = std::get_if<ldd::SlumpScene>(&l.scene)) mould_clear_time = s->cone_height / s->lift_velocity;
-
-  const bool column = !dam_break && !slump;
-  const bool probe_stability = control.stability_probe_iterations > 0;
-  core::CsvTable history(probe_columns(l, probe_stability));
-  const std::string probe_file = probe_file_name(l.scene_type);
-  RunRecord run;
-
-  const auto record = [&](const FreeSurfaceStats& st) {
-    const double drift = solver.fluid_volume() / run.volume0 - 1;
-    run.max_drift = std::max(run.max_drift, std::abs(drift));
-    const double energy = solver.kinetic_energy();
-    const double released = run.potential0 - solver.potential_energy();
-    run.max_released = std::max(run.max_released, released);
-    run.max_energy_excess = std::max(run.max_energy_excess, energy - released);
-    std::vector<double> row{solver.time()};
-    if (dam_break) row.push_back(mass_front(solver));
-    if (slump) {
-      const auto [diameter, height] = spread(solver);
-      row.push_back(diameter);
-      row.push_back(height);
-    }
-    if (column) row.push_back(left_wall_height(solver));
-    if (probe_stability) {
-      const std::size_t at = st.step_map_node * static_cast<std::size_t>(solver.dimension());
-      row.push_back(st.step_map_growth);
-      row.push_back(st.step_map_growth > 0 ? solver.positions()[at] : 0.0);
-      row.push_back(st.step_map_growth > 0 ? solver.positions()[at + 1] : 0.0);
-    }
-    for (double v : {energy, released, drift, static_cast<double>(st.surface_nodes),
-                     static_cast<double>(st.splash_nodes), static_cast<double>(st.pressure_iterations),
-                     static_cast<double>(st.velocity_iterations), st.courant, st.max_pbd_shift})
-      row.push_back(v);
-    history.add_row(row);
-    return energy;
-  };
-  const auto frame_entries = [&] {
-    std::vector<core::TimeSeriesEntry> entries;
-    for (std::size_t q = 0; q < run.frame_times.size(); ++q)
-      entries.push_back({run.frame_times[q], detail::frame_name(q)});
-    return entries;
-  };
-  const auto add_frame = [&] {
-    detail::write_node_frame(solver, out_dir, run.frame_times.size());
-    run.frame_times.push_back(solver.time());
-    detail::write_node_frame_indexes(out_dir, frame_entries());
-  };
-  const auto checkpoint_path = out_dir / "checkpoint.h5";
-  double checkpoint_wall = 0;  // this process's wall time at the last checkpoint
-  const auto checkpoint = [&] {
-    run.wall_seconds += wall_seconds() - checkpoint_wall;
-    checkpoint_wall = wall_seconds();
-    write_checkpoint(checkpoint_path, c, solver, run, history);
-  };
-
-  if (std::filesystem::exists(checkpoint_path)) {
-    const std::string writer = read_checkpoint(checkpoint_path, c, solver, run, history);
-    run.resumed_at_steps.push_back(static_cast<double>(solver.steps()));
-    log.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path.string(), solver.time(), solver.steps(),
-             total_steps);
-    if (writer != core::git_revision)
-      log.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build", writer,
-               core::git_revision);
-  } else {
-    run.volume0 = solver.fluid_volume();
-    run.potential0 = solver.potential_energy();
-    add_frame();
-    record(FreeSurfaceStats{});
-    if (dam_break) {
-      run.front_time.push_back(0.0);
-      run.front.push_back(mass_front(solver));
-    }
-  }
-  RunOutcome outcome;
-  outcome.status = "end_time";
-  core::Progress progress = core::Progress::for_stderr("ldd", total_steps);
-  FreeSurfaceStats stats;
-  std::size_t steps_now = 0;  // in this process
-  for (std::size_t k = solver.steps() + 1; k <= total_steps; ++k) {
-    if ((control.step_limit > 0 && steps_now >= control.step_limit) ||
-        (control.wall_time_limit > 0 && wall_seconds() >= control.wall_time_limit)) {
-      outcome.status = "interrupted";
-      break;
-    }
-    // The step map is probed only on the steps that are recorded (it costs ~3 solves an iteration).
-    if (probe_stability)
-      solver.set_stability_probe(k % probe_every == 0 || k == total_steps ? control.stability_probe_iterations : 0);
-    if (!detail::timed_step(solver, stats, outcome, run.step_seconds)) break;
-    ++steps_now;
-    run.pressure_iterations += stats.pressure_iterations;
-    run.velocity_iterations += stats.velocity_iterations;
-    run.accepted.add(stats, solver.params());
-    if (stats.repeated_solves > 0) {
-      run.repeated_solves += stats.repeated_solves;
-      run.repeated_with_lu += stats.repeated_with_lu;
-      log.warn(
-          "t = {:.6g} s: {} linear solve(s) failed and were repeated ({} with a fresh AMG hierarchy, {} with "
-          "the pressure matrix's sparse LU)",
-          solver.time(), stats.repeated_solves, stats.repeated_solves - stats.repeated_with_lu, stats.repeated_with_lu);
-    }
-    if (dam_break) {
-      run.front_time.push_back(solver.time());
-      run.front.push_back(mass_front(solver));
-    }
-    if (k % probe_every == 0 || k == total_steps) {
-      const double energy = record(stats);
-      run.peak_energy = std::max(run.peak_energy, energy);
-      progress.update(k, fmt::format("t {:.3f} s, KE {:.3g}, {} surface", solver.time(), energy, stats.surface_nodes));
-      if (slump && solver.time() > mould_clear_time && energy < slump_energy_decay * run.peak_energy) {
-        outcome.status = "settled";
-        break;
-      }
-    }
-    if (k % frame_every == 0) {
-      add_frame();
-      core::write_csv(out_dir / probe_file, history);  // a run stopped from outside keeps its probes so far
-      checkpoint();
-    } else if (control.checkpoint_interval > 0 && wall_seconds() - checkpoint_wall >= control.checkpoint_interval) {
-      checkpoint();
-    }
-  }
-  if (outcome.status == "diverged")
-    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame and to {}.",
-              outcome.message, solver.time(), checkpoint_path.string());
-  else
-    progress.finish();
-  // An interrupted run adds no frame: the checkpoint holds its state, and the frames of the run
-  // that goes on are numbered as if it had never stopped.
-  if ((run.frame_times.back() != solver.time() && outcome.status != "interrupted") || outcome.status == "diverged")
-    add_frame();
-  detail::write_node_frame_indexes(out_dir, frame_entries());
-  core::write_csv(out_dir / probe_file, history);
-  checkpoint();
-  if (outcome.status == "interrupted")
-    log.info(
-        "interrupted at t = {:.6g} s (step {} of {}): the state is in {}; run the same case into the same folder "
-        "to go on",
-        solver.time(), solver.steps(), total_steps, checkpoint_path.string());
+  const detail::RunSchedule schedule = detail::RunSchedule::of(l);
+  FreeSurfaceRun run(c, solver, out_dir, control, wall_start, log);
+  run.resume_or_start(schedule.total_steps);
+  RunOutcome outcome = detail::run_steps(run, schedule, control, wall_start, log);
 
   outcome.steps = solver.steps();
-  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * run.step_seconds / static_cast<double>(solver.steps()) : 0.0;
-  const nlohmann::ordered_json summary = run_summary(c, solver, run, history, outcome, threads, out_dir, log);
+  const RunRecord& record = run.record_so_far();
+  outcome.ms_per_step = solver.steps() > 0 ? 1e3 * record.step_seconds / static_cast<double>(solver.steps()) : 0.0;
+  const nlohmann::ordered_json summary = run_summary(c, solver, record, run.history(), outcome, threads, out_dir, log);
   core::write_json(out_dir / "summary.json", summary);
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,
-           outcome.steps, solver.time(), outcome.ms_per_step, 100 * run.max_drift, outcome.summary.string());
+           outcome.steps, solver.time(), outcome.ms_per_step, 100 * record.max_drift, outcome.summary.string());
   return outcome;
 }
 

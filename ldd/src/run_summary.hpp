@@ -46,16 +46,6 @@ template <class Solver, class Stats>
     outcome.message = message;
   });
 }
-// A library simulate_* loop's step: its result (with `diverged` and `message`) records a divergence.
-template <class Solver, class Result>
-[[nodiscard]] bool timed_step_into(Solver& solver, Result& result, double& step_seconds) {
-  decltype(solver.step()) stats;
-  return timed_step(solver, stats, step_seconds, [&](const char* message) {
-    result.diverged = true;
-    result.message = message;
-  });
-}
-
 // Steps whose pressure or velocity solve did not converge and was accepted (up to 1000× its
 // tolerance, the solver's limit before it stops as diverged), and the largest ratio
 // residual/tolerance among them: a rule the run bent, for its log and summary.json.

@@ -1,0 +1,72 @@
+#include "run_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace rheosim::ldd::detail {
+
+RunSchedule RunSchedule::of(const CaseSettings& l) {
+  const auto steps_for = [&](double interval) {
+    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(interval / l.time_step)));
+  };
+  RunSchedule s;
+  s.total_steps = static_cast<std::size_t>(std::llround(l.end_time / l.time_step));
+  s.frame_every = steps_for(l.output.frame_interval_for(l.end_time));
+  s.probe_every = steps_for(l.output.probe_interval_for(l.end_time));
+  return s;
+}
+
+RunOutcome run_steps(SceneRun& scene, const RunSchedule& schedule, const RunControl& control,
+                     std::chrono::steady_clock::time_point wall_start, const core::Log& log) {
+  const auto wall_seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  };
+  const std::optional<std::filesystem::path> checkpoint_file = scene.checkpoint_file();
+  RunOutcome outcome;
+  outcome.status = "end_time";
+  core::Progress progress = core::Progress::for_stderr("ldd", schedule.total_steps);
+  std::size_t steps_now = 0;  // in this process
+  for (std::size_t k = scene.steps() + 1; k <= schedule.total_steps; ++k) {
+    if (checkpoint_file && ((control.step_limit > 0 && steps_now >= control.step_limit) ||
+                            (control.wall_time_limit > 0 && wall_seconds() >= control.wall_time_limit))) {
+      outcome.status = "interrupted";
+      break;
+    }
+    const bool probed = k % schedule.probe_every == 0 || k == schedule.total_steps;
+    if (!scene.step(k, probed, outcome)) break;
+    ++steps_now;
+    if (probed) {
+      if (const std::optional<std::string> status = scene.probe(k, progress, outcome)) {
+        outcome.status = *status;
+        break;
+      }
+    }
+    if (k % schedule.frame_every == 0) {
+      scene.add_frame();
+      scene.save();  // a run stopped from outside keeps its probes and state so far
+    } else if (control.checkpoint_interval > 0 && scene.seconds_since_checkpoint() >= control.checkpoint_interval) {
+      scene.checkpoint();
+    }
+  }
+  if (outcome.status == "diverged")
+    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame{}.",
+              outcome.message, scene.time(),
+              checkpoint_file ? fmt::format(" and to {}", checkpoint_file->string()) : std::string());
+  else
+    progress.finish();
+  // An interrupted run adds no frame: the checkpoint holds its state, and the frames of the run
+  // that goes on are numbered as if it had never stopped.
+  if ((scene.last_frame_time() != scene.time() && outcome.status != "interrupted") || outcome.status == "diverged")
+    scene.add_frame();
+  scene.save();
+  if (outcome.status == "interrupted")
+    log.info(
+        "interrupted at t = {:.6g} s (step {} of {}): the state is in {}; run the same case into the same folder "
+        "to go on",
+        scene.time(), scene.steps(), schedule.total_steps, checkpoint_file->string());
+  return outcome;
+}
+
+}  // namespace rheosim::ldd::detail
