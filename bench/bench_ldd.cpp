@@ -392,7 +392,7 @@ void krylov_floor() {
       return text;
     };
     const auto walls = static_cast<std::size_t>(std::count_if(
-        cloud.kinds.begin(), cloud.kinds.end(), [](ldd::NodeKind k) { return k != ldd::NodeKind::fluid; }));
+        cloud.kinds.begin(), cloud.kinds.end(), [](ldd::NodeKind k) { return k != ldd::NodeKind::interior; }));
     std::printf(
         "(%s: %zu wall nodes; PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n",
         scene.name, walls, sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(), sizes(velocity_amg).c_str(),

@@ -47,7 +47,7 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
       cloud_.positions.insert(cloud_.positions.end(), {p[0], p[1]});
       const bool left = i == 0, right = i == nx, bottom = j == 0, top = j == ny;
       Vec2 normal{0, 0}, velocity{0, 0};
-      NodeKind kind = NodeKind::fluid;
+      NodeKind kind = NodeKind::interior;
       const auto add_normal = [&](const Vec2& n) {
         normal[0] += n[0];
         normal[1] += n[1];

@@ -38,7 +38,7 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
   for (std::size_t i = 0; i < n; ++i) corner_[i] = cloud.kinds[i] == NodeKind::corner ? 1 : 0;
   boundary_of_ = std::move(cloud.boundary);
   kinds_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) kinds_[i] = cloud.is_wall(i) ? FreeNode::wall : FreeNode::interior;
+  for (std::size_t i = 0; i < n; ++i) kinds_[i] = cloud.is_wall(i) ? NodeKind::wall : NodeKind::interior;
   support_radius_ = params_.smoothing_ratio * params_.spacing;
   search_radius_ = support_radius_ + params_.neighbour_skin * params_.spacing;
   velocity_.assign(dim * n, 0.0);
@@ -123,9 +123,9 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
         return s;
       };
       for (std::size_t i = 0; i < n; ++i)
-        if (kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface) top = std::max(top, height(i));
+        if (kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface) top = std::max(top, height(i));
       for (std::size_t i = 0; i < n; ++i)
-        if (kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::wall || kinds_[i] == FreeNode::corner)
+        if (kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::wall || kinds_[i] == NodeKind::corner)
           pressure_[i] = params_.density * g * std::max(0.0, top - height(i));
     }
   }
@@ -152,7 +152,7 @@ void FreeSurfaceSolver::restore(FreeSurfaceState state) {
     throw std::invalid_argument(
         fmt::format("LDD free-surface state: its arrays do not fit this cloud of {} nodes in {}D", n, dim_));
   for (std::size_t i = 0; i < n; ++i)
-    if ((state.kinds[i] <= FreeNode::splash) != is_fluid(i) || state.kinds[i] > FreeNode::idle_wall)
+    if ((state.kinds[i] <= NodeKind::splash) != is_fluid(i) || state.kinds[i] > NodeKind::idle_wall)
       throw std::invalid_argument(fmt::format("LDD free-surface state: node {} is a {} node in the state but {} here",
                                               i, detail::kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
   const numerics::NeighbourList& nb = state.neighbours;
@@ -227,7 +227,7 @@ double FreeSurfaceSolver::fluid_volume() const {
   const double cell = std::pow(params_.spacing, dim_);
   double volume = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
-    if (kinds_[i] == FreeNode::interior)
+    if (kinds_[i] == NodeKind::interior)
       volume += cell * rest_density_ / kernel_density(i);
     else if (is_fluid(i))
       volume += cell;

@@ -58,10 +58,10 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
   const Operators& ops = operators_;
   dry_wall_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
+    if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
     bool wet = false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !wet; ++k)
-      wet = kinds_[nb.indices[k]] == FreeNode::interior && ops.weights[k] > 0;
+      wet = kinds_[nb.indices[k]] == NodeKind::interior && ops.weights[k] > 0;
     dry_wall_[i] = wet ? 0 : 1;
   }
   const std::span<const std::uint8_t> skip =
@@ -74,9 +74,9 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
   };
   std::vector<std::size_t> centred, anchored;
   for (std::size_t i = 0; i < n; ++i) {
-    if (kinds_[i] == FreeNode::surface && params_.anchored_surface_gradient)
+    if (kinds_[i] == NodeKind::surface && params_.anchored_surface_gradient)
       anchored.push_back(i);
-    else if ((kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface) && beside_dry_wall(i))
+    else if ((kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface) && beside_dry_wall(i))
       centred.push_back(i);
   }
   rebuild_gradients(positions_, nb,
@@ -113,7 +113,7 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
   std::vector<double>& p = previous_pressure_;
   p = pressure_;
   for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (kinds_[i] == FreeNode::surface || kinds_[i] == FreeNode::splash || kinds_[i] == FreeNode::idle_wall) p[i] = 0.0;
+    if (kinds_[i] == NodeKind::surface || kinds_[i] == NodeKind::splash || kinds_[i] == NodeKind::idle_wall) p[i] = 0.0;
   const bool history = last_kinds_.size() == kinds_.size();
   // Shepard average of p_j + ρ g·(x_i − x_j) over the neighbours j that pass `use`; p = 0 (no
   // tension) when there are none.
@@ -131,10 +131,10 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
     return wsum > 0 ? std::max(source / wsum, 0.0) : 0.0;
   };
   const auto known = [&](std::size_t j) {
-    return kinds_[j] == FreeNode::surface || (kinds_[j] == FreeNode::interior && last_kinds_[j] == FreeNode::interior);
+    return kinds_[j] == NodeKind::surface || (kinds_[j] == NodeKind::interior && last_kinds_[j] == NodeKind::interior);
   };
   const auto newly_interior = [&](std::size_t i) {
-    return history && kinds_[i] == FreeNode::interior && last_kinds_[i] != FreeNode::interior;
+    return history && kinds_[i] == NodeKind::interior && last_kinds_[i] != NodeKind::interior;
   };
   // Two passes, so that each reads only values the other does not write.
   std::vector<double> estimate(kinds_.size(), 0.0);
@@ -150,9 +150,9 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    if (kinds_[i] != FreeNode::wall && kinds_[i] != FreeNode::corner) continue;
+    if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
     p[i] = dry_wall_[i] ? 0.0 : extrapolate(i, [&](std::size_t j) {
-      return kinds_[j] == FreeNode::interior || kinds_[j] == FreeNode::surface;
+      return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface;
     });
   }
 }

@@ -82,7 +82,7 @@ void FreeSurfaceSolver::classify() {
       }
     }
     if (within_support < splash_limit) {
-      kinds_[i] = FreeNode::splash;
+      kinds_[i] = NodeKind::splash;
       continue;
     }
     // The fluid neighbours' centroid offset; next to a wall the wall-normal part of it is the
@@ -147,7 +147,7 @@ void FreeSurfaceSolver::classify() {
     const bool thin_support = fluid_weight < weight_limit || degenerate;
     const bool surface =
         empty_cone || thin_support || offset > offset_limit || static_cast<double>(within_search) < count_limit;
-    kinds_[i] = surface ? FreeNode::surface : FreeNode::interior;
+    kinds_[i] = surface ? NodeKind::surface : NodeKind::interior;
   }
   // Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
 #pragma omp parallel for schedule(dynamic, 256)
@@ -157,10 +157,10 @@ void FreeSurfaceSolver::classify() {
     bool active = false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !active; ++k) {
       const std::size_t j = nb.indices[k];
-      active = kinds_[j] <= FreeNode::splash &&
+      active = kinds_[j] <= NodeKind::splash &&
                detail::squared_distance(&positions_[dim * i], &positions_[dim * j], dim) < h2;
     }
-    kinds_[i] = !active ? FreeNode::idle_wall : (corner_[i] ? FreeNode::corner : FreeNode::wall);
+    kinds_[i] = !active ? NodeKind::idle_wall : (corner_[i] ? NodeKind::corner : NodeKind::wall);
   }
 }
 

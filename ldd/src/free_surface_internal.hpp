@@ -14,17 +14,17 @@ namespace rheosim::ldd::detail {
 }
 
 // The kind's name in messages ("free-surface", "idle wall", …).
-[[nodiscard]] inline const char* kind_name(FreeNode k) {
+[[nodiscard]] inline const char* kind_name(NodeKind k) {
   switch (k) {
-    case FreeNode::interior:
+    case NodeKind::interior:
       return "interior";
-    case FreeNode::surface:
+    case NodeKind::surface:
       return "free-surface";
-    case FreeNode::splash:
+    case NodeKind::splash:
       return "splash";
-    case FreeNode::wall:
+    case NodeKind::wall:
       return "wall";
-    case FreeNode::corner:
+    case NodeKind::corner:
       return "corner";
     default:
       return "idle wall";

@@ -27,7 +27,7 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
   const Operators& ops = operators_;
   const double dt = params_.time_step, rho = params_.density;
   const double pressure_scale = dt / (rho * params_.spacing);
-  const auto moving = [&](std::size_t i) { return kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface; };
+  const auto moving = [&](std::size_t i) { return kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface; };
   std::vector<double> u(dim * n, 0.0), p(n, 0.0), predicted(dim * n), rhs(n), component(n), phi(n), grad(dim * n),
       div(n);
   std::uint64_t state = 0x9E3779B97F4A7C15ULL;
@@ -38,7 +38,7 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
   for (std::size_t i = 0; i < n; ++i) {
     if (!moving(i)) continue;
     for (std::size_t d = 0; d < dim; ++d) u[dim * i + d] = random();
-    if (kinds_[i] == FreeNode::interior) p[i] = random() / pressure_scale;
+    if (kinds_[i] == NodeKind::interior) p[i] = random() / pressure_scale;
   }
   const auto normalise = [&] {
     double sum = 0;
@@ -68,9 +68,9 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
     }
     divergence(nb, ops, predicted, div);
     for (std::size_t i = 0; i < n; ++i) {
-      if (kinds_[i] == FreeNode::interior) {
+      if (kinds_[i] == NodeKind::interior) {
         rhs[i] = rho / dt * div[i];
-      } else if (kinds_[i] == FreeNode::wall || kinds_[i] == FreeNode::corner) {
+      } else if (kinds_[i] == NodeKind::wall || kinds_[i] == NodeKind::corner) {
         double source = 0;  // Σ w_j p_j of the wall row (its off-diagonal is −w_j)
         for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
           source -= pressure_matrix_.off_diagonal[k] * p[nb.indices[k]];

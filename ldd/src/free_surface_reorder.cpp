@@ -25,7 +25,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
   const numerics::NeighbourList& nb = neighbours_;
   const double h = support_radius_, rho0 = rest_density_;
   const double max_shift = params_.pbd_max_shift * params_.spacing;
-  const auto movable = [&](std::size_t i) { return kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface; };
+  const auto movable = [&](std::size_t i) { return kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface; };
   const double h2 = h * h;
   std::vector<double> lambda(n, 0.0), step(dim * n, 0.0);
   pair_dw_.resize(nb.pair_count());
@@ -52,7 +52,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
       }
       double constraint = density / rho0 - 1.0;
       // The surface's kernel sum is truncated by the void: only compression is corrected there.
-      if (kinds_[i] == FreeNode::surface) constraint = std::max(constraint, 0.0);
+      if (kinds_[i] == NodeKind::surface) constraint = std::max(constraint, 0.0);
       double denominator = squares;
       for (std::size_t d = 0; d < dim; ++d) denominator += grad_i[d] * grad_i[d];
       lambda[i] = denominator > 0 ? -constraint / denominator : 0.0;

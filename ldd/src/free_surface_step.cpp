@@ -95,8 +95,8 @@ void FreeSurfaceSolver::update_operators(FreeSurfaceStats& stats) {
   regradient_for_boundary_values();
   stats.positivity_guarded = laplacian_guarded_;
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
-    stats.surface_nodes += kinds_[i] == FreeNode::surface ? 1 : 0;
-    stats.splash_nodes += kinds_[i] == FreeNode::splash ? 1 : 0;
+    stats.surface_nodes += kinds_[i] == NodeKind::surface ? 1 : 0;
+    stats.splash_nodes += kinds_[i] == NodeKind::splash ? 1 : 0;
   }
 }
 
@@ -155,7 +155,7 @@ void FreeSurfaceSolver::update_viscosity() {
           stress_component_[i] = viscosity_[i] * velocity_gradient_[dd * i + b * dim + a];
         gradient(nb, ops, stress_component_, stress_gradient_);
         for (std::size_t i = 0; i < n; ++i)
-          if (kinds_[i] == FreeNode::interior) transpose_stress_[dim * i + a] += stress_gradient_[dim * i + b];
+          if (kinds_[i] == NodeKind::interior) transpose_stress_[dim * i + a] += stress_gradient_[dim * i + b];
       }
   }
 }
@@ -182,8 +182,8 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
-    const FreeNode kind = kinds_[i];
-    if (kind == FreeNode::interior || kind == FreeNode::surface) {
+    const NodeKind kind = kinds_[i];
+    if (kind == NodeKind::interior || kind == NodeKind::surface) {
       double sum = 0;
       for (std::size_t k = begin; k < end; ++k) {
         const double c = dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
@@ -197,7 +197,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
       continue;
     }
     for (std::size_t k = begin; k < end; ++k) momentum_matrix_.off_diagonal[k] = 0.0;
-    if (kind == FreeNode::splash) {  // ballistic: too few neighbours for the operators
+    if (kind == NodeKind::splash) {  // ballistic: too few neighbours for the operators
       momentum_matrix_.diagonal[i] = rho;
       for (std::size_t d = 0; d < dim; ++d) rhs_[d * n + i] = rho * (velocity_[dim * i + d] + dt * g[d]);
     } else {  // wall: no slip at the wall's velocity (Dirichlet)
@@ -213,7 +213,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
         double mean[3] = {0, 0, 0}, wsum = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
-          if (kinds_[j] != FreeNode::interior && kinds_[j] != FreeNode::surface) continue;
+          if (kinds_[j] != NodeKind::interior && kinds_[j] != NodeKind::surface) continue;
           wsum += ops.weights[k];
           for (std::size_t d = 0; d < dim; ++d) mean[d] += ops.weights[k] * velocity_[dim * j + d];
         }
@@ -297,7 +297,7 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
     double sum = 0;
     switch (kinds_[i]) {
-      case FreeNode::interior:
+      case NodeKind::interior:
         for (std::size_t k = begin; k < end; ++k) {
           pressure_matrix_.off_diagonal[k] = ops.laplacian[k];
           sum += ops.laplacian[k];
@@ -305,8 +305,8 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
         pressure_matrix_.diagonal[i] = -sum;
         rhs_[i] = rho / dt * divergence_[i];
         break;
-      case FreeNode::wall:
-      case FreeNode::corner: {
+      case NodeKind::wall:
+      case NodeKind::corner: {
         // Wall pressure extrapolated from the fluid (eq. 12 with the hydrostatic offset):
         //   p_w = Σ_j W_wj (p_j + ρ g·(x_w − x_j)) / Σ_j W_wj over fluid neighbours j,
         // which gives n·∇p = ρ n·g at rest (eq. 17's Neumann condition) and, unlike a Neumann
@@ -316,16 +316,16 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
         // hydrostatic extrapolation would give suction that pulls the fluid up the wall).
         double wsum = 0;
         for (std::size_t k = begin; k < end; ++k) {
-          const FreeNode kj = kinds_[nb.indices[k]];
-          if (kj == FreeNode::interior || kj == FreeNode::surface) wsum += ops.weights[k];
+          const NodeKind kj = kinds_[nb.indices[k]];
+          if (kj == NodeKind::interior || kj == NodeKind::surface) wsum += ops.weights[k];
         }
         if (dry_wall_[i]) wsum = 0;
         double source = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
-          const FreeNode kj = kinds_[j];
+          const NodeKind kj = kinds_[j];
           const double w =
-              (wsum > 0 && (kj == FreeNode::interior || kj == FreeNode::surface)) ? ops.weights[k] / wsum : 0.0;
+              (wsum > 0 && (kj == NodeKind::interior || kj == NodeKind::surface)) ? ops.weights[k] / wsum : 0.0;
           pressure_matrix_.off_diagonal[k] = -w;
           if (w == 0) continue;
           double hydrostatic = 0;
@@ -399,7 +399,7 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
   Correction c;
   double max_speed_squared = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface)
+    if (kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface)
       for (std::size_t d = 0; d < dim; ++d) new_velocity_[dim * i + d] -= dt / rho * increment_gradient_[dim * i + d];
     double speed2 = 0;
     for (std::size_t d = 0; d < dim; ++d) {
@@ -408,7 +408,7 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
     }
     if (!std::isfinite(new_pressure_[i])) c.finite = false;
     // Splash nodes fall ballistically (no operators): they do not limit the Courant number.
-    if ((kinds_[i] == FreeNode::interior || kinds_[i] == FreeNode::surface) && speed2 > max_speed_squared) {
+    if ((kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface) && speed2 > max_speed_squared) {
       max_speed_squared = speed2;
       c.fastest = i;
     }

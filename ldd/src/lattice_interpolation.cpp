@@ -15,7 +15,7 @@ namespace {
 // Below this λ_min/λ_max the normal matrix of a fit is treated as singular.
 constexpr double min_fit_rcond = 1e-8;
 
-bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
+bool is_fluid(NodeKind k) { return k == NodeKind::interior; }
 
 // Solves the weighted least-squares fit of `Size` terms at one node in coordinates scaled by h
 // (entries O(1)); writes coefficients for the first Size terms of every pair. False if singular.

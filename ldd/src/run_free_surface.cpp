@@ -31,7 +31,7 @@ double mass_front(const FreeSurfaceSolver& s) {
   const auto dim = static_cast<std::size_t>(s.dimension());
   double front = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface)
+    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface)
       front = std::max(front, s.positions()[dim * i]);
   return front + 0.5 * s.params().spacing;
 }
@@ -42,7 +42,7 @@ core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) 
   const double dx = s.params().spacing;
   std::map<long, double> top;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface) {
+    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface) {
       const auto column = static_cast<long>(std::floor(s.positions()[2 * i] / dx));
       const double y = s.positions()[2 * i + 1] + 0.5 * dx;
       const auto [it, fresh] = top.emplace(column, y);
@@ -67,7 +67,7 @@ core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) 
 std::pair<double, double> spread(const FreeSurfaceSolver& s) {
   double radius = 0, top = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface) {
+    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface) {
       const double* x = &s.positions()[3 * i];
       radius = std::max(radius, std::hypot(x[0], x[1]));
       top = std::max(top, x[2]);
@@ -81,7 +81,7 @@ std::pair<double, double> spread(const FreeSurfaceSolver& s) {
 double yielded_fraction(const FreeSurfaceSolver& s, double yield_stress) {
   std::size_t fluid = 0, yielded = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface) {
+    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface) {
       ++fluid;
       if (s.viscosity()[i] * s.shear_rate()[i] >= yield_stress) ++yielded;
     }
@@ -93,7 +93,7 @@ double yielded_fraction(const FreeSurfaceSolver& s, double yield_stress) {
 double left_wall_height(const FreeSurfaceSolver& s) {
   double top = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.is_fluid(i) && s.kinds()[i] != FreeNode::splash && s.positions()[2 * i] < s.params().spacing)
+    if (s.is_fluid(i) && s.kinds()[i] != NodeKind::splash && s.positions()[2 * i] < s.params().spacing)
       top = std::max(top, s.positions()[2 * i + 1]);
   return top + 0.5 * s.params().spacing;
 }
@@ -103,7 +103,7 @@ double top_height(const FreeSurfaceSolver& s) {
   const auto dim = static_cast<std::size_t>(s.dimension());
   double top = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == FreeNode::interior || s.kinds()[i] == FreeNode::surface)
+    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface)
       top = std::max(top, s.positions()[dim * i + dim - 1]);
   return top + 0.5 * s.params().spacing;
 }
@@ -260,7 +260,7 @@ std::string read_checkpoint(const std::filesystem::path& path, const Case& c, Fr
   s.pressure = data("state/pressure");
   s.shear_rate = data("state/shear_rate");
   s.viscosity = data("state/viscosity");
-  s.kinds = from_doubles<FreeNode>(data("state/kinds"));
+  s.kinds = from_doubles<NodeKind>(data("state/kinds"));
   s.neighbours.offsets = from_doubles<std::size_t>(data("state/neighbours/offsets"));
   s.neighbours.indices = from_doubles<std::size_t>(data("state/neighbours/indices"));
   s.neighbours.distances = data("state/neighbours/distances");

@@ -43,7 +43,7 @@ FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, 
   const std::vector<double> none{0.0, 0.0};
   for (int j = 0; j < fluid_rows; ++j)
     for (int i = fluid_begin; i < fluid_end; ++i)
-      s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, (j + 0.5) * dx}, NodeKind::fluid, none, -1);
+      s.cloud.add(std::vector<double>{x0 + (i + 0.5) * dx, (j + 0.5) * dx}, NodeKind::interior, none, -1);
   return s;
 }
 
@@ -64,7 +64,7 @@ FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing) {
       for (int i = 0; i < nx; ++i) {
         const double x = (i + 0.5) * spacing, y = (j + 0.5) * spacing;
         if (y < height + amplitude * std::cos(std::numbers::pi * x / width))
-          s.cloud.add(std::vector<double>{x, y}, NodeKind::fluid, none, -1);
+          s.cloud.add(std::vector<double>{x, y}, NodeKind::interior, none, -1);
       }
   }
   return s;
@@ -119,7 +119,7 @@ FreeSurfaceScene slump_scene(const ldd::SlumpScene& scene, double spacing, std::
     for (int i = -mr; i < mr; ++i)
       for (int j = -mr; j < mr; ++j) {
         const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, z = (k + 0.5) * dx;
-        if (std::hypot(x, y) <= rb - slope * z) s.cloud.add(std::vector<double>{x, y, z}, NodeKind::fluid, none, -1);
+        if (std::hypot(x, y) <= rb - slope * z) s.cloud.add(std::vector<double>{x, y, z}, NodeKind::interior, none, -1);
       }
   if (!walls.empty()) {
     const std::vector<double> lower{-floor_radius, -floor_radius, -dx}, upper{floor_radius, floor_radius, 2 * height};

@@ -21,7 +21,7 @@ void require(bool ok, const char* field, double value, const char* range) {
     throw std::invalid_argument(fmt::format("LDD solver: {} = {} is out of range, expected {}", field, value, range));
 }
 
-bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
+bool is_fluid(NodeKind k) { return k == NodeKind::interior; }
 
 }  // namespace
 
@@ -81,7 +81,7 @@ Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;
 
 std::size_t Solver::fluid_node_count() const {
-  return static_cast<std::size_t>(std::count(kinds_.begin(), kinds_.end(), NodeKind::fluid));
+  return static_cast<std::size_t>(std::count(kinds_.begin(), kinds_.end(), NodeKind::interior));
 }
 
 void Solver::rebuild_neighbours() {

@@ -16,7 +16,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-bool is_fluid(NodeKind k) { return k == NodeKind::fluid; }
+bool is_fluid(NodeKind k) { return k == NodeKind::interior; }
 
 // x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
 // iteration; `scratch` holds A x.
@@ -145,7 +145,7 @@ bool Solver::solve_momentum(CavityStepStats& stats) {
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
     const double p_i = pressure_[i];
     double px = 0, py = 0;
-    if (kinds_[i] != NodeKind::fluid) {  // no-slip Dirichlet row
+    if (kinds_[i] != NodeKind::interior) {  // no-slip Dirichlet row
       for (std::size_t k = begin; k < end; ++k) {
         const double dp = pressure_[nb.indices[k]] - p_i;
         px += ops.gradient[2 * k] * dp;
@@ -264,7 +264,7 @@ numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     const std::size_t begin = nb.offsets[i], end = nb.offsets[i + 1];
-    if (kinds_[i] == NodeKind::fluid) {
+    if (kinds_[i] == NodeKind::interior) {
       rhs_[i] = rho / dt * divergence_[i];
       max_divergence = std::max(max_divergence, std::abs(divergence_[i]));
     } else if (kinds_[i] == NodeKind::wall) {
@@ -276,7 +276,7 @@ numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
     }
     if (!build_pressure_matrix) continue;
     double sum = 0;
-    if (kinds_[i] == NodeKind::fluid) {
+    if (kinds_[i] == NodeKind::interior) {
       for (std::size_t k = begin; k < end; ++k) {
         pressure_matrix_.off_diagonal[k] = ops.laplacian[k];
         sum += ops.laplacian[k];
@@ -368,7 +368,7 @@ void Solver::correct_velocity() {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    if (kinds_[i] != NodeKind::fluid) continue;
+    if (kinds_[i] != NodeKind::interior) continue;
     new_velocity_[2 * i] -= dt / rho * pressure_gradient_[2 * i];
     new_velocity_[2 * i + 1] -= dt / rho * pressure_gradient_[2 * i + 1];
   }

@@ -71,9 +71,9 @@ TEST(FreeSurface, LatticeColumnHasOnlyItsTopRowOnTheSurface) {
     if (!s.is_fluid(i)) continue;
     ++fluid;
     const bool in_top_row = s.positions()[2 * i + 1] > top - 0.5 * dx;
-    EXPECT_EQ(s.kinds()[i] == FreeNode::surface, in_top_row)
+    EXPECT_EQ(s.kinds()[i] == NodeKind::surface, in_top_row)
         << "node at (" << s.positions()[2 * i] << ", " << s.positions()[2 * i + 1] << ")";
-    surface += s.kinds()[i] == FreeNode::surface ? 1 : 0;
+    surface += s.kinds()[i] == NodeKind::surface ? 1 : 0;
   }
   EXPECT_EQ(fluid, 20U * 30U);
   EXPECT_EQ(surface, 20U);  // the top row, corners included, and nothing along the walls
@@ -93,11 +93,11 @@ TEST(FreeSurface, JitteredColumnHasNoFalseSurfaceNodesInsideOrAlongWalls) {
   for (std::size_t i = 0; i < s.node_count(); ++i) {
     if (!s.is_fluid(i)) continue;
     const double depth = top - s.positions()[2 * i + 1];
-    if (depth > 1.5 * dx && s.kinds()[i] == FreeNode::surface) {
+    if (depth > 1.5 * dx && s.kinds()[i] == NodeKind::surface) {
       ++false_surface;
       std::printf("false surface node at (%g, %g)\n", s.positions()[2 * i], s.positions()[2 * i + 1]);
     }
-    if (depth < 0.3 * dx && s.kinds()[i] != FreeNode::surface) ++missed_surface;
+    if (depth < 0.3 * dx && s.kinds()[i] != NodeKind::surface) ++missed_surface;
   }
   EXPECT_EQ(false_surface, 0U);
   EXPECT_EQ(missed_surface, 0U);
@@ -199,10 +199,10 @@ TEST(FreeSurface, NodeSupportedOnlyByWallNodesIsOnTheSurface) {
     cloud.dimension = 2;
     const std::vector<double> up{0.0, 1.0}, none{0.0, 0.0};
     for (int i = -6; i < 6; ++i) cloud.add(std::vector<double>{(i + 0.5) * dx, -0.5 * dx}, NodeKind::wall, up, 0);
-    cloud.add(std::vector<double>{0.0, 0.0}, NodeKind::fluid, none, -1);  // node 12: the lone node
+    cloud.add(std::vector<double>{0.0, 0.0}, NodeKind::interior, none, -1);  // node 12: the lone node
     for (int q = 0; q <= 6; ++q) {
       const double angle = std::numbers::pi * q / 6;
-      cloud.add(std::vector<double>{1.75 * dx * std::cos(angle), 1.75 * dx * std::sin(angle)}, NodeKind::fluid, none,
+      cloud.add(std::vector<double>{1.75 * dx * std::cos(angle), 1.75 * dx * std::sin(angle)}, NodeKind::interior, none,
                 -1);
     }
     FreeSurfaceParams p = column_params(dx, 1e-3, 1.0);
@@ -212,20 +212,20 @@ TEST(FreeSurface, NodeSupportedOnlyByWallNodesIsOnTheSurface) {
         std::make_shared<PlaneBoundary>(std::vector<double>{0.0, -0.5 * dx}, std::vector<double>{0.0, 1.0})};
     return FreeSurfaceSolver(p, walls, cloud);
   };
-  EXPECT_EQ(build(0.0).kinds()[12], FreeNode::interior);  // criteria (1)–(3) alone
-  EXPECT_EQ(build(0.1).kinds()[12], FreeNode::surface);
+  EXPECT_EQ(build(0.0).kinds()[12], NodeKind::interior);  // criteria (1)–(3) alone
+  EXPECT_EQ(build(0.1).kinds()[12], NodeKind::surface);
 }
 
 TEST(FreeSurface, SplashNodeFallsFreelyWithoutUpsettingThePressure) {
   const double dx = 0.01, dt = 1e-3;
   FreeSurfaceScene scene = column_scene(column(0.1, 0.1), dx);
   const std::vector<double> drop{0.05, 0.25};
-  scene.cloud.add(drop, NodeKind::fluid, std::vector<double>{0.0, 0.0}, -1);
+  scene.cloud.add(drop, NodeKind::interior, std::vector<double>{0.0, 0.0}, -1);
   FreeSurfaceSolver s(column_params(dx, dt, 1.0), scene.boundaries, scene.cloud);
   const std::size_t last = s.node_count() - 1;
   FreeSurfaceStats stats;
   for (int k = 0; k < 50; ++k) stats = s.step();
-  EXPECT_EQ(s.kinds()[last], FreeNode::splash);
+  EXPECT_EQ(s.kinds()[last], NodeKind::splash);
   // Ballistic: u_n = −g n δt, and eq. 20 moves it by (3/2 u_n − 1/2 u_{n−1}) δt = −g δt² (n + ½)
   // per step (the first step is Euler, −g δt²): y_N = y0 − g δt² (1 + Σ_{n=2..N} (n + ½)).
   const double t = 50 * dt;
@@ -284,7 +284,7 @@ TEST(FreeSurface, RecedingGateReleasesAViscousColumnWithoutPressureCollapse) {
     // Bottom-row pressure away from the released edge: hydrostatic support must not vanish.
     double bottom = 0;
     for (std::size_t i = 0; i < s.node_count(); ++i)
-      if (s.kinds()[i] == FreeNode::interior && s.positions()[2 * i + 1] < dx && s.positions()[2 * i] < -0.05)
+      if (s.kinds()[i] == NodeKind::interior && s.positions()[2 * i + 1] < dx && s.positions()[2 * i] < -0.05)
         bottom = std::max(bottom, s.pressure()[i]);
     slowest_bottom = std::min(slowest_bottom, bottom);
   }
@@ -323,7 +323,7 @@ TEST(SlumpScene, FillsTheConeVolume) {
   const double dx = 0.01;
   const FreeSurfaceScene s = slump_scene(scene, dx);
   std::size_t fluid = 0;
-  for (const NodeKind k : s.cloud.kinds) fluid += k == NodeKind::fluid ? 1 : 0;
+  for (const NodeKind k : s.cloud.kinds) fluid += k == NodeKind::interior ? 1 : 0;
   const double cone_volume = std::numbers::pi * 0.3 / 3 * (0.01 + 0.005 + 0.0025);
   EXPECT_NEAR(static_cast<double>(fluid) * dx * dx * dx / cone_volume, 1.0, 0.03);
 }
@@ -593,9 +593,9 @@ TEST(FreeSurface, RestoreRefusesAStateOfAnotherCloud) {
   FreeSurfaceState good = solver.state();
   FreeSurfaceState wall_turned_fluid = good;
   const auto wall = std::find_if(wall_turned_fluid.kinds.begin(), wall_turned_fluid.kinds.end(),
-                                 [](FreeNode k) { return k == FreeNode::wall; });
+                                 [](NodeKind k) { return k == NodeKind::wall; });
   ASSERT_NE(wall, wall_turned_fluid.kinds.end());
-  *wall = FreeNode::interior;
+  *wall = NodeKind::interior;
   EXPECT_THROW(solver.restore(wall_turned_fluid), std::invalid_argument);
   FreeSurfaceState shorter = good;
   shorter.pressure.pop_back();

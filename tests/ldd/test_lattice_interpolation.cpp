@@ -38,7 +38,7 @@ Cloud lattice(int cells, double angle, double jitter, unsigned seed = 7) {
       const bool edge = i == 0 || j == 0 || i == cells || j == cells;
       const double x = spacing * (i + j * std::cos(angle)), y = spacing * j * std::sin(angle);
       c.positions.insert(c.positions.end(), {x + (edge ? 0.0 : shake(random)), y + (edge ? 0.0 : shake(random))});
-      c.kinds.push_back(edge ? NodeKind::wall : NodeKind::fluid);
+      c.kinds.push_back(edge ? NodeKind::wall : NodeKind::interior);
     }
   c.neighbours = numerics::find_neighbours(c.positions, 2, support + 0.2 * spacing);
   return c;
@@ -53,7 +53,7 @@ double fit_error(const Cloud& c) {
   for (std::size_t i = 0; i < f.size(); ++i) f[i] = quadratic(c.positions[2 * i], c.positions[2 * i + 1]);
   double error = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (c.kinds[i] != NodeKind::fluid) continue;
+    if (c.kinds[i] != NodeKind::interior) continue;
     const double x = c.positions[2 * i], y = c.positions[2 * i + 1];
     const auto d = fit.derivatives(c.neighbours, f, 1, 0, i);
     const double exact[5] = {1.7 + 5.0 * x - 1.3 * y, -0.9 - 1.3 * x + 1.6 * y, 5.0, -1.3, 1.6};
@@ -127,7 +127,7 @@ TEST(ReturnToLattice, UniformTranslationOfAQuadraticIsExact) {
     return_to_lattice(c.positions, c.kinds, c.neighbours, fit, u, advection, dt, limit, out);
     double error = 0;
     for (std::size_t i = 0; i < c.kinds.size(); ++i) {
-      if (c.kinds[i] != NodeKind::fluid) continue;
+      if (c.kinds[i] != NodeKind::interior) continue;
       const double exact = quadratic(c.positions[2 * i] - 3.0 * dt, c.positions[2 * i + 1] + 2.0 * dt);
       error = std::max({error, std::abs(out[2 * i] - exact), std::abs(out[2 * i + 1] + exact)});
     }
@@ -154,7 +154,7 @@ TEST(ReturnToLattice, MidpointDepartureIsThirdOrderPerStepUnderRotation) {
     return_to_lattice(c.positions, c.kinds, c.neighbours, fit, u, advection, dt, false, out);
     double error = 0;
     for (std::size_t i = 0; i < c.kinds.size(); ++i) {
-      if (c.kinds[i] != NodeKind::fluid) continue;
+      if (c.kinds[i] != NodeKind::interior) continue;
       const double x = c.positions[2 * i] - centre, y = c.positions[2 * i + 1] - centre, angle = -omega * dt;
       error = std::max(error, std::abs(out[2 * i] - (x * std::cos(angle) - y * std::sin(angle))));
     }

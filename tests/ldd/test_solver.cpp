@@ -110,7 +110,7 @@ TEST(Solver, DivergenceStopsWithTheLastGoodStateKept) {
   EXPECT_EQ(solver.steps(), 0U);
   EXPECT_EQ(solver.time(), 0.0);
   for (std::size_t i = 0; i < solver.node_count(); ++i) {
-    if (solver.kinds()[i] == NodeKind::fluid) {
+    if (solver.kinds()[i] == NodeKind::interior) {
       EXPECT_EQ(solver.velocity()[2 * i], 0.0);
     }
   }

@@ -136,7 +136,7 @@ TEST(DamBreakValidation, SmallerTimeStepGivesTheSameFrontsAndGainsNoEnergy) {
 }
 
 // Growth per step of the linearised step map, probed at t = 0.25 s (the collapsing front).
-double step_map_growth(const char* gradient, std::size_t& node, FreeNode& kind) {
+double step_map_growth(const char* gradient, std::size_t& node, NodeKind& kind) {
   omp_set_num_threads(1);
   const ldd::CaseSettings l = ldd::parse_case(coarse_case("1.0e-3", gradient), "coarse.yaml").settings;
   FreeSurfaceScene scene = dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), l.spacing);
@@ -151,7 +151,7 @@ double step_map_growth(const char* gradient, std::size_t& node, FreeNode& kind) 
 
 TEST(DamBreakValidation, LinearisedStepIsStableWithTheCentredGradientOnly) {
   std::size_t centred_node = 0, renormalised_node = 0;
-  FreeNode centred_kind{}, renormalised_kind{};
+  NodeKind centred_kind{}, renormalised_kind{};
   const double centred = step_map_growth("centred", centred_node, centred_kind);
   const double renormalised = step_map_growth("renormalised", renormalised_node, renormalised_kind);
   std::printf(

@@ -72,9 +72,6 @@
 
 namespace rheosim::ldd {
 
-// Per-node state of a free-surface cloud (fluid kinds change each step).
-enum class FreeNode : std::uint8_t { interior = 0, surface = 1, splash = 2, wall = 3, corner = 4, idle_wall = 5 };
-
 // StepParams (step.hpp) and what a free surface adds; gravity has `dimension` entries.
 // Its defaults where a free surface needs others than the cavity: eq. 19 solved to 1e-6, three
 // PBD sweeps, a 0.3 Δ search skin, sparse-LU preconditioners (2D; case runs choose AMG).
@@ -147,7 +144,7 @@ struct FreeSurfaceState {
   std::size_t steps = 0;
   bool first_step = true;  // the first advection is first order (no u_{n−1} yet)
   std::vector<double> positions, velocity, previous_velocity, pressure, shear_rate, viscosity;
-  std::vector<FreeNode> kinds;
+  std::vector<NodeKind> kinds;
   numerics::NeighbourList neighbours;  // the list the next step uses (built before the last PBD shifts)
   PhaseTimes times;                    // wall time per phase so far
   numerics::AmgState pressure_amg, velocity_amg;
@@ -164,8 +161,8 @@ class FreeSurfaceSolver : public NodeState {
   [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const FreeSurfaceParams& params() const { return params_; }
-  [[nodiscard]] std::span<const FreeNode> kinds() const { return kinds_; }
-  [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= FreeNode::splash; }
+  [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
+  [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= NodeKind::splash; }
 
   [[nodiscard]] FreeSurfaceState state() const;
   // Continues from a state taken from a solver of the same scene and parameters. Throws
@@ -228,7 +225,7 @@ class FreeSurfaceSolver : public NodeState {
   FreeSurfaceParams params_;
   int dim_;
   std::vector<std::shared_ptr<const Boundary>> boundaries_;
-  std::vector<FreeNode> kinds_, last_kinds_;  // last_kinds_: the classification of the previous step
+  std::vector<NodeKind> kinds_, last_kinds_;  // last_kinds_: the classification of the previous step
   std::vector<std::uint8_t> corner_;
   std::vector<int> boundary_of_;
   std::vector<double> probe_directions_;

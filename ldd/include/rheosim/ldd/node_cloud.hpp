@@ -8,8 +8,11 @@
 
 namespace rheosim::ldd {
 
-// What a node starts as: fluid, or a wall node (a corner where walls meet has no unique normal).
-enum class NodeKind : std::uint8_t { fluid = 0, wall = 1, corner = 2 };
+// What a node is, in both solvers and in the `kind` of every node frame. A cloud starts with
+// interior (fluid), wall and corner nodes (a corner, where walls meet, has no unique normal);
+// the free-surface solver reclassifies each step: fluid nodes on the surface (p = 0) or splashed
+// (few neighbours), wall nodes with no fluid within reach idle.
+enum class NodeKind : std::uint8_t { interior = 0, surface = 1, splash = 2, wall = 3, corner = 4, idle_wall = 5 };
 
 struct NodeCloud {
   int dimension = 2;
@@ -24,7 +27,7 @@ struct NodeCloud {
   std::vector<int> boundary;
 
   [[nodiscard]] std::size_t size() const { return kinds.size(); }
-  [[nodiscard]] bool is_wall(std::size_t i) const { return kinds[i] != NodeKind::fluid; }
+  [[nodiscard]] bool is_wall(std::size_t i) const { return kinds[i] != NodeKind::interior; }
   // Appends a node of a free-surface scene (position and normal with dimension entries).
   void add(std::span<const double> x, NodeKind kind, std::span<const double> normal, int boundary_index);
 };

@@ -11,6 +11,7 @@
 //   centerline_horizontal.csv       x/W, v/U along the line η = S/2
 //   residual.csv                    time, steady-state residual, kinetic energy, solver iterations
 //   frames/nodes_NNNN.vtk           node cloud with velocity, pressure, shear rate, viscosity, kind
+//                                   (NodeKind: 0 interior, 3 wall, 4 corner)
 //   frames/field_NNNN.vtk           velocity and stream function ψ resampled on a 101² grid
 //                                   (streamlines in ParaView: Stream Tracer, or contours of psi)
 //   frames/nodes.vtk.series, frames/field.vtk.series, nodes.pvd   ParaView time-series indexes
