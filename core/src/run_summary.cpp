@@ -72,6 +72,44 @@ std::vector<std::string> SummaryReader::texts(std::string_view key) const {
   return v.get<std::vector<std::string>>();
 }
 
+std::vector<double> SummaryReader::numbers(std::string_view key) const {
+  const nlohmann::json& v = at(key);
+  if (!v.is_array() || !std::all_of(v.begin(), v.end(), [](const nlohmann::json& e) { return e.is_number(); }))
+    refuse(key, "a list of numbers");
+  return v.get<std::vector<double>>();
+}
+
+std::vector<std::optional<double>> SummaryReader::numbers_or_null(std::string_view key) const {
+  const nlohmann::json& v = at(key);
+  if (!v.is_array() ||
+      !std::all_of(v.begin(), v.end(), [](const nlohmann::json& e) { return e.is_number() || e.is_null(); }))
+    refuse(key, "a list of numbers (or nulls)");
+  std::vector<std::optional<double>> out;
+  out.reserve(v.size());
+  for (const auto& e : v) out.push_back(e.is_null() ? std::nullopt : std::optional<double>(e.get<double>()));
+  return out;
+}
+
+SummaryReader SummaryReader::object(std::string_view key) const {
+  return SummaryReader(at(key), file_, writer_, hint_,
+                       path_.empty() ? std::string(key) : path_ + "." + std::string(key));
+}
+
+std::optional<double> SummaryReader::optional_number(std::string_view key) const {
+  if (!has(key)) return std::nullopt;
+  return number_or_null(key);
+}
+
+std::optional<bool> SummaryReader::optional_boolean(std::string_view key) const {
+  if (!has(key)) return std::nullopt;
+  return boolean(key);
+}
+
+std::optional<SummaryReader> SummaryReader::optional_object(std::string_view key) const {
+  if (!has(key)) return std::nullopt;
+  return object(key);
+}
+
 std::vector<SummaryReader> SummaryReader::objects(std::string_view key) const {
   const nlohmann::json& v = at(key);
   if (!v.is_array()) refuse(key, "a list");

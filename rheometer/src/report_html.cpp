@@ -33,41 +33,37 @@ std::string read_text(const fs::path& path) {
 // The run at a glance: the case, plates, grid, points, time, version; the rules it bent, the
 // points without a result and the plots gnuplot did not draw.
 std::string header_section(const ReportData& d, const ReportFiles& files, bool have_gnuplot) {
-  const Json& points = d.points;
-  const double radius = d.radius;
-  const Json& summary = d.summary;
+  const SweepSummary& summary = d.summary;
+  const auto& points = summary.points;
   std::string html;
-  html += fmt::format("<h1>rheosim report: {}</h1>\n", esc(text(summary, "case")));
-  const int failed = static_cast<int>(num(summary, "points_failed"));
+  html += fmt::format("<h1>rheosim report: {}</h1>\n", esc(summary.case_name));
+  const std::size_t failed = summary.points_failed;
   int converged = 0;
-  for (const auto& p : points) converged += p.value("converged", false) ? 1 : 0;
+  for (const auto& p : points) converged += p.converged ? 1 : 0;
   html += "<table>\n";
   const auto row = [&](const std::string& key, const std::string& value) {
     html += fmt::format("<tr><th class=l>{}</th><td class=l>{}</td></tr>\n", key, value);
   };
-  row("kind", esc(text(summary, "kind")));
-  row("plates", fmt::format("radius R = {} m, gap H = {} m", g4(radius), g4(d.gap)));
-  if (summary.contains("grid"))
-    row("fluid grid", fmt::format("N_r = {}, N_z = {}, radial grading {}, axial stretching {}; inertia {}",
-                                  num(summary.at("grid"), "radial_cells"), num(summary.at("grid"), "axial_cells"),
-                                  g4(num(summary.at("grid"), "radial_grading")),
-                                  g4(summary.at("grid").value("axial_stretching", 0.0)),
-                                  summary.value("inertia", true) ? "on" : "off (creeping limit)"));
-  row("points",
-      fmt::format("{} finished, {} failed{}", converged, failed,
-                  summary.contains("points_resumed")
-                      ? fmt::format(" ({} read back from an earlier, interrupted run)", num(summary, "points_resumed"))
-                      : std::string()));
-  row("wall time", fmt::format("{} s", g4(num(summary, "wall_time"))));
-  row("rheosim", fmt::format("{} (git {})", esc(text(summary, "rheosim_version")), esc(text(summary, "git_revision"))));
-  row("input sha256", fmt::format("<code>{}</code>", esc(text(summary, "input_sha256"))));
+  row("kind", esc(summary.kind));
+  row("plates", fmt::format("radius R = {} m, gap H = {} m", g4(summary.radius), g4(summary.gap)));
+  if (summary.grid)
+    row("fluid grid",
+        fmt::format("N_r = {}, N_z = {}, radial grading {}, axial stretching {}; inertia {}",
+                    summary.grid->radial_cells, summary.grid->axial_cells, g4(summary.grid->radial_grading),
+                    g4(summary.grid->axial_stretching), summary.inertia ? "on" : "off (creeping limit)"));
+  row("points", fmt::format("{} finished, {} failed{}", converged, failed,
+                            summary.points_resumed ? fmt::format(" ({} read back from an earlier, interrupted run)",
+                                                                 *summary.points_resumed)
+                                                   : std::string()));
+  row("wall time", fmt::format("{} s", g4(summary.wall_time)));
+  row("rheosim", fmt::format("{} (git {})", esc(summary.rheosim_version), esc(summary.git_revision)));
+  row("input sha256", fmt::format("<code>{}</code>", esc(summary.input_sha256)));
   html += "</table>\n";
 
-  if (const Json& warnings = array(summary, "warnings"); !warnings.empty()) {
+  if (!summary.warnings.empty()) {
     html += "<div class=note><b>Rules the run bent</b> (also in summary.json <code>warnings</code> and the log):<ul>\n";
-    for (const auto& w : warnings)
-      html += fmt::format("<li>{} <span class=small>({} point(s))</span></li>\n", esc(text(w, "warning")),
-                          num(w, "points"));
+    for (const auto& w : summary.warnings)
+      html += fmt::format("<li>{} <span class=small>({} point(s))</span></li>\n", esc(w.warning), w.points);
     html += "</ul></div>\n";
   }
   if (failed > 0) {
@@ -77,10 +73,9 @@ std::string header_section(const ReportData& d, const ReportFiles& files, bool h
         "<th>γ̇_R [1/s]</th><th class=l>reason</th></tr>\n",
         failed);
     for (const auto& p : points)
-      if (!p.value("converged", false))
-        html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td></tr>\n", esc(text(p, "fluid")),
-                            g4(p.contains("volume_fraction") ? num(p, "volume_fraction") : 0.0),
-                            g4(num(p, "shear_rate")), esc(text(p, "failure")));
+      if (!p.converged)
+        html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td></tr>\n", esc(p.fluid),
+                            g4(p.volume_fraction), g4(p.shear_rate), esc(p.failure));
     html += "</table></div>\n";
   }
   if (!files.missing_plots.empty())
@@ -111,8 +106,7 @@ std::string torque_section(const Figures& figure) {
 // The flow curves: plots and one table per curve.
 std::string flow_curve_section(const ReportData& d, const Figures& figure) {
   std::string html;
-  const Json& points = d.points;
-  const Json& series_json = d.series_json;
+  const auto& points = d.summary.points;
   html +=
       "<h2>Flow curves</h2>\n<p class=small>Apparent rim stress τ_app = 2T/(πR³) (the Newtonian value) and the "
       "plate-corrected rim stress τ_R = T/(2πR³)(3 + n′), n′ = d ln T/d ln γ̇_R from a local weighted quadratic in "
@@ -122,33 +116,31 @@ std::string flow_curve_section(const ReportData& d, const Figures& figure) {
                  "Rim shear stress, log–log; line: the best model of each flow curve by AICc "
                  "(<a href=\"fit_curves.csv\">fit_curves.csv</a>).");
   html += figure("viscosity", "Viscosity τ/γ̇ at the rim, log–log, with the best fit.");
-  for (const auto& s : series_json) {
-    const std::string label = text(s, "label");
+  for (const auto& s : d.summary.series) {
+    const std::string& label = s.label;
     html += fmt::format("<h3>{}</h3>\n", esc(label));
-    for (const auto& w : array(s, "warnings"))
-      html += fmt::format("<p class=warn>⚠ {}</p>\n", esc(w.get<std::string>()));
-    if (!(num(s, "points") > 0)) continue;
+    for (const auto& w : s.warnings) html += fmt::format("<p class=warn>⚠ {}</p>\n", esc(w));
+    if (s.points == 0) continue;
     html +=
         "<table>\n<tr><th>γ̇_R [1/s]</th><th>T [N m]</th><th>n′</th><th>τ_app [Pa]</th><th>τ_R [Pa]</th>"
         "<th>η = τ_R/γ̇_R [Pa s]</th><th>Re_gap</th><th>Re_p</th><th>St</th><th>H/d</th><th class=l>valid</th></tr>\n";
     for (const auto& p : points) {
-      if (d.label_of(p) != label || !p.value("converged", false)) continue;
-      const Json v = p.contains("validity") ? p.at("validity") : Json::object();
+      if (d.label_of(p) != label || !p.converged) continue;
+      const PointChecks none{};
+      const PointChecks& v = p.validity ? *p.validity : none;
       std::string valid = "–";
-      if (v.contains("valid")) {
-        valid = v.at("valid").get<bool>() ? "<span class=ok>✓</span>" : "<span class=bad>✗</span>";
-        if (p.contains("used_in_fits") && !p.at("used_in_fits").get<bool>()) valid += " not fitted";
-        for (const auto& m : array(v, "messages"))
-          valid += "<br><span class=warn>" + esc(m.get<std::string>()) + "</span>";
+      if (p.validity) {
+        valid = v.valid ? "<span class=ok>✓</span>" : "<span class=bad>✗</span>";
+        if (p.used_in_fits && !*p.used_in_fits) valid += " not fitted";
+        for (const auto& m : v.messages) valid += "<br><span class=warn>" + esc(m) + "</span>";
       }
-      const double se = num(p, "torque_std_error");
+      const double se = or_nan(p.torque_std_error);
       html += fmt::format(
           "<tr><td>{}</td><td>{}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
           "<td>{}</td><td>{}</td><td class=l>{}</td></tr>\n",
-          g4(num(p, "shear_rate")), g4(num(p, "torque")), std::isfinite(se) ? " ± " + g4(se) : "",
-          g4(num(p, "log_slope")), g4(num(p, "apparent_stress")), g4(num(p, "rim_stress")), g4(num(p, "viscosity")),
-          g4(num(v, "gap_reynolds")), g4(num(v, "particle_reynolds")), g4(num(v, "stokes")),
-          g4(num(v, "gap_to_diameter")), valid);
+          g4(p.shear_rate), g4(p.torque), std::isfinite(se) ? " ± " + g4(se) : "", g4(p.log_slope),
+          g4(p.apparent_stress), g4(p.rim_stress), g4(p.viscosity), g4(v.gap_reynolds), g4(v.particle_reynolds),
+          g4(v.stokes), g4(v.gap_to_diameter), valid);
     }
     html += "</table>\n";
   }
@@ -159,42 +151,38 @@ std::string flow_curve_section(const ReportData& d, const Figures& figure) {
 // Every model fitted to every flow curve, ranked, with its parameter correlations.
 std::string fits_section(const ReportData& d, const Figures& figure) {
   std::string html;
-  const Json& series_json = d.series_json;
-  const Json& fits = d.fits;
   html +=
       "<h2>Model fits</h2>\n<p class=small>Each model fitted to (γ̇_R, τ_R) by weighted least squares on relative "
       "residuals (τ_model − τ_R)/τ_R. Parameters: value ± standard error [95 % interval, Student t with n − p degrees "
       "of freedom]. s: relative residual scatter. Ranked by AICc (Δ: difference to the best; w: Akaike weight); "
       "only differences between fits of the same curve mean anything. All numbers: <a href=\"fits.csv\">fits.csv</a>, "
       "summary.json <code>fits</code>.</p>\n";
-  for (const auto& s : series_json) {
-    const std::string label = text(s, "label");
-    std::vector<const Json*> ranked;
-    for (const auto& f : fits)
-      if (text(f, "label") == label) ranked.push_back(&f);
+  for (const auto& s : d.summary.series) {
+    const std::string& label = s.label;
+    std::vector<const FitRecord*> ranked;
+    for (const auto& f : d.summary.fits)
+      if (f.label == label) ranked.push_back(&f);
     if (ranked.empty()) continue;
-    std::sort(ranked.begin(), ranked.end(),
-              [](const Json* a, const Json* b) { return num(*a, "rank") < num(*b, "rank"); });
+    std::sort(ranked.begin(), ranked.end(), [](const FitRecord* a, const FitRecord* b) { return a->rank < b->rank; });
     html += fmt::format(
         "<h3>{}</h3>\n<table>\n<tr><th>rank</th><th class=l>model</th><th class=l>parameters</th>"
         "<th>s</th><th>n − p</th><th>AICc</th><th>Δ</th><th>w</th><th class=l>warnings</th></tr>\n",
         esc(label));
     std::string correlations;
-    for (const Json* fp : ranked) {
-      const Json& f = *fp;
+    for (const FitRecord* fp : ranked) {
+      const FitRecord& f = *fp;
       std::string params;
-      for (const auto& p : array(f, "parameters")) {
-        const Json& ci = p.at("ci95");
-        const std::string unit = text(p, "unit") == "-" ? std::string() : fmt::format(" {}", esc(text(p, "unit")));
-        params += fmt::format("{}{} = {} ± {}{}, 95 %: [{}, {}]", params.empty() ? "" : "<br>", esc(text(p, "symbol")),
-                              g4(num(p, "value")), g4(num(p, "std_error")), unit, g4(num(ci[0])), g4(num(ci[1])));
+      for (const auto& p : f.parameters) {
+        const std::string unit = p.unit == "-" ? std::string() : fmt::format(" {}", esc(p.unit));
+        params += fmt::format("{}{} = {} ± {}{}, 95 %: [{}, {}]", params.empty() ? "" : "<br>", esc(p.symbol),
+                              g4(p.value), g4(p.std_error), unit, g4(p.ci95.lower), g4(p.ci95.upper));
       }
       // The first warning in full, the rest folded: a model that cannot be identified from the
       // data says so once, not in a wall of text.
       std::string warnings, more;
       int count = 0;
-      for (const auto& w : array(f, "warnings")) {
-        const std::string message = esc(text(w, "message"));
+      for (const auto& w : f.warnings) {
+        const std::string message = esc(w);
         if (count == 0)
           warnings = message;
         else
@@ -202,21 +190,20 @@ std::string fits_section(const ReportData& d, const Figures& figure) {
         ++count;
       }
       if (count > 1) warnings += fmt::format("<details><summary>{} more</summary>{}</details>", count - 1, more);
-      if (!f.value("converged", false)) warnings = "<span class=bad>not converged</span> " + warnings;
+      if (!f.converged) warnings = "<span class=bad>not converged</span> " + warnings;
       html += fmt::format(
           "<tr><td>{}</td><td class=l>{}<br><span class=small>{}</span></td><td class=p>{}</td><td>{}</td>"
           "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=l><span class=warn>{}</span></td></tr>\n",
-          num(f, "rank"), esc(text(f, "model")), esc(text(f, "equation")), params, g4(num(f, "residual_std")),
-          num(f, "degrees_of_freedom"), g4(num(f, "aicc")), g4(num(f, "delta")), g4(num(f, "akaike_weight")), warnings);
-      const Json& corr = array(f, "correlation");
+          f.rank, esc(f.model), esc(f.equation), params, g4(f.residual_std), f.degrees_of_freedom, g4(f.aicc),
+          g4(f.delta), g4(f.akaike_weight), warnings);
+      const auto& corr = f.correlation;
       if (corr.size() > 1) {
-        correlations += fmt::format("<table><tr><th class=l>{}</th>", esc(text(f, "model")));
-        for (const auto& p : array(f, "parameters")) correlations += "<th>" + esc(text(p, "symbol")) + "</th>";
+        correlations += fmt::format("<table><tr><th class=l>{}</th>", esc(f.model));
+        for (const auto& p : f.parameters) correlations += "<th>" + esc(p.symbol) + "</th>";
         correlations += "</tr>\n";
         for (std::size_t r = 0; r < corr.size(); ++r) {
-          correlations += "<tr><th>" + esc(text(array(f, "parameters")[r], "symbol")) + "</th>";
-          for (const auto& c : corr[r])
-            correlations += "<td>" + (c.is_number() ? fmt::format("{:.3f}", c.get<double>()) : "–") + "</td>";
+          correlations += "<tr><th>" + (r < f.parameters.size() ? esc(f.parameters[r].symbol) : "") + "</th>";
+          for (const auto& c : corr[r]) correlations += "<td>" + (c ? fmt::format("{:.3f}", *c) : "–") + "</td>";
           correlations += "</tr>\n";
         }
         correlations += "</table>\n";
@@ -237,7 +224,7 @@ std::string fits_section(const ReportData& d, const Figures& figure) {
 // The yield-stress estimates.
 std::string yield_stress_section(const ReportData& d, const Figures& figure) {
   std::string html;
-  const Json& yields = d.yields;
+  const auto& yields = d.summary.yield_stress;
   html +=
       "<h2>Yield stress</h2>\n<p class=small>Four estimates, kept apart because they answer different questions: "
       "the intercepts of the Bingham and Casson fits, the Herschel–Bulkley τ_y, and the seed's method (CD §4): the "
@@ -251,13 +238,11 @@ std::string yield_stress_section(const ReportData& d, const Figures& figure) {
         "<table>\n<tr><th class=l>flow curve</th><th>φ</th><th class=l>method</th><th>τ_y [Pa]</th><th>± se</th>"
         "<th>95 % interval [Pa]</th><th class=l>significant</th><th>Akaike weight of the model</th></tr>\n";
     for (const auto& y : yields) {
-      const Json& ci = y.at("ci95");
       html += fmt::format(
           "<tr><td class=l>{}</td><td>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td>[{}, {}]</td>"
           "<td class=l>{}</td><td>{}</td></tr>\n",
-          esc(text(y, "label")), g4(num(y, "volume_fraction")), esc(text(y, "method")), g4(num(y, "value")),
-          g4(num(y, "std_error")), g4(num(ci[0])), g4(num(ci[1])),
-          y.value("significant", false) ? "yes" : "no (interval includes 0)", g4(num(y, "akaike_weight")));
+          esc(y.label), g4(y.volume_fraction), esc(y.method), g4(y.value), g4(y.std_error), g4(y.ci95.lower),
+          g4(y.ci95.upper), y.significant ? "yes" : "no (interval includes 0)", g4(y.akaike_weight));
     }
     html += "</table>\n";
   }
@@ -269,42 +254,35 @@ std::string yield_stress_section(const ReportData& d, const Figures& figure) {
 // η_r(φ) per liquid against the correlations.
 std::string relative_viscosity_section(const ReportData& d, const Figures& figure) {
   std::string html;
-  const Json& points = d.points;
-  const Json& relative = d.relative;
+  const auto& points = d.summary.points;
   html += "<h2>Relative viscosity</h2>\n";
-  const bool any_suspension = std::any_of(points.begin(), points.end(), [](const Json& p) {
-    return p.value("converged", false) && num(p, "volume_fraction") > 0;
-  });
+  const bool any_suspension = std::any_of(
+      points.begin(), points.end(), [](const SweepPointRecord& p) { return p.converged && p.volume_fraction > 0; });
   if (!any_suspension)
     html +=
         "<p class=note>No finished point with φ &gt; 0, so there is no measured η_r(φ): the plot shows the "
         "correlations with φ_m = 0.63 (nothing fitted) and η_r(0) = 1 of each liquid. Per liquid: "
         "<a href=\"relative_viscosity.csv\">relative_viscosity.csv</a>, summary.json "
         "<code>relative_viscosity</code>.</p>\n";
-  for (const auto& rv : relative) {
+  for (const auto& rv : d.summary.relative_viscosity) {
     if (!any_suspension) break;
-    const std::string fluid = text(rv, "fluid");
     html += fmt::format(
         "<p class=small>η_r = η(φ)/η_f at the reference rim shear rate {} 1/s (the largest every φ "
         "reached), each η from that flow curve's best fit, η_f = {} Pa s from {}. Error bars: first-order "
         "propagation of the fits' standard errors. <a href=\"relative_viscosity.csv\">"
         "relative_viscosity.csv</a>.</p>\n",
-        g4(num(rv, "reference_shear_rate")), g4(num(rv, "liquid_viscosity")), esc(text(rv, "liquid_viscosity_source")));
-    for (const auto& w : array(rv, "warnings"))
-      html += fmt::format("<p class=warn>⚠ {}</p>\n", esc(w.get<std::string>()));
+        g4(rv.reference_shear_rate), g4(rv.liquid_viscosity), esc(rv.liquid_viscosity_source));
+    for (const auto& w : rv.warnings) html += fmt::format("<p class=warn>⚠ {}</p>\n", esc(w));
     html += "<table>\n<tr><th>φ</th><th>η_r</th><th>± se</th><th class=l>fit used</th>";
-    const Json& correlations = array(rv, "correlations");
-    for (const auto& c : correlations) html += "<th>" + esc(text(c, "name")) + "</th>";
+    const auto& correlations = rv.correlations;
+    for (const auto& c : correlations) html += "<th>" + esc(c.name) + "</th>";
     html += "</tr>\n";
-    const Json& rvp = array(rv, "points");
+    const auto& rvp = rv.points;
     for (std::size_t i = 0; i < rvp.size(); ++i) {
-      html +=
-          fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td>", g4(num(rvp[i], "volume_fraction")),
-                      g4(num(rvp[i], "relative_viscosity")), g4(num(rvp[i], "std_error")), esc(text(rvp[i], "model")));
-      for (const auto& c : correlations) {
-        const Json& pred = array(c, "predicted");
-        html += "<td>" + (i < pred.size() ? g4(num(pred[i])) : std::string("–")) + "</td>";
-      }
+      html += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td class=l>{}</td>", g4(rvp[i].volume_fraction),
+                          g4(rvp[i].relative_viscosity), g4(rvp[i].std_error), esc(rvp[i].model));
+      for (const auto& c : correlations)
+        html += "<td>" + (i < c.predicted.size() ? g4(c.predicted[i]) : std::string("–")) + "</td>";
       html += "</tr>\n";
     }
     html += "</table>\n";
@@ -313,15 +291,13 @@ std::string relative_viscosity_section(const ReportData& d, const Figures& figur
           "<table>\n<tr><th class=l>correlation</th><th>φ_m</th><th>95 % interval</th><th>Σ residual²</th><th>AIC</th>"
           "<th class=l>warnings</th></tr>\n";
       for (const auto& c : correlations) {
-        const Json& ci = c.at("max_packing_ci95");
         std::string warnings;
-        for (const auto& w : array(c, "warnings"))
-          warnings += (warnings.empty() ? "" : "<br>") + esc(w.get<std::string>());
+        for (const auto& w : c.warnings) warnings += (warnings.empty() ? "" : "<br>") + esc(w);
         html += fmt::format(
             "<tr><td class=l>{}</td><td>{}</td><td>[{}, {}]</td><td>{}</td><td>{}</td><td class=l>"
             "<span class=warn>{}</span></td></tr>\n",
-            esc(text(c, "name")), g4(num(c, "max_packing")), g4(num(ci[0])), g4(num(ci[1])),
-            g4(num(c, "sum_of_squares")), g4(num(c, "aic")), warnings);
+            esc(c.name), g4(c.max_packing), g4(c.max_packing_ci95.lower), g4(c.max_packing_ci95.upper),
+            g4(c.sum_of_squares), g4(c.aic), warnings);
       }
       html += "</table>\n";
     }
@@ -337,7 +313,6 @@ std::string relative_viscosity_section(const ReportData& d, const Figures& figur
 // The plates' normal force and the normal stress differences.
 std::string normal_stress_section(const ReportData& d, const Figures& figure) {
   std::string html;
-  const Json& points = d.points;
   if (d.any_normal_force) {
     html +=
         "<h2>Normal stresses</h2>\n<p class=small>The plates' normal force F (positive: pushing them apart), "
@@ -347,14 +322,14 @@ std::string normal_stress_section(const ReportData& d, const Figures& figure) {
         "<a href=\"normal_stress.csv\">normal_stress.csv</a>.</p>\n<table>\n<tr><th class=l>flow curve</th>"
         "<th>γ̇_R [1/s]</th><th>F [N]</th><th>N1 − N2 [Pa]</th><th>N1 [Pa]</th><th>N2 [Pa]</th><th>N1/τ_R</th>"
         "<th>N2/τ_R</th></tr>\n";
-    for (const auto& p : points) {
-      if (!p.value("converged", false) || !p.contains("normal_force")) continue;
-      const double tau = num(p, "rim_stress");
+    for (const auto& p : d.summary.points) {
+      if (!p.converged || !p.normal_force) continue;
+      const double tau = or_nan(p.rim_stress);
       html += fmt::format(
           "<tr><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
           "<td>{}</td></tr>\n",
-          esc(d.label_of(p)), g4(num(p, "shear_rate")), g4(num(p, "normal_force")), g4(num(p, "n1_minus_n2")),
-          g4(num(p, "n1")), g4(num(p, "n2")), g4(num(p, "n1") / tau), g4(num(p, "n2") / tau));
+          esc(d.label_of(p)), g4(p.shear_rate), g4(p.normal_force), g4(p.n1_minus_n2), g4(p.n1), g4(p.n2),
+          g4(or_nan(p.n1) / tau), g4(or_nan(p.n2) / tau));
     }
     html += "</table>\n";
     html += figure("normal_stress", "N1 − N2 from the normal force, and the model's N1 and N2, per flow curve.");
@@ -366,7 +341,6 @@ std::string normal_stress_section(const ReportData& d, const Figures& figure) {
 // Speed and error of every point.
 std::string speed_section(const ReportData& d) {
   std::string html;
-  const Json& points = d.points;
   html +=
       "<h2>Speed and error of the run</h2>\n<p class=small>Per point: how it was computed, wall time, iterations, "
       "and the error against the creeping-flow closed form where one exists. With inertia on, the difference "
@@ -375,16 +349,15 @@ std::string speed_section(const ReportData& d) {
       "curve</th><th>γ̇_R [1/s]</th><th class=l>method</th><th>wall time [s]</th><th>iterations</th><th>T [N m]</th>"
       "<th>closed form [N m]</th><th>error</th><th>error, creeping solve</th><th>Re_gap</th></tr>\n";
   double total_wall = 0;
-  for (const auto& p : points) {
-    if (!p.value("converged", false)) continue;
-    total_wall += num(p, "wall_time");
+  for (const auto& p : d.summary.points) {
+    if (!p.converged) continue;
+    total_wall += or_nan(p.wall_time);
     const auto pct = [](double x) { return std::isfinite(x) ? fmt::format("{:.3g} %", 100 * x) : std::string("–"); };
     html += fmt::format(
         "<tr><td class=l>{}</td><td>{}</td><td class=l>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
         "<td>{}</td><td>{}</td><td>{}</td></tr>\n",
-        esc(d.label_of(p)), g4(num(p, "shear_rate")), esc(text(p, "method")), g4(num(p, "wall_time")),
-        num(p, "iterations"), g4(num(p, "torque")), g4(num(p, "torque_analytic")), pct(num(p, "rel_error")),
-        pct(num(p, "creeping_rel_error")), g4(num(p, "gap_reynolds_number")));
+        esc(d.label_of(p)), g4(p.shear_rate), esc(p.method), g4(p.wall_time), or_nan(p.iterations), g4(p.torque),
+        g4(p.torque_analytic), pct(or_nan(p.rel_error)), pct(or_nan(p.creeping_rel_error)), g4(p.gap_reynolds_number));
   }
   html += fmt::format("</table>\n<p class=small>Sum of point wall times: {} s.</p>\n", g4(total_wall));
 

@@ -1,8 +1,6 @@
 #pragma once
 // The rheometer report's parts (report.cpp puts them together): what it reads from summary.json,
 // the CSV data files, the gnuplot scripts and the HTML sections. Private to the module.
-#include <nlohmann/json.hpp>
-
 #include <filesystem>
 #include <map>
 #include <set>
@@ -10,20 +8,17 @@
 #include <vector>
 
 #include "rheosim/rheometer/report.hpp"
+#include "rheosim/rheometer/sweep_summary.hpp"
 
 namespace rheosim::rheometer::report_detail {
 
 namespace fs = std::filesystem;
-using Json = nlohmann::json;
 
-// Reading summary.json: a missing or mistyped number is NaN, a missing text empty, a missing
-// list empty (the report shows "–" for them).
-[[nodiscard]] double num(const Json& j, const char* key);
-[[nodiscard]] double num(const Json& j);
-[[nodiscard]] std::string text(const Json& j, const char* key);
-[[nodiscard]] const Json& array(const Json& j, const char* key);
-[[nodiscard]] std::string csv_number(double x);  // shortest exact form; "nan" for missing
-[[nodiscard]] std::string g4(double x);          // 4 significant digits for HTML; "–" for missing
+[[nodiscard]] double or_nan(const MaybeNumber& x);  // NaN for a value the run did not write
+[[nodiscard]] std::string csv_number(double x);     // shortest exact form; "nan" for missing
+[[nodiscard]] std::string csv_number(const MaybeNumber& x);
+[[nodiscard]] std::string g4(double x);  // 4 significant digits for HTML; "–" for missing
+[[nodiscard]] std::string g4(const MaybeNumber& x);
 [[nodiscard]] std::string esc(const std::string& s);
 
 struct SeriesInfo {  // a flow curve with data
@@ -33,20 +28,18 @@ struct SeriesInfo {  // a flow curve with data
   bool has_fits = false;
 };
 
-// summary.json of a rheometer or sweep run, and what every part of the report derives from it.
+// summary.json of a rheometer or sweep run (read typed, sweep_summary.hpp), and what every part
+// of the report derives from it.
 struct ReportData {
-  Json summary;
-  Json points, series_json, fits, yields, relative;  // its lists (empty when absent)
-  double radius = 0, gap = 0;         // [m]
+  SweepSummary summary;
   std::vector<SeriesInfo> series;     // the flow curves with data, in summary order
   std::set<std::string> model_names;  // every fitted model
   bool any_normal_force = false;      // a converged point has a normal force
   // The flow-curve label of a point (its fluid and φ), or its fluid.
-  [[nodiscard]] std::string label_of(const Json& point) const;
+  [[nodiscard]] std::string label_of(const SweepPointRecord& point) const;
 };
 
-// Reads <run_dir>/summary.json; ConfigError when it is missing, of another kind of run, or lacks
-// (or mistypes) a key the report reads, naming the key.
+// Reads <run_dir>/summary.json (read_sweep_summary: ConfigError naming a missing or mistyped key).
 [[nodiscard]] ReportData read_report_data(const fs::path& run_dir);
 // flow_curve.csv, speed_error.csv, fits.csv, fit_curves.csv, residuals.csv, torque_lines.csv,
 // yield_stress.csv, relative_viscosity.csv, relative_viscosity_curves.csv, normal_stress.csv.

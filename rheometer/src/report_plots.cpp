@@ -26,10 +26,10 @@ int colour(std::size_t i) { return static_cast<int>(i % 8) + 1; }
 
 // torque: the torques per flow curve, the straight-line fits and the creeping closed form.
 void add_torque_plot(const ReportData& d, Scripts& scripts) {
-  const Json& points = d.points;
+  const auto& points = d.summary.points;
   const std::vector<SeriesInfo>& series = d.series;
-  const bool any_torque_error =
-      std::any_of(points.begin(), points.end(), [](const Json& p) { return num(p, "torque_std_error") > 0; });
+  const bool any_torque_error = std::any_of(points.begin(), points.end(),
+                                            [](const SweepPointRecord& p) { return or_nan(p.torque_std_error) > 0; });
   {
     std::string plot;
     for (std::size_t i = 0; i < series.size(); ++i) {
@@ -59,7 +59,7 @@ void add_torque_plot(const ReportData& d, Scripts& scripts) {
 
 // stress and viscosity: the rim flow curves, points left out of the fits, the best fit.
 void add_flow_curve_plots(const ReportData& d, Scripts& scripts) {
-  const Json& points = d.points;
+  const auto& points = d.summary.points;
   const std::vector<SeriesInfo>& series = d.series;
   {
     std::string stress_plot, viscosity_plot;
@@ -82,8 +82,8 @@ void add_flow_curve_plots(const ReportData& d, Scripts& scripts) {
       const auto not_fitted = [&](int column) {
         return fmt::format("(strcol(1) eq '{}' && strcol(19) eq '0' ? ${} : NaN)", s.label, column);
       };
-      const bool has_unfitted = std::any_of(points.begin(), points.end(), [&](const Json& p) {
-        return d.label_of(p) == s.label && p.contains("used_in_fits") && !p.at("used_in_fits").get<bool>();
+      const bool has_unfitted = std::any_of(points.begin(), points.end(), [&](const SweepPointRecord& p) {
+        return d.label_of(p) == s.label && p.used_in_fits && !*p.used_in_fits;
       });
       if (has_unfitted) {
         const std::string cross_title = cross_titled ? "notitle" : "title 'not fitted (fails validity checks)'";
@@ -131,7 +131,7 @@ void add_flow_curve_plots(const ReportData& d, Scripts& scripts) {
 
 // residuals: one panel per model over every flow curve.
 void add_residuals_plot(const ReportData& d, Scripts& scripts) {
-  const Json& fits = d.fits;
+  const auto& fits = d.summary.fits;
   const std::vector<SeriesInfo>& series = d.series;
   const std::set<std::string>& model_names = d.model_names;
   if (!fits.empty()) {
@@ -168,13 +168,13 @@ void add_residuals_plot(const ReportData& d, Scripts& scripts) {
 
 // relative_viscosity: η_r(φ) against the correlations and two measured curves.
 void add_relative_viscosity_plot(const ReportData& d, Scripts& scripts) {
-  const Json& relative = d.relative;
+  const auto& relative = d.summary.relative_viscosity;
   if (!relative.empty()) {
     std::string plot;
     bool any_particles = false;
     for (std::size_t i = 0; i < relative.size(); ++i) {
-      const std::string fluid = text(relative[i], "fluid");
-      for (const auto& p : array(relative[i], "points")) any_particles = any_particles || num(p, "volume_fraction") > 0;
+      const std::string& fluid = relative[i].fluid;
+      for (const auto& p : relative[i].points) any_particles = any_particles || p.volume_fraction > 0;
       const std::string f = fmt::format("(strcol(1) eq '{}' ? ${{}} : NaN)", fluid);
       const auto col = [&](int c) { return fmt::format(fmt::runtime(f), c); };
       plot += fmt::format(
@@ -253,14 +253,14 @@ void add_normal_stress_plot(const ReportData& d, Scripts& scripts) {
 
 // yield_stress: τ_y(φ) by four methods.
 void add_yield_stress_plot(const ReportData& d, Scripts& scripts) {
-  const Json& yields = d.yields;
+  const auto& yields = d.summary.yield_stress;
   if (!yields.empty()) {
     const std::vector<std::string> methods = {"bingham_intercept", "casson_intercept", "herschel_bulkley",
                                               "torque_intercept"};
     double phi_lo = 1, phi_hi = 0;
     for (const auto& y : yields) {
-      phi_lo = std::min(phi_lo, num(y, "volume_fraction"));
-      phi_hi = std::max(phi_hi, num(y, "volume_fraction"));
+      phi_lo = std::min(phi_lo, y.volume_fraction);
+      phi_hi = std::max(phi_hi, y.volume_fraction);
     }
     const std::string yield_xrange = fmt::format("set xrange [{}:{}]\n", phi_lo - 0.03, phi_hi + 0.03);
     std::string plot;

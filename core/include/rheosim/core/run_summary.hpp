@@ -49,11 +49,23 @@ class SummaryReader {
   [[nodiscard]] std::string text(std::string_view key) const;
   [[nodiscard]] bool boolean(std::string_view key) const;
   [[nodiscard]] std::vector<std::string> texts(std::string_view key) const;
+  [[nodiscard]] std::vector<double> numbers(std::string_view key) const;
+  // A list of numbers, each possibly null.
+  [[nodiscard]] std::vector<std::optional<double>> numbers_or_null(std::string_view key) const;
+  // A nested object, its path "key".
+  [[nodiscard]] SummaryReader object(std::string_view key) const;
   // A list of objects: one reader per element, its path "key[i]".
   [[nodiscard]] std::vector<SummaryReader> objects(std::string_view key) const;
 
- private:
+  // Values only some runs write: absent (or null) is nothing; present, the type is checked.
+  [[nodiscard]] std::optional<double> optional_number(std::string_view key) const;
+  [[nodiscard]] std::optional<bool> optional_boolean(std::string_view key) const;
+  [[nodiscard]] std::optional<SummaryReader> optional_object(std::string_view key) const;
+
+  // A ConfigError at this object's `key`: its value is not `expected`.
   [[noreturn]] void refuse(std::string_view key, std::string_view expected) const;
+
+ private:
   const nlohmann::json& json_;
   std::filesystem::path file_;
   std::string writer_, hint_, path_;

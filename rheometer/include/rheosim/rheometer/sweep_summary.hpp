@@ -1,0 +1,141 @@
+#pragma once
+// summary.json of a rheometer sweep (sweep.cpp writes it, the flow analysis adds series, fits,
+// yield stresses and η_r), read back as typed values. Every key a sweep always writes is
+// required: a missing or mistyped one is a core::ConfigError naming the file and the key's path
+// ("points[3].shear_rate"). What only some points, methods or analyses have is std::optional
+// (absent or null in the file): the closed form, the validity checks, normal forces, a fit's
+// statistics that did not exist.
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rheosim::rheometer {
+
+using MaybeNumber = std::optional<double>;
+
+struct Interval95 {
+  MaybeNumber lower, upper;
+};
+
+// The dimensionless checks of a point (analysis.hpp, PointValidity).
+struct PointChecks {
+  MaybeNumber gap_reynolds, particle_reynolds, stokes, gap_to_diameter;
+  bool valid = false;
+  std::vector<std::string> messages;
+};
+
+struct SweepPointRecord {
+  std::string fluid;
+  double volume_fraction = 0;  // φ (absent in a single-phase summary: 0)
+  double shear_rate = 0;       // rim γ̇_R [1/s]
+  bool converged = false;
+  std::string method;   // how the point was computed
+  std::string failure;  // a failed point: why it has no result
+  // A converged point.
+  double torque = 0;  // [N·m]
+  MaybeNumber torque_std_error, torque_analytic, rel_error, torque_creeping, creeping_rel_error;
+  MaybeNumber gap_reynolds_number, wall_time, iterations;
+  // The flow-curve analysis of its series.
+  MaybeNumber log_slope, log_slope_std_error, apparent_stress, rim_stress, apparent_viscosity, viscosity;
+  std::optional<PointChecks> validity;
+  std::optional<bool> used_in_fits;
+  // Methods that give the plates' normal force [N]; N1 − N2 [Pa] from it; the model's N1, N2 [Pa].
+  MaybeNumber normal_force, n1_minus_n2, n1, n2;
+};
+
+struct TorqueLine {  // the seed's T = T₀ + b γ̇_R (CD §4)
+  double intercept = 0, slope = 0;
+};
+
+struct SeriesRecord {  // one flow curve: a fluid at one φ
+  std::string label, fluid;
+  double volume_fraction = 0;
+  std::size_t points = 0;
+  std::optional<std::string> best_model;  // by AICc, when fitted
+  std::vector<std::string> warnings;
+  std::optional<TorqueLine> torque_line;
+};
+
+struct FitParameter {
+  std::string name, symbol, unit;
+  MaybeNumber value, std_error;
+  Interval95 ci95;
+};
+
+struct FitRecord {  // one flow model fitted to one series
+  std::string label, model, equation;
+  bool converged = false;
+  std::size_t rank = 0;
+  double degrees_of_freedom = 0;  // n − p, negative with more parameters than points
+  MaybeNumber delta, akaike_weight, aicc, aic, residual_std;
+  double min_shear_rate = 0, max_shear_rate = 0;
+  std::vector<FitParameter> parameters;
+  std::vector<std::string> warnings;
+  std::vector<double> shear_rate;
+  std::vector<MaybeNumber> residuals;                 // relative, per shear rate
+  std::vector<std::vector<MaybeNumber>> correlation;  // of the parameters
+};
+
+struct YieldRecord {  // one yield-stress estimate of one series
+  std::string label, method;
+  double volume_fraction = 0;
+  MaybeNumber value, std_error, akaike_weight;
+  Interval95 ci95;
+  bool significant = false, converged = false;
+};
+
+struct RelativeViscosityPointRecord {
+  double volume_fraction = 0;
+  MaybeNumber relative_viscosity, std_error;
+  std::string model;  // the fit whose viscosity it uses
+};
+
+struct CorrelationRecord {  // an η_r(φ) correlation fitted to the points
+  std::string name;
+  MaybeNumber max_packing, sum_of_squares, aic;
+  Interval95 max_packing_ci95;
+  std::vector<MaybeNumber> predicted;  // η_r at each point's φ
+  std::vector<std::string> warnings;
+};
+
+struct RelativeViscosityRecord {  // η_r(φ) of one liquid
+  std::string fluid;
+  MaybeNumber reference_shear_rate, liquid_viscosity;
+  std::string liquid_viscosity_source;
+  std::vector<std::string> warnings;
+  std::vector<RelativeViscosityPointRecord> points;
+  std::vector<CorrelationRecord> correlations;
+};
+
+struct SweepGridRecord {  // the swirl solve's grid (φ = 0 points)
+  double radial_cells = 0, axial_cells = 0, radial_grading = 1, axial_stretching = 0;
+};
+
+struct RuleBent {  // a rule points bent, and how many
+  std::string warning;
+  double points = 0;
+};
+
+struct SweepSummary {
+  std::string case_name, kind, rheosim_version, git_revision, input_sha256;
+  double radius = 0, gap = 0;  // [m]
+  double wall_time = 0;        // [s]
+  bool inertia = true;
+  std::size_t points_failed = 0;
+  std::optional<std::size_t> points_resumed;
+  std::optional<SweepGridRecord> grid;
+  std::vector<RuleBent> warnings;
+  std::vector<SweepPointRecord> points;
+  std::vector<SeriesRecord> series;
+  std::vector<FitRecord> fits;
+  std::vector<YieldRecord> yield_stress;
+  std::vector<RelativeViscosityRecord> relative_viscosity;
+};
+
+// Reads <run_dir>/summary.json; ConfigError when it is missing, of another kind of run (an LDD
+// run's is refused by name), or lacks (or mistypes) a required key, naming it.
+[[nodiscard]] SweepSummary read_sweep_summary(const std::filesystem::path& run_dir);
+
+}  // namespace rheosim::rheometer

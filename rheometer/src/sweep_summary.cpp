@@ -1,0 +1,188 @@
+#include "rheosim/rheometer/sweep_summary.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <string_view>
+#include <utility>
+
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/report_page.hpp"
+#include "rheosim/core/run_summary.hpp"
+
+namespace rheosim::rheometer {
+
+namespace {
+
+using core::SummaryReader;
+
+Interval95 interval_of(const SummaryReader& r, std::string_view key) {
+  const std::vector<MaybeNumber> bounds = r.numbers_or_null(key);
+  if (bounds.size() != 2) r.refuse(key, "[lower, upper]");
+  return {bounds[0], bounds[1]};
+}
+
+std::vector<std::string> texts_if_any(const SummaryReader& r, std::string_view key) {
+  return r.has(key) ? r.texts(key) : std::vector<std::string>{};
+}
+
+SweepPointRecord point_of(const SummaryReader& p) {
+  SweepPointRecord out;
+  out.fluid = p.text("fluid");
+  out.volume_fraction = p.optional_number("volume_fraction").value_or(0.0);
+  out.shear_rate = p.number("shear_rate");
+  out.converged = p.boolean("converged");
+  out.method = p.has("method") ? p.text("method") : std::string();
+  if (!out.converged) {
+    out.failure = p.has("failure") ? p.text("failure") : std::string();
+    return out;
+  }
+  out.torque = p.number("torque");
+  for (auto [key, value] : {std::pair{"torque_std_error", &out.torque_std_error},
+                            {"torque_analytic", &out.torque_analytic},
+                            {"rel_error", &out.rel_error},
+                            {"torque_creeping", &out.torque_creeping},
+                            {"creeping_rel_error", &out.creeping_rel_error},
+                            {"gap_reynolds_number", &out.gap_reynolds_number},
+                            {"wall_time", &out.wall_time},
+                            {"iterations", &out.iterations},
+                            {"log_slope", &out.log_slope},
+                            {"log_slope_std_error", &out.log_slope_std_error},
+                            {"apparent_stress", &out.apparent_stress},
+                            {"rim_stress", &out.rim_stress},
+                            {"apparent_viscosity", &out.apparent_viscosity},
+                            {"viscosity", &out.viscosity},
+                            {"normal_force", &out.normal_force},
+                            {"n1_minus_n2", &out.n1_minus_n2},
+                            {"n1", &out.n1},
+                            {"n2", &out.n2}})
+    *value = p.optional_number(key);
+  if (const auto v = p.optional_object("validity")) {
+    PointChecks checks;
+    checks.gap_reynolds = v->number_or_null("gap_reynolds");
+    checks.particle_reynolds = v->number_or_null("particle_reynolds");
+    checks.stokes = v->number_or_null("stokes");
+    checks.gap_to_diameter = v->number_or_null("gap_to_diameter");
+    checks.valid = v->boolean("valid");
+    checks.messages = v->texts("messages");
+    out.validity = std::move(checks);
+  }
+  out.used_in_fits = p.optional_boolean("used_in_fits");
+  return out;
+}
+
+SeriesRecord series_of(const SummaryReader& s) {
+  SeriesRecord out;
+  out.label = s.text("label");
+  out.fluid = s.text("fluid");
+  out.volume_fraction = s.number("volume_fraction");
+  out.points = s.count("points");
+  if (s.has("best_model")) out.best_model = s.text("best_model");
+  out.warnings = texts_if_any(s, "warnings");
+  if (const auto line = s.optional_object("torque_line"))
+    out.torque_line = TorqueLine{line->number("intercept"), line->number("slope")};
+  return out;
+}
+
+FitRecord fit_of(const SummaryReader& f) {
+  FitRecord out;
+  out.label = f.text("label");
+  out.model = f.text("model");
+  out.equation = f.text("equation");
+  out.converged = f.boolean("converged");
+  out.rank = f.count("rank");
+  out.degrees_of_freedom = f.number("degrees_of_freedom");
+  out.delta = f.number_or_null("delta");
+  out.akaike_weight = f.number_or_null("akaike_weight");
+  out.aicc = f.number_or_null("aicc");
+  out.aic = f.number_or_null("aic");
+  out.residual_std = f.number_or_null("residual_std");
+  out.min_shear_rate = f.number("min_shear_rate");
+  out.max_shear_rate = f.number("max_shear_rate");
+  for (const auto& p : f.objects("parameters"))
+    out.parameters.push_back({p.text("name"), p.text("symbol"), p.text("unit"), p.number_or_null("value"),
+                              p.number_or_null("std_error"), interval_of(p, "ci95")});
+  for (const auto& w : f.objects("warnings")) out.warnings.push_back(w.text("message"));
+  out.shear_rate = f.numbers("shear_rate");
+  out.residuals = f.numbers_or_null("residuals");
+  const nlohmann::json& correlation = f.at("correlation");
+  if (!correlation.is_array() ||
+      !std::all_of(correlation.begin(), correlation.end(), [](const nlohmann::json& row) { return row.is_array(); }))
+    f.refuse("correlation", "a list of rows of numbers");
+  for (const auto& row : correlation) {
+    std::vector<MaybeNumber> values;
+    for (const auto& c : row) values.push_back(c.is_number() ? MaybeNumber(c.get<double>()) : std::nullopt);
+    out.correlation.push_back(std::move(values));
+  }
+  return out;
+}
+
+YieldRecord yield_of(const SummaryReader& y) {
+  YieldRecord out;
+  out.label = y.text("label");
+  out.method = y.text("method");
+  out.volume_fraction = y.number("volume_fraction");
+  out.value = y.number_or_null("value");
+  out.std_error = y.number_or_null("std_error");
+  out.akaike_weight = y.optional_number("akaike_weight");
+  out.ci95 = interval_of(y, "ci95");
+  out.significant = y.boolean("significant");
+  out.converged = y.boolean("converged");
+  return out;
+}
+
+RelativeViscosityRecord relative_viscosity_of(const SummaryReader& r) {
+  RelativeViscosityRecord out;
+  out.fluid = r.text("fluid");
+  out.warnings = texts_if_any(r, "warnings");
+  out.reference_shear_rate = r.optional_number("reference_shear_rate");
+  out.liquid_viscosity = r.optional_number("liquid_viscosity");
+  out.liquid_viscosity_source = r.has("liquid_viscosity_source") ? r.text("liquid_viscosity_source") : std::string();
+  if (r.has("points"))
+    for (const auto& p : r.objects("points"))
+      out.points.push_back({p.number("volume_fraction"), p.number_or_null("relative_viscosity"),
+                            p.number_or_null("std_error"), p.text("model")});
+  if (r.has("correlations"))
+    for (const auto& c : r.objects("correlations"))
+      out.correlations.push_back({c.text("name"), c.number_or_null("max_packing"), c.number_or_null("sum_of_squares"),
+                                  c.number_or_null("aic"), interval_of(c, "max_packing_ci95"),
+                                  c.numbers_or_null("predicted"), c.texts("warnings")});
+  return out;
+}
+
+}  // namespace
+
+SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
+  const auto path = core::run_summary_file(run_dir);
+  const nlohmann::json json = core::read_json(path);
+  const SummaryReader r(json, path, "every rheometer and sweep run",
+                        "pass the --out folder of a finished 'rheosim run' of a rheometer or sweep case");
+  SweepSummary s;
+  s.kind = r.text("kind");
+  if (s.kind != "rheometer" && s.kind != "sweep")
+    core::refuse_summary_kind(path, s.kind, "the summary of a rheometer or sweep run",
+                              "'rheosim report' writes the report of an LDD run with the LDD report");
+  s.case_name = r.text("case");
+  s.rheosim_version = r.text("rheosim_version");
+  s.git_revision = r.text("git_revision");
+  s.input_sha256 = r.text("input_sha256");
+  s.radius = r.number("radius");
+  s.gap = r.number("gap");
+  s.wall_time = r.number("wall_time");
+  s.inertia = r.boolean("inertia");
+  s.points_failed = r.count("points_failed");
+  if (r.has("points_resumed")) s.points_resumed = r.count("points_resumed");
+  if (const auto g = r.optional_object("grid"))
+    s.grid = SweepGridRecord{g->number("radial_cells"), g->number("axial_cells"), g->number("radial_grading"),
+                             g->optional_number("axial_stretching").value_or(0.0)};
+  if (r.has("warnings"))
+    for (const auto& w : r.objects("warnings")) s.warnings.push_back({w.text("warning"), w.number("points")});
+  for (const auto& p : r.objects("points")) s.points.push_back(point_of(p));
+  for (const auto& x : r.objects("series")) s.series.push_back(series_of(x));
+  for (const auto& f : r.objects("fits")) s.fits.push_back(fit_of(f));
+  for (const auto& y : r.objects("yield_stress")) s.yield_stress.push_back(yield_of(y));
+  for (const auto& v : r.objects("relative_viscosity")) s.relative_viscosity.push_back(relative_viscosity_of(v));
+  return s;
+}
+
+}  // namespace rheosim::rheometer

@@ -1,0 +1,195 @@
+// summary.json of a sweep read back typed: required keys are values, optional ones (absent or
+// null) are empty, and a mistyped key anywhere is refused with its path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/output.hpp"
+#include "rheosim/rheometer/sweep_summary.hpp"
+
+namespace rheosim::rheometer {
+namespace {
+
+nlohmann::json summary_with_analysis() {
+  using J = nlohmann::json;
+  J converged = {{"fluid", "oil"},
+                 {"volume_fraction", 0.2},
+                 {"shear_rate", 10.0},
+                 {"converged", true},
+                 {"method", "box"},
+                 {"torque", 2.5e-4},
+                 {"torque_std_error", nullptr},
+                 {"iterations", 7},
+                 {"rim_stress", 31.0},
+                 {"normal_force", -0.01},
+                 {"validity",
+                  {{"gap_reynolds", 1e-3},
+                   {"particle_reynolds", nullptr},
+                   {"stokes", nullptr},
+                   {"gap_to_diameter", 20.0},
+                   {"valid", true},
+                   {"messages", J::array()}}},
+                 {"used_in_fits", false}};
+  J failed = {{"fluid", "oil"},     {"volume_fraction", 0.4}, {"shear_rate", 10.0},
+              {"converged", false}, {"method", "box"},        {"failure", "over budget"}};
+  J fit = {{"label", "oil φ 0.2"},
+           {"model", "carreau"},
+           {"equation", "η = ..."},
+           {"converged", true},
+           {"rank", 2},
+           {"degrees_of_freedom", -1},
+           {"delta", 1.5},
+           {"akaike_weight", nullptr},
+           {"aicc", nullptr},
+           {"aic", 3.0},
+           {"residual_std", 0.01},
+           {"min_shear_rate", 1.0},
+           {"max_shear_rate", 100.0},
+           {"parameters",
+            {{{"name", "viscosity"},
+              {"symbol", "η"},
+              {"unit", "Pa·s"},
+              {"value", 1.1},
+              {"std_error", nullptr},
+              {"ci95", {nullptr, 1.3}}}}},
+           {"warnings", {{{"kind", "k"}, {"parameter", "p"}, {"message", "not identifiable"}}}},
+           {"shear_rate", {1.0, 10.0}},
+           {"residuals", {0.01, nullptr}},
+           {"correlation", {{1.0, nullptr}, {nullptr, 1.0}}}};
+  return {{"case", "typed"},
+          {"kind", "sweep"},
+          {"rheosim_version", "0"},
+          {"git_revision", "test"},
+          {"input_sha256", "0"},
+          {"radius", 0.02},
+          {"gap", 0.001},
+          {"wall_time", 1.0},
+          {"points_failed", 1},
+          {"points_resumed", 0},
+          {"inertia", false},
+          {"grid", {{"radial_cells", 48}, {"axial_cells", 12}, {"radial_grading", 1.0}}},
+          {"warnings", {{{"warning", "ε clamped"}, {"points", 2}}}},
+          {"points", {converged, failed}},
+          {"series",
+           {{{"label", "oil φ 0.2"},
+             {"fluid", "oil"},
+             {"volume_fraction", 0.2},
+             {"points", 1},
+             {"torque_line", {{"intercept", 1e-5}, {"slope", 2e-5}}}}}},
+          {"fits", {fit}},
+          {"yield_stress",
+           {{{"label", "oil φ 0.2"},
+             {"method", "torque_intercept"},
+             {"volume_fraction", 0.2},
+             {"value", 0.5},
+             {"std_error", 0.1},
+             {"ci95", {0.3, 0.7}},
+             {"significant", true},
+             {"converged", true}}}},
+          {"relative_viscosity", {{{"fluid", "oil"}, {"warnings", {"oil: no flow curve could be fitted"}}}}}};
+}
+
+class SweepSummaryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+  }
+  void TearDown() override { std::filesystem::remove_all(folder); }
+  SweepSummary read(const nlohmann::json& json) {
+    core::write_json(folder / "summary.json", json);
+    return read_sweep_summary(folder);
+  }
+  std::string refused_at(const nlohmann::json& json) {
+    try {
+      (void)read(json);
+    } catch (const core::ConfigError& e) {
+      return e.details().key_path;
+    }
+    return "";
+  }
+  std::filesystem::path folder = std::filesystem::temp_directory_path() / "rheosim_sweep_summary_test";
+};
+
+TEST_F(SweepSummaryTest, ReadsRequiredValuesAndLeavesAbsentOrNullOnesEmpty) {
+  const SweepSummary s = read(summary_with_analysis());
+  EXPECT_EQ(s.case_name, "typed");
+  EXPECT_EQ(s.points_failed, 1U);
+  ASSERT_TRUE(s.points_resumed.has_value());
+  EXPECT_FALSE(s.inertia);
+  ASSERT_TRUE(s.grid.has_value());
+  EXPECT_EQ(s.grid->radial_cells, 48);
+  EXPECT_EQ(s.grid->axial_stretching, 0.0);  // absent: the uniform grid
+  ASSERT_EQ(s.warnings.size(), 1U);
+  EXPECT_EQ(s.warnings[0].points, 2);
+
+  ASSERT_EQ(s.points.size(), 2U);
+  const SweepPointRecord& p = s.points[0];
+  EXPECT_TRUE(p.converged);
+  EXPECT_EQ(p.torque, 2.5e-4);
+  EXPECT_FALSE(p.torque_std_error.has_value());  // null
+  EXPECT_FALSE(p.torque_analytic.has_value());   // absent
+  EXPECT_EQ(p.iterations, 7.0);
+  EXPECT_EQ(p.normal_force, -0.01);
+  ASSERT_TRUE(p.validity.has_value());
+  EXPECT_TRUE(p.validity->valid);
+  EXPECT_FALSE(p.validity->stokes.has_value());
+  EXPECT_EQ(p.used_in_fits, false);
+  EXPECT_FALSE(s.points[1].converged);
+  EXPECT_EQ(s.points[1].failure, "over budget");
+
+  ASSERT_EQ(s.series.size(), 1U);
+  EXPECT_FALSE(s.series[0].best_model.has_value());
+  ASSERT_TRUE(s.series[0].torque_line.has_value());
+  EXPECT_EQ(s.series[0].torque_line->slope, 2e-5);
+
+  ASSERT_EQ(s.fits.size(), 1U);
+  const FitRecord& f = s.fits[0];
+  EXPECT_EQ(f.rank, 2U);
+  EXPECT_EQ(f.degrees_of_freedom, -1.0);
+  EXPECT_FALSE(f.aicc.has_value());
+  ASSERT_EQ(f.parameters.size(), 1U);
+  EXPECT_FALSE(f.parameters[0].ci95.lower.has_value());
+  EXPECT_EQ(f.parameters[0].ci95.upper, 1.3);
+  EXPECT_EQ(f.warnings, std::vector<std::string>{"not identifiable"});
+  ASSERT_EQ(f.residuals.size(), 2U);
+  EXPECT_FALSE(f.residuals[1].has_value());
+  ASSERT_EQ(f.correlation.size(), 2U);
+  EXPECT_EQ(f.correlation[1][1], 1.0);
+
+  ASSERT_EQ(s.yield_stress.size(), 1U);
+  EXPECT_FALSE(s.yield_stress[0].akaike_weight.has_value());
+  EXPECT_EQ(s.yield_stress[0].ci95.lower, 0.3);
+  ASSERT_EQ(s.relative_viscosity.size(), 1U);
+  EXPECT_TRUE(s.relative_viscosity[0].points.empty());  // no fitted flow curve: a warning only
+  EXPECT_EQ(s.relative_viscosity[0].warnings.size(), 1U);
+}
+
+TEST_F(SweepSummaryTest, RefusesAMissingOrMistypedKeyAtItsPath) {
+  EXPECT_EQ(refused_at(summary_with_analysis()), "");
+  auto no_rank = summary_with_analysis();
+  no_rank["fits"][0].erase("rank");
+  EXPECT_EQ(refused_at(no_rank), "fits[0].rank");
+  auto text_valid = summary_with_analysis();
+  text_valid["points"][0]["validity"]["valid"] = "yes";
+  EXPECT_EQ(refused_at(text_valid), "points[0].validity.valid");
+  auto text_force = summary_with_analysis();  // an optional value present is still checked
+  text_force["points"][0]["normal_force"] = "large";
+  EXPECT_EQ(refused_at(text_force), "points[0].normal_force");
+  auto short_interval = summary_with_analysis();
+  short_interval["yield_stress"][0]["ci95"] = {0.3};
+  EXPECT_EQ(refused_at(short_interval), "yield_stress[0].ci95");
+  auto no_slope = summary_with_analysis();
+  no_slope["series"][0]["torque_line"].erase("slope");
+  EXPECT_EQ(refused_at(no_slope), "series[0].torque_line.slope");
+  auto ldd = summary_with_analysis();
+  ldd["kind"] = "ldd";
+  EXPECT_EQ(refused_at(ldd), "kind");
+}
+
+}  // namespace
+}  // namespace rheosim::rheometer
