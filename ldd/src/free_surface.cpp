@@ -137,50 +137,13 @@ std::size_t FreeSurfaceSolver::fluid_node_count() const {
   return count;
 }
 
-FreeSurfaceState FreeSurfaceSolver::state() const {
-  return FreeSurfaceState{
-      time_,       steps_,     first_step_, positions_,  velocity_, previous_velocity_,    pressure_,
-      shear_rate_, viscosity_, kinds_,      neighbours_, times_,    pressure_amg_.state(), velocity_amg_.state()};
-}
+SolverState FreeSurfaceSolver::state() const { return common_state(); }
 
-void FreeSurfaceSolver::restore(FreeSurfaceState state) {
-  const std::size_t n = kinds_.size(), nd = static_cast<std::size_t>(dim_) * n;
-  const auto fits = [](const std::vector<double>& v, std::size_t size) { return v.size() == size; };
-  if (state.kinds.size() != n || !fits(state.positions, nd) || !fits(state.velocity, nd) ||
-      !fits(state.previous_velocity, nd) || !fits(state.pressure, n) || !fits(state.shear_rate, n) ||
-      !fits(state.viscosity, n))
-    throw std::invalid_argument(
-        fmt::format("LDD free-surface state: its arrays do not fit this cloud of {} nodes in {}D", n, dim_));
-  for (std::size_t i = 0; i < n; ++i)
-    if ((state.kinds[i] <= NodeKind::splash) != is_fluid(i) || state.kinds[i] > NodeKind::idle_wall)
-      throw std::invalid_argument(fmt::format("LDD free-surface state: node {} is a {} node in the state but {} here",
-                                              i, detail::kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
-  const numerics::NeighbourList& nb = state.neighbours;
-  bool list_fits = nb.offsets.size() == n + 1 && nb.offsets.front() == 0 && nb.offsets.back() == nb.indices.size() &&
-                   nb.distances.size() == nb.indices.size();
-  for (std::size_t i = 0; list_fits && i < n; ++i) list_fits = nb.offsets[i] <= nb.offsets[i + 1];
-  for (std::size_t k = 0; list_fits && k < nb.indices.size(); ++k) list_fits = nb.indices[k] < n;
-  if (!list_fits) throw std::invalid_argument("LDD free-surface state: its neighbour list does not fit the cloud");
-  for (const numerics::AmgState* amg : {&state.pressure_amg, &state.velocity_amg})
-    if (!amg->empty() && (amg->diagonal.size() != n || amg->offsets.size() != n + 1))
-      throw std::invalid_argument("LDD free-surface state: a kept AMG set-up matrix does not fit the cloud");
-  pressure_amg_.restore(state.pressure_amg);
-  velocity_amg_.restore(state.velocity_amg);
-  time_ = state.time;
-  steps_ = state.steps;
-  first_step_ = state.first_step;
-  positions_ = std::move(state.positions);
-  velocity_ = std::move(state.velocity);
-  previous_velocity_ = std::move(state.previous_velocity);
-  pressure_ = std::move(state.pressure);
-  shear_rate_ = std::move(state.shear_rate);
-  viscosity_ = std::move(state.viscosity);
-  kinds_ = std::move(state.kinds);
-  neighbours_ = std::move(state.neighbours);
+void FreeSurfaceSolver::restore(SolverState state) {
+  restore_common_state(state, dim_, "LDD free-surface");
   candidates_ = numerics::NeighbourList{};  // searched afresh at the next step (the same list either way)
   candidate_positions_.clear();
   steps_since_search_ = 0;
-  times_ = state.times;
 }
 
 void FreeSurfaceSolver::rebuild_neighbours() {

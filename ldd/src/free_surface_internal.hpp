@@ -13,22 +13,4 @@ namespace rheosim::ldd::detail {
   return s;
 }
 
-// The kind's name in messages ("free-surface", "idle wall", …).
-[[nodiscard]] inline const char* kind_name(NodeKind k) {
-  switch (k) {
-    case NodeKind::interior:
-      return "interior";
-    case NodeKind::surface:
-      return "free-surface";
-    case NodeKind::splash:
-      return "splash";
-    case NodeKind::wall:
-      return "wall";
-    case NodeKind::corner:
-      return "corner";
-    default:
-      return "idle wall";
-  }
-}
-
 }  // namespace rheosim::ldd::detail

@@ -433,7 +433,7 @@ void FreeSurfaceSolver::check_divergence(double next_time, const Correction& cor
         "Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = "
         "{:.4g} m/s at a {} node at ({:.4g}, {:.4g}{}){}): reduce time.step",
         stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed,
-        detail::kind_name(kinds_[correction.fastest]), positions_[dim * correction.fastest],
+        kind_name(kinds_[correction.fastest]), positions_[dim * correction.fastest],
         positions_[dim * correction.fastest + 1],
         dim == 3 ? fmt::format(", {:.4g}", positions_[dim * correction.fastest + 2]) : std::string(),
         fmt::format(", {} neighbours",
@@ -449,7 +449,7 @@ void FreeSurfaceSolver::check_divergence(double next_time, const Correction& cor
             ? std::string("every node reaches a free-surface node through the pressure matrix")
             : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
                           "largest, {} nodes, includes a {} node at ({:.4g}, {:.4g}{})",
-                          floating.groups, floating.nodes, floating.largest, detail::kind_name(kinds_[at]),
+                          floating.groups, floating.nodes, floating.largest, kind_name(kinds_[at]),
                           positions_[dim * at], positions_[dim * at + 1],
                           dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string())));
   }

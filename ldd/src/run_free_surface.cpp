@@ -148,7 +148,7 @@ std::vector<T> from_doubles(const std::vector<double>& v) {
 // Numbers go in as doubles (HDF5 through core/output.hpp): indices and counts are exact below 2^53.
 void write_checkpoint(const std::filesystem::path& path, const Case& c, const FreeSurfaceSolver& solver,
                       const RunRecord& r, const core::CsvTable& history) {
-  FreeSurfaceState s = solver.state();
+  SolverState s = solver.state();
   const auto dim = static_cast<std::size_t>(solver.dimension());
   const PhaseTimes& t = s.times;
   core::Hdf5Content h;
@@ -250,7 +250,7 @@ std::string read_checkpoint(const std::filesystem::path& path, const Case& c, Fr
     throw core::ConfigError(d);
   }
   const auto data = [&](std::string_view name) { return core::read_hdf5_dataset(path, name).data; };
-  FreeSurfaceState s;
+  SolverState s;
   s.time = number("time");
   s.steps = static_cast<std::size_t>(number("steps"));
   s.first_step = number("first_step") != 0;

@@ -21,8 +21,6 @@ void require(bool ok, const char* field, double value, const char* range) {
     throw std::invalid_argument(fmt::format("LDD solver: {} = {} is out of range, expected {}", field, value, range));
 }
 
-bool is_fluid(NodeKind k) { return k == NodeKind::interior; }
-
 }  // namespace
 
 void SolverParams::check() const {
@@ -35,10 +33,8 @@ void SolverParams::check() const {
 }
 
 Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> walls, NodeCloud cloud)
-    : params_(std::move(params)),
-      walls_(std::move(walls)),
-      kinds_(std::move(cloud.kinds)),
-      wall_velocities_(std::move(cloud.wall_velocities)) {
+    : params_(std::move(params)), walls_(std::move(walls)), wall_velocities_(std::move(cloud.wall_velocities)) {
+  kinds_ = std::move(cloud.kinds);
   normals_ = std::move(cloud.normals);
   positions_ = std::move(cloud.positions);
   params_.check();
@@ -50,7 +46,7 @@ Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>>
   support_radius_ = params_.smoothing_ratio * params_.spacing;
   velocity_.assign(2 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
-    if (!is_fluid(kinds_[i])) {
+    if (!is_fluid(i)) {
       velocity_[2 * i] = wall_velocities_[2 * i];
       velocity_[2 * i + 1] = wall_velocities_[2 * i + 1];
     }
@@ -64,7 +60,7 @@ Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>>
   // few near-corner nodes do not matter).
   std::vector<double> densities;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!is_fluid(kinds_[i])) continue;
+    if (!is_fluid(i)) continue;
     double rho = weight(0.0, support_radius_);
     for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1]; ++k)
       rho += weight(neighbours_.distances[k], support_radius_);
@@ -121,7 +117,7 @@ void Solver::reorder(std::span<const double> grad_u) {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(kinds_[i])) continue;
+      if (!is_fluid(i)) continue;
       double density = weight(0.0, h), gx = 0, gy = 0, squares = 0;
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
         const std::size_t j = nb.indices[k];
@@ -141,7 +137,7 @@ void Solver::reorder(std::span<const double> grad_u) {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(kinds_[i])) continue;
+      if (!is_fluid(i)) continue;
       double sx = 0, sy = 0;
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
         const std::size_t j = nb.indices[k];
@@ -160,7 +156,7 @@ void Solver::reorder(std::span<const double> grad_u) {
         const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
         const double r = std::hypot(dx, dy);
         if (r >= min_distance || r <= 0) continue;
-        const double share = is_fluid(kinds_[j]) ? 0.5 : 1.0;
+        const double share = is_fluid(j) ? 0.5 : 1.0;
         sx += share * (min_distance - r) * dx / r;
         sy += share * (min_distance - r) * dy / r;
       }
@@ -175,7 +171,7 @@ void Solver::reorder(std::span<const double> grad_u) {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(kinds_[i])) continue;
+      if (!is_fluid(i)) continue;
       const double x0 = positions_[2 * i], y0 = positions_[2 * i + 1];
       positions_[2 * i] += step[2 * i];
       positions_[2 * i + 1] += step[2 * i + 1];
@@ -188,7 +184,7 @@ void Solver::reorder(std::span<const double> grad_u) {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    if (!is_fluid(kinds_[i])) continue;
+    if (!is_fluid(i)) continue;
     const double sx = shift_[2 * i], sy = shift_[2 * i + 1];
     const double* g = &grad_u[4 * i];
     const double du = g[0] * sx + g[1] * sy, dv = g[2] * sx + g[3] * sy;
@@ -274,7 +270,7 @@ std::vector<double> Solver::sample_velocity(std::span<const double> points) cons
 double Solver::kinetic_energy() const {
   double sum = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (is_fluid(kinds_[i])) sum += velocity_[2 * i] * velocity_[2 * i] + velocity_[2 * i + 1] * velocity_[2 * i + 1];
+    if (is_fluid(i)) sum += velocity_[2 * i] * velocity_[2 * i] + velocity_[2 * i + 1] * velocity_[2 * i + 1];
   return 0.5 * params_.density * sum * params_.spacing * params_.spacing;
 }
 

@@ -16,8 +16,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-bool is_fluid(NodeKind k) { return k == NodeKind::interior; }
-
 // x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
 // iteration; `scratch` holds A x.
 numerics::KrylovResult direct_solve(const numerics::SparseLu& lu, const numerics::StencilMatrix& a,
@@ -444,7 +442,7 @@ void Solver::commit_and_advect() {
   const double older_weight = first_step_ ? 0.0 : 0.5;
   // Displacement of every node over the step (eq. 20); walls stay.
   const auto displacement = [&](std::size_t j, std::size_t d) {
-    if (!is_fluid(kinds_[j])) return 0.0;
+    if (!is_fluid(j)) return 0.0;
     return ((1.0 + older_weight) * new_velocity_[2 * j + d] - older_weight * velocity_[2 * j + d]) * dt;
   };
   if (params_.reordering == Reordering::lattice && params_.interpolation == LatticeInterpolation::quadratic) {
@@ -468,7 +466,7 @@ void Solver::commit_and_advect() {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(kinds_[i])) {
+      if (!is_fluid(i)) {
         component_[2 * i] = new_velocity_[2 * i];
         component_[2 * i + 1] = new_velocity_[2 * i + 1];
         continue;
@@ -505,7 +503,7 @@ void Solver::commit_and_advect() {
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(kinds_[i])) continue;
+      if (!is_fluid(i)) continue;
       for (std::size_t d = 0; d < 2; ++d) positions_[2 * i + d] += displacement(i, d);
       keep_inside(i, new_velocity_);
     }

@@ -590,17 +590,17 @@ TEST(FreeSurface, RestoreRefusesAStateOfAnotherCloud) {
   FreeSurfaceScene scene = column_scene(column(0.1, 0.1), 0.01);
   FreeSurfaceSolver solver(column_params(0.01, 1e-3, 5.0), scene.boundaries, scene.cloud);
   (void)solver.step();
-  FreeSurfaceState good = solver.state();
-  FreeSurfaceState wall_turned_fluid = good;
+  SolverState good = solver.state();
+  SolverState wall_turned_fluid = good;
   const auto wall = std::find_if(wall_turned_fluid.kinds.begin(), wall_turned_fluid.kinds.end(),
                                  [](NodeKind k) { return k == NodeKind::wall; });
   ASSERT_NE(wall, wall_turned_fluid.kinds.end());
   *wall = NodeKind::interior;
   EXPECT_THROW(solver.restore(wall_turned_fluid), std::invalid_argument);
-  FreeSurfaceState shorter = good;
+  SolverState shorter = good;
   shorter.pressure.pop_back();
   EXPECT_THROW(solver.restore(shorter), std::invalid_argument);
-  FreeSurfaceState bad_list = good;
+  SolverState bad_list = good;
   bad_list.neighbours.indices.front() = solver.node_count();
   EXPECT_THROW(solver.restore(bad_list), std::invalid_argument);
   EXPECT_EQ(solver.steps(), 1U);  // untouched

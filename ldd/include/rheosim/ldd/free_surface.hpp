@@ -136,20 +136,6 @@ struct FreeSurfaceStats : StepStats {
   std::size_t step_map_node = 0;
 };
 
-// What one step hands to the next: the content of a run's checkpoint (run_free_surface.cpp).
-// Restored into a solver built from the same scene and parameters, the run continues bit for bit
-// (kept AMG hierarchies are rebuilt from the matrix of their last set-up).
-struct FreeSurfaceState {
-  double time = 0;
-  std::size_t steps = 0;
-  bool first_step = true;  // the first advection is first order (no u_{n−1} yet)
-  std::vector<double> positions, velocity, previous_velocity, pressure, shear_rate, viscosity;
-  std::vector<NodeKind> kinds;
-  numerics::NeighbourList neighbours;  // the list the next step uses (built before the last PBD shifts)
-  PhaseTimes times;                    // wall time per phase so far
-  numerics::AmgState pressure_amg, velocity_amg;
-};
-
 class FreeSurfaceSolver : public NodeState {
  public:
   FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries, NodeCloud cloud);
@@ -158,17 +144,14 @@ class FreeSurfaceSolver : public NodeState {
   FreeSurfaceStats step();
 
   [[nodiscard]] int dimension() const { return dim_; }
-  [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const FreeSurfaceParams& params() const { return params_; }
-  [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
-  [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= NodeKind::splash; }
 
-  [[nodiscard]] FreeSurfaceState state() const;
+  [[nodiscard]] SolverState state() const;
   // Continues from a state taken from a solver of the same scene and parameters. Throws
   // std::invalid_argument naming the mismatch (node count, a wall node turned fluid or back, a
   // neighbour list that does not fit the cloud).
-  void restore(FreeSurfaceState state);
+  void restore(SolverState state);
 
   // From the next step on, probe the linearised step map with this many power iterations per
   // step (FreeSurfaceParams::stability_probe_iterations; 0: off).
@@ -225,7 +208,7 @@ class FreeSurfaceSolver : public NodeState {
   FreeSurfaceParams params_;
   int dim_;
   std::vector<std::shared_ptr<const Boundary>> boundaries_;
-  std::vector<NodeKind> kinds_, last_kinds_;  // last_kinds_: the classification of the previous step
+  std::vector<NodeKind> last_kinds_;  // the classification of the previous step
   std::vector<std::uint8_t> corner_;
   std::vector<int> boundary_of_;
   std::vector<double> probe_directions_;

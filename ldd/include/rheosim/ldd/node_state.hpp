@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "rheosim/ldd/node_cloud.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/step.hpp"
 #include "rheosim/numerics/amg.hpp"
@@ -15,8 +16,27 @@
 
 namespace rheosim::ldd {
 
+// What one step hands to the next: the content of a run's checkpoint (checkpoint.cpp). Restored
+// into a solver built from the same scene and parameters, the run continues bit for bit (kept AMG
+// hierarchies are rebuilt from the matrix of their last set-up).
+struct SolverState {
+  double time = 0;
+  std::size_t steps = 0;
+  bool first_step = true;  // the first advection is first order (no u_{n−1} yet)
+  std::vector<double> positions, velocity, previous_velocity, pressure, shear_rate, viscosity;
+  std::vector<NodeKind> kinds;
+  numerics::NeighbourList neighbours;  // the list the next step uses
+  PhaseTimes times;                    // wall time per phase so far
+  numerics::AmgState pressure_amg, velocity_amg;
+  // The cavity's momentum initial guess: u* − u of the last two committed solves (empty: none).
+  std::vector<double> momentum_increment, older_momentum_increment;
+};
+
 class NodeState {
  public:
+  [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
+  [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
+  [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= NodeKind::splash; }
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
   [[nodiscard]] std::span<const double> positions() const { return positions_; }    // interleaved [m]
@@ -29,6 +49,15 @@ class NodeState {
  protected:
   NodeState() = default;
 
+  // The state every solver keeps alike (no momentum increments).
+  [[nodiscard]] SolverState common_state() const;
+  // Checks `state` against this cloud (`who` names the solver in the message) and takes its
+  // common part. Throws std::invalid_argument naming the mismatch (node count, a wall node
+  // turned fluid or back, a neighbour list or a kept AMG matrix that does not fit), before
+  // anything is changed.
+  void restore_common_state(SolverState& state, int dimension, const char* who);
+
+  std::vector<NodeKind> kinds_;
   std::vector<double> positions_, velocity_, previous_velocity_, pressure_, shear_rate_, viscosity_;
   std::vector<double> normals_;  // inward unit normal of wall nodes (0 for fluid nodes)
   double support_radius_ = 0;    // h [m]

@@ -77,7 +77,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 //   profile.csv                           dam break: the final free surface, height per Δ column
 //                                         (x, height; a yield-stress law also thin_film_arrest)
 //   frames/nodes_NNNN.vtk (+ .vtk.series, nodes.pvd)   the cloud with velocity, pressure, γ̇, μ, kind
-//   checkpoint.h5  the solver's state (FreeSurfaceState) and the run's records so far, written
+//   checkpoint.h5  the solver's state (SolverState) and the run's records so far, written
 //                  atomically at every frame, every RunControl::checkpoint_interval of wall time
 //                  and when the run stops (after a divergence: the last good state). Running the
 //                  same deck into the same folder again continues from it, bit for bit;

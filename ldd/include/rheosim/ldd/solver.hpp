@@ -87,10 +87,8 @@ class Solver : public NodeState {
   CavityStepStats step();
 
   [[nodiscard]] static constexpr int dimension() { return 2; }
-  [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const SolverParams& params() const { return params_; }
-  [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
 
   // Velocity at arbitrary points (interleaved x, y) by Shepard interpolation (eq. 12) with a
   // first-order gradient correction: ⟨u(x)⟩ = Σ W_j (u_j + ⟨∇u⟩_j·(x − x_j)) / Σ W_j over the
@@ -117,7 +115,6 @@ class Solver : public NodeState {
 
   SolverParams params_;
   std::vector<std::shared_ptr<const Boundary>> walls_;
-  std::vector<NodeKind> kinds_;
   std::vector<double> wall_velocities_;
   bool operators_valid_ = false;
   numerics::SparseLu pressure_lu_;          // lattice mode only

@@ -1,0 +1,82 @@
+#include "rheosim/ldd/node_state.hpp"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace rheosim::ldd {
+
+const char* kind_name(NodeKind k) {
+  switch (k) {
+    case NodeKind::interior:
+      return "interior";
+    case NodeKind::surface:
+      return "free-surface";
+    case NodeKind::splash:
+      return "splash";
+    case NodeKind::wall:
+      return "wall";
+    case NodeKind::corner:
+      return "corner";
+    default:
+      return "idle wall";
+  }
+}
+
+SolverState NodeState::common_state() const {
+  SolverState s;
+  s.time = time_;
+  s.steps = steps_;
+  s.first_step = first_step_;
+  s.positions = positions_;
+  s.velocity = velocity_;
+  s.previous_velocity = previous_velocity_;
+  s.pressure = pressure_;
+  s.shear_rate = shear_rate_;
+  s.viscosity = viscosity_;
+  s.kinds = kinds_;
+  s.neighbours = neighbours_;
+  s.times = times_;
+  s.pressure_amg = pressure_amg_.state();
+  s.velocity_amg = velocity_amg_.state();
+  return s;
+}
+
+void NodeState::restore_common_state(SolverState& state, int dimension, const char* who) {
+  const std::size_t n = kinds_.size(), nd = static_cast<std::size_t>(dimension) * n;
+  const auto fits = [](const std::vector<double>& v, std::size_t size) { return v.size() == size; };
+  if (state.kinds.size() != n || !fits(state.positions, nd) || !fits(state.velocity, nd) ||
+      !fits(state.previous_velocity, nd) || !fits(state.pressure, n) || !fits(state.shear_rate, n) ||
+      !fits(state.viscosity, n))
+    throw std::invalid_argument(
+        fmt::format("{} state: its arrays do not fit this cloud of {} nodes in {}D", who, n, dimension));
+  for (std::size_t i = 0; i < n; ++i)
+    if ((state.kinds[i] <= NodeKind::splash) != is_fluid(i) || state.kinds[i] > NodeKind::idle_wall)
+      throw std::invalid_argument(fmt::format("{} state: node {} is a {} node in the state but {} here", who, i,
+                                              kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
+  const numerics::NeighbourList& nb = state.neighbours;
+  bool list_fits = nb.offsets.size() == n + 1 && nb.offsets.front() == 0 && nb.offsets.back() == nb.indices.size() &&
+                   nb.distances.size() == nb.indices.size();
+  for (std::size_t i = 0; list_fits && i < n; ++i) list_fits = nb.offsets[i] <= nb.offsets[i + 1];
+  for (std::size_t k = 0; list_fits && k < nb.indices.size(); ++k) list_fits = nb.indices[k] < n;
+  if (!list_fits) throw std::invalid_argument(fmt::format("{} state: its neighbour list does not fit the cloud", who));
+  for (const numerics::AmgState* amg : {&state.pressure_amg, &state.velocity_amg})
+    if (!amg->empty() && (amg->diagonal.size() != n || amg->offsets.size() != n + 1))
+      throw std::invalid_argument(fmt::format("{} state: a kept AMG set-up matrix does not fit the cloud", who));
+  pressure_amg_.restore(state.pressure_amg);
+  velocity_amg_.restore(state.velocity_amg);
+  time_ = state.time;
+  steps_ = state.steps;
+  first_step_ = state.first_step;
+  positions_ = std::move(state.positions);
+  velocity_ = std::move(state.velocity);
+  previous_velocity_ = std::move(state.previous_velocity);
+  pressure_ = std::move(state.pressure);
+  shear_rate_ = std::move(state.shear_rate);
+  viscosity_ = std::move(state.viscosity);
+  kinds_ = std::move(state.kinds);
+  neighbours_ = std::move(state.neighbours);
+  times_ = state.times;
+}
+
+}  // namespace rheosim::ldd
