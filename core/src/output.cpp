@@ -506,6 +506,22 @@ Hdf5Dataset read_hdf5_dataset(const fs::path& path, std::string_view dataset_pat
   }
 }
 
+std::vector<std::string> hdf5_dataset_names(const fs::path& path, std::string_view group_path) {
+  silence_hdf5();
+  try {
+    const H5::H5File file(path.string(), H5F_ACC_RDONLY);
+    if (!is_root(group_path) && !group_exists(file, group_path)) return {};
+    const H5::Group group = file.openGroup(is_root(group_path) ? std::string("/") : std::string(group_path));
+    std::vector<std::string> names;
+    for (hsize_t i = 0; i < group.getNumObjs(); ++i)
+      if (group.getObjTypeByIdx(i) == H5G_DATASET) names.push_back(group.getObjnameByIdx(i));
+    std::sort(names.begin(), names.end());
+    return names;
+  } catch (const H5::Exception& e) {
+    throw_hdf5_error(path, e);
+  }
+}
+
 std::vector<Hdf5Attribute> read_hdf5_attributes(const fs::path& path, std::string_view object_path) {
   silence_hdf5();
   try {

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "checkpoint.hpp"
 #include "dam_break_references.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
@@ -131,190 +132,40 @@ struct RunRecord {
   detail::AcceptedSolves accepted;  // solves accepted above their tolerance
 };
 
-template <class T>
-std::vector<double> as_doubles(const std::vector<T>& v) {
-  std::vector<double> out(v.size());
-  std::transform(v.begin(), v.end(), out.begin(), [](T x) { return static_cast<double>(x); });
-  return out;
+// RunRecord's numbers and series in the checkpoint, by name.
+constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
+    {"volume0", &RunRecord::volume0},
+    {"max_drift", &RunRecord::max_drift},
+    {"peak_energy", &RunRecord::peak_energy},
+    {"potential0", &RunRecord::potential0},
+    {"max_released", &RunRecord::max_released},
+    {"max_energy_excess", &RunRecord::max_energy_excess},
+    {"step_seconds", &RunRecord::step_seconds},
+    {"wall_seconds", &RunRecord::wall_seconds},
+    {"pressure_iterations", &RunRecord::pressure_iterations},
+    {"velocity_iterations", &RunRecord::velocity_iterations},
+    {"repeated_solves", &RunRecord::repeated_solves},
+    {"repeated_with_lu", &RunRecord::repeated_with_lu}};
+constexpr std::pair<const char*, std::vector<double> RunRecord::*> record_series[] = {
+    {"front_time", &RunRecord::front_time},
+    {"front", &RunRecord::front},
+    {"frame_times", &RunRecord::frame_times},
+    {"resumed_at_steps", &RunRecord::resumed_at_steps}};
+
+detail::RunRecordContent content_of(const RunRecord& r) {
+  detail::RunRecordContent content;
+  for (const auto& [name, member] : record_numbers) content.numbers[name] = r.*member;
+  for (const auto& [name, member] : record_series) content.series[name] = r.*member;
+  detail::add_accepted_solves(r.accepted, content);
+  return content;
 }
 
-template <class T>
-std::vector<T> from_doubles(const std::vector<double>& v) {
-  std::vector<T> out(v.size());
-  std::transform(v.begin(), v.end(), out.begin(), [](double x) { return static_cast<T>(x); });
-  return out;
-}
-
-// Numbers go in as doubles (HDF5 through core/output.hpp): indices and counts are exact below 2^53.
-void write_checkpoint(const std::filesystem::path& path, const Case& c, const FreeSurfaceSolver& solver,
-                      const RunRecord& r, const core::CsvTable& history) {
-  SolverState s = solver.state();
-  const auto dim = static_cast<std::size_t>(solver.dimension());
-  const PhaseTimes& t = s.times;
-  core::Hdf5Content h;
-  h.attributes = {{"input_sha256", c.sha256},
-                  {"git_revision", core::git_revision},
-                  {"time", s.time},
-                  {"steps", static_cast<double>(s.steps)},
-                  {"first_step", s.first_step ? 1.0 : 0.0},
-                  {"volume0", r.volume0},
-                  {"max_drift", r.max_drift},
-                  {"peak_energy", r.peak_energy},
-                  {"potential0", r.potential0},
-                  {"max_released", r.max_released},
-                  {"max_energy_excess", r.max_energy_excess},
-                  {"step_seconds", r.step_seconds},
-                  {"wall_seconds", r.wall_seconds},
-                  {"pressure_iterations", r.pressure_iterations},
-                  {"velocity_iterations", r.velocity_iterations},
-                  {"repeated_solves", r.repeated_solves},
-                  {"repeated_with_lu", r.repeated_with_lu},
-                  {"pressure_above_tolerance", r.accepted.pressure},
-                  {"velocity_above_tolerance", r.accepted.velocity},
-                  {"worst_tolerance_ratio", r.accepted.worst_ratio},
-                  {"seconds_neighbours", t.neighbours},
-                  {"seconds_operators", t.operators},
-                  {"seconds_rheology", t.rheology},
-                  {"seconds_pressure", t.pressure},
-                  {"seconds_momentum", t.momentum},
-                  {"seconds_advection", t.advection},
-                  {"seconds_reordering", t.reordering}};
-  const auto add = [&](std::string name, std::vector<double> data, std::size_t width, std::string unit) {
-    std::vector<std::size_t> shape{data.size() / std::max<std::size_t>(width, 1)};
-    if (width > 1) shape.push_back(width);
-    h.datasets.push_back({std::move(name), std::move(shape), std::move(data), std::move(unit), {}});
-  };
-  add("state/positions", std::move(s.positions), dim, "m");
-  add("state/velocity", std::move(s.velocity), dim, "m/s");
-  add("state/previous_velocity", std::move(s.previous_velocity), dim, "m/s");
-  add("state/pressure", std::move(s.pressure), 1, "Pa");
-  add("state/shear_rate", std::move(s.shear_rate), 1, "1/s");
-  add("state/viscosity", std::move(s.viscosity), 1, "Pa s");
-  add("state/kinds", as_doubles(s.kinds), 1, "");
-  add("state/neighbours/offsets", as_doubles(s.neighbours.offsets), 1, "");
-  add("state/neighbours/indices", as_doubles(s.neighbours.indices), 1, "");
-  add("state/neighbours/distances", std::move(s.neighbours.distances), 1, "m");
-  for (auto [name, amg] :
-       {std::pair<const char*, numerics::AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
-    const std::string group = std::string("state/amg/") + name;
-    add(group + "/diagonal", std::move(amg->diagonal), 1, "");
-    add(group + "/off_diagonal", std::move(amg->off_diagonal), 1, "");
-    add(group + "/offsets", as_doubles(amg->offsets), 1, "");
-    add(group + "/columns", as_doubles(amg->columns), 1, "");
-    add(group + "/counters",
-        {static_cast<double>(amg->calls_since_setup), static_cast<double>(amg->reference_iterations),
-         amg->setup_due ? 1.0 : 0.0},
-        1, "");
-  }
-  const std::size_t columns = history.numeric_columns().size();
-  std::vector<double> rows;
-  rows.reserve(history.row_count() * columns);
-  for (std::size_t i = 0; i < history.row_count(); ++i)
-    rows.insert(rows.end(), history.row(i).begin(), history.row(i).end());
-  add("run/history", std::move(rows), columns, "");
-  add("run/front_time", r.front_time, 1, "s");
-  add("run/front", r.front, 1, "m");
-  add("run/frame_times", r.frame_times, 1, "s");
-  add("run/resumed_at_steps", r.resumed_at_steps, 1, "");
-  core::write_hdf5(path, h);
-}
-
-// Restores solver, record and history from `path` and returns the git revision that wrote it.
-// Refuses (ConfigError) a checkpoint of another input deck: the same folder must not mix two runs.
-std::string read_checkpoint(const std::filesystem::path& path, const Case& c, FreeSurfaceSolver& solver, RunRecord& r,
-                            core::CsvTable& history) {
-  std::map<std::string, core::Hdf5Attribute> a;
-  for (auto& attribute : core::read_hdf5_attributes(path)) a.emplace(attribute.name, std::move(attribute));
-  const auto text = [&](const char* name) {
-    const auto it = a.find(name);
-    return it != a.end() && std::holds_alternative<std::string>(it->second.value)
-               ? std::get<std::string>(it->second.value)
-               : std::string();
-  };
-  const auto number = [&](const char* name) {
-    const auto it = a.find(name);
-    if (it == a.end() || !std::holds_alternative<double>(it->second.value))
-      throw core::RunError(
-          fmt::format("checkpoint '{}' has no number '{}': not a checkpoint of this rheosim", path.string(), name));
-    return std::get<double>(it->second.value);
-  };
-  const std::string stored_sha = text("input_sha256");
-  if (stored_sha != c.sha256) {
-    core::ConfigError::Details d;
-    d.where = core::FileLocation{path.string(), 0, 0};
-    d.key_path = "input_sha256";
-    d.problem = fmt::format("this folder holds the checkpoint of another input deck (sha256 {}, this deck {})",
-                            stored_sha.substr(0, 12), c.sha256.substr(0, 12));
-    d.expected = "a folder without checkpoint.h5, or the checkpoint of this very deck (resume)";
-    d.hint = fmt::format("run into a new --out folder, or delete {} to start this deck afresh", path.string());
-    throw core::ConfigError(d);
-  }
-  const auto data = [&](std::string_view name) { return core::read_hdf5_dataset(path, name).data; };
-  SolverState s;
-  s.time = number("time");
-  s.steps = static_cast<std::size_t>(number("steps"));
-  s.first_step = number("first_step") != 0;
-  s.positions = data("state/positions");
-  s.velocity = data("state/velocity");
-  s.previous_velocity = data("state/previous_velocity");
-  s.pressure = data("state/pressure");
-  s.shear_rate = data("state/shear_rate");
-  s.viscosity = data("state/viscosity");
-  s.kinds = from_doubles<NodeKind>(data("state/kinds"));
-  s.neighbours.offsets = from_doubles<std::size_t>(data("state/neighbours/offsets"));
-  s.neighbours.indices = from_doubles<std::size_t>(data("state/neighbours/indices"));
-  s.neighbours.distances = data("state/neighbours/distances");
-  for (auto [name, amg] :
-       {std::pair<const char*, numerics::AmgState*>{"pressure", &s.pressure_amg}, {"velocity", &s.velocity_amg}}) {
-    const std::string group = std::string("state/amg/") + name;
-    amg->diagonal = data(group + "/diagonal");
-    amg->off_diagonal = data(group + "/off_diagonal");
-    amg->offsets = from_doubles<std::size_t>(data(group + "/offsets"));
-    amg->columns = from_doubles<std::size_t>(data(group + "/columns"));
-    const std::vector<double> counters = data(group + "/counters");
-    if (counters.size() != 3)
-      throw core::RunError(fmt::format("checkpoint '{}': {}/counters is not 3 numbers", path.string(), group));
-    amg->calls_since_setup = static_cast<int>(counters[0]);
-    amg->reference_iterations = static_cast<int>(counters[1]);
-    amg->setup_due = counters[2] != 0;
-  }
-  s.times = PhaseTimes{number("seconds_neighbours"), number("seconds_operators"), number("seconds_rheology"),
-                       number("seconds_pressure"),   number("seconds_momentum"),  number("seconds_advection"),
-                       number("seconds_reordering")};
-  try {
-    solver.restore(std::move(s));
-  } catch (const std::invalid_argument& e) {
-    throw core::RunError(fmt::format("checkpoint '{}' does not fit this case's cloud: {}", path.string(), e.what()));
-  }
-  r.volume0 = number("volume0");
-  r.max_drift = number("max_drift");
-  r.peak_energy = number("peak_energy");
-  r.potential0 = number("potential0");
-  r.max_released = number("max_released");
-  r.max_energy_excess = number("max_energy_excess");
-  r.step_seconds = number("step_seconds");
-  r.wall_seconds = number("wall_seconds");
-  r.pressure_iterations = number("pressure_iterations");
-  r.velocity_iterations = number("velocity_iterations");
-  r.repeated_solves = number("repeated_solves");
-  r.repeated_with_lu = number("repeated_with_lu");
-  for (auto [name, value] : {std::pair<const char*, double*>{"pressure_above_tolerance", &r.accepted.pressure},
-                             {"velocity_above_tolerance", &r.accepted.velocity},
-                             {"worst_tolerance_ratio", &r.accepted.worst_ratio}})
-    if (const auto it = a.find(name); it != a.end() && std::holds_alternative<double>(it->second.value))
-      *value = std::get<double>(it->second.value);
-  r.front_time = data("run/front_time");
-  r.front = data("run/front");
-  r.frame_times = data("run/frame_times");
-  r.resumed_at_steps = data("run/resumed_at_steps");
-  const std::vector<double> rows = data("run/history");
-  const std::size_t columns = history.numeric_columns().size();
-  if (columns == 0 || rows.size() % columns != 0)
-    throw core::RunError(
-        fmt::format("checkpoint '{}': its probe history does not have this case's {} columns", path.string(), columns));
-  for (std::size_t i = 0; i < rows.size(); i += columns)
-    history.add_row(std::span<const double>(rows).subspan(i, columns));
-  return text("git_revision");
+RunRecord record_of(const detail::RunRecordContent& content, const std::filesystem::path& checkpoint) {
+  RunRecord r;
+  for (const auto& [name, member] : record_numbers) r.*member = content.number(name, checkpoint);
+  for (const auto& [name, member] : record_series) r.*member = content.values(name, checkpoint);
+  r.accepted = detail::accepted_solves_of(content);
+  return r;
 }
 
 // The probe file's columns: time, the scene's probe (front; diameter and height; left-wall
@@ -394,7 +245,7 @@ nlohmann::ordered_json run_summary(const Case& c, const FreeSurfaceSolver& solve
   // Neighbour searches by this process (the other steps filtered the Verlet list).
   summary["neighbour_searches"] = solver.neighbour_searches();
   summary["wall_time"] = run.wall_seconds;
-  summary["resumed_at_steps"] = from_doubles<std::size_t>(run.resumed_at_steps);
+  summary["resumed_at_steps"] = detail::as_counts(run.resumed_at_steps);
   nlohmann::ordered_json probes = nlohmann::ordered_json::array();
   for (std::size_t q = 0; q < history.row_count(); ++q) {
     const auto row = history.row(q);
@@ -457,7 +308,15 @@ class FreeSurfaceRun final : public detail::SceneRun {
   // Continues from checkpoint.h5 when the folder holds one, else records the start.
   void resume_or_start(std::size_t total_steps) {
     if (std::filesystem::exists(checkpoint_path_)) {
-      const std::string writer = read_checkpoint(checkpoint_path_, c_, solver_, run_, history_);
+      detail::StoredCheckpoint stored = detail::read_checkpoint(checkpoint_path_, c_, history_);
+      try {
+        solver_.restore(std::move(stored.state));
+      } catch (const std::invalid_argument& e) {
+        throw core::RunError(
+            fmt::format("checkpoint '{}' does not fit this case's cloud: {}", checkpoint_path_.string(), e.what()));
+      }
+      run_ = record_of(stored.record, checkpoint_path_);
+      const std::string& writer = stored.git_revision;
       run_.resumed_at_steps.push_back(static_cast<double>(solver_.steps()));
       log_.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path_.string(), solver_.time(),
                 solver_.steps(), total_steps);
@@ -523,7 +382,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
   void checkpoint() override {
     run_.wall_seconds += wall_seconds() - checkpoint_wall_;
     checkpoint_wall_ = wall_seconds();
-    write_checkpoint(checkpoint_path_, c_, solver_, run_, history_);
+    detail::write_checkpoint(checkpoint_path_, c_, solver_.state(), content_of(run_), history_);
   }
   [[nodiscard]] double seconds_since_checkpoint() const override { return wall_seconds() - checkpoint_wall_; }
 

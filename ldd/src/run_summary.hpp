@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
 
+#include "checkpoint.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/run_summary.hpp"
 #include "rheosim/ldd/case.hpp"
@@ -70,6 +72,22 @@ struct AcceptedSolves {
         pressure, velocity, steps, worst_ratio);
   }
 };
+
+// AcceptedSolves in a checkpoint's record (checkpoint.hpp); a checkpoint without them (an older
+// rheosim's) reads as none accepted.
+inline void add_accepted_solves(const AcceptedSolves& a, RunRecordContent& content) {
+  content.numbers["pressure_above_tolerance"] = a.pressure;
+  content.numbers["velocity_above_tolerance"] = a.velocity;
+  content.numbers["worst_tolerance_ratio"] = a.worst_ratio;
+}
+inline AcceptedSolves accepted_solves_of(const RunRecordContent& content) {
+  AcceptedSolves a;
+  for (auto [name, value] : {std::pair<const char*, double*>{"pressure_above_tolerance", &a.pressure},
+                             {"velocity_above_tolerance", &a.velocity},
+                             {"worst_tolerance_ratio", &a.worst_ratio}})
+    if (const auto it = content.numbers.find(name); it != content.numbers.end()) *value = it->second;
+  return a;
+}
 
 // A frame of the node cloud, frames/nodes_NNNN.vtk (relative to the run folder), and writing it
 // with velocity, pressure, shear rate, viscosity and node kind. Solver: ldd::Solver or

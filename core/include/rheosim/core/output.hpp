@@ -139,6 +139,10 @@ void write_hdf5(const std::filesystem::path& path, const Hdf5Content& content);
 // Reads one dataset back as doubles with its attributes; the "unit" attribute goes to `unit`,
 // the others come back in name order (HDF5's default index).
 [[nodiscard]] Hdf5Dataset read_hdf5_dataset(const std::filesystem::path& path, std::string_view dataset_path);
+// The names of the datasets directly in `group_path` ("run"), in name order; none when the group
+// does not exist.
+[[nodiscard]] std::vector<std::string> hdf5_dataset_names(const std::filesystem::path& path,
+                                                          std::string_view group_path);
 // Attributes of a group or dataset ("/" for the file attributes), in name order.
 [[nodiscard]] std::vector<Hdf5Attribute> read_hdf5_attributes(const std::filesystem::path& path,
                                                               std::string_view object_path = "/");
