@@ -50,14 +50,14 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   double stop_after = 0;
   run->add_option("--stop-after", stop_after,
-                  "Free-surface LDD runs: after this many seconds of wall time, write the checkpoint and stop "
+                  "LDD runs: after this many seconds of wall time, write the checkpoint and stop "
                   "(status interrupted); the same command goes on from there")
       ->check(CLI::PositiveNumber);
   run->footer(
       "Writes summary.json, CSV tables, HDF5 data, plots and report.html into the output folder.\n"
       "A sweep (kind: sweep) stores each finished point at once; run it again with the same --out\n"
-      "after an interruption and only the missing points are computed. A free-surface LDD run\n"
-      "(dam break, slump) writes checkpoint.h5 at every frame and every 10 minutes; run it again\n"
+      "after an interruption and only the missing points are computed. An LDD run writes\n"
+      "checkpoint.h5 at every frame and every 10 minutes; run it again\n"
       "with the same --out and it continues from the last checkpoint.\n"
       "Examples:\n"
       "  rheosim run cases/quickstart.yaml --out results/quickstart\n"

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "checkpoint.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/progress.hpp"
@@ -200,13 +201,51 @@ nlohmann::ordered_json compare_with_ghia(const Solver& solver, const Cavity& cav
 }
 
 // The cavity's part of the run loop: the lattice Solver, its centre-line probes and steady
-// residual, node and field frames. Keeps no checkpoint (cavity runs take minutes), so it runs
-// to its end whatever the caller's step and wall-time limits.
+// residual, node and field frames, and the checkpoint the next run into the same folder
+// resumes from.
 class CavityRun final : public detail::SceneRun {
  public:
-  CavityRun(const CaseSettings& l, const Cavity& cavity, Solver& solver, const std::filesystem::path& out_dir)
-      : l_(l), cavity_(cavity), solver_(solver), out_dir_(out_dir), last_(sample_centerlines(solver, cavity)) {
-    frames_.push_back({0.0, write_frame(solver_, cavity_, out_dir_, 0)});
+  CavityRun(const Case& c, const Cavity& cavity, Solver& solver, const std::filesystem::path& out_dir,
+            std::chrono::steady_clock::time_point wall_start, const core::Log& log)
+      : c_(c),
+        l_(c.settings),
+        cavity_(cavity),
+        solver_(solver),
+        out_dir_(out_dir),
+        wall_start_(wall_start),
+        checkpoint_path_(out_dir / "checkpoint.h5"),
+        log_(log) {}
+
+  // Continues from checkpoint.h5 when the folder holds one, else writes the first frame.
+  void resume_or_start(std::size_t total_steps) {
+    if (!std::filesystem::exists(checkpoint_path_)) {
+      last_ = sample_centerlines(solver_, cavity_);
+      add_frame();
+      return;
+    }
+    detail::StoredCheckpoint stored = detail::read_checkpoint(checkpoint_path_, c_, history_);
+    try {
+      solver_.restore(std::move(stored.state));
+    } catch (const std::invalid_argument& e) {
+      throw core::RunError(
+          fmt::format("checkpoint '{}' does not fit this case's cloud: {}", checkpoint_path_.string(), e.what()));
+    }
+    const detail::RunRecordContent& r = stored.record;
+    last_probe_time_ = r.number("last_probe_time", checkpoint_path_);
+    quiet_probes_ = static_cast<int>(r.number("quiet_probes", checkpoint_path_));
+    step_seconds_ = r.number("step_seconds", checkpoint_path_);
+    wall_seconds_ = r.number("wall_seconds", checkpoint_path_);
+    accepted_ = detail::accepted_solves_of(r);
+    last_ = centerlines_of(r.values("last_u", checkpoint_path_), r.values("last_v", checkpoint_path_));
+    for (double t : r.values("frame_times", checkpoint_path_))
+      frames_.push_back({t, detail::frame_name(frames_.size())});
+    resumed_at_steps_ = r.values("resumed_at_steps", checkpoint_path_);
+    resumed_at_steps_.push_back(static_cast<double>(solver_.steps()));
+    log_.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path_.string(), solver_.time(),
+              solver_.steps(), total_steps);
+    if (stored.git_revision != core::git_revision)
+      log_.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build",
+                stored.git_revision, core::git_revision);
   }
 
   [[nodiscard]] double time() const override { return solver_.time(); }
@@ -240,17 +279,60 @@ class CavityRun final : public detail::SceneRun {
     write_frame_indexes(out_dir_, frames_);
   }
   [[nodiscard]] double last_frame_time() const override { return frames_.back().time; }
-  void save() override { write_frame_indexes(out_dir_, frames_); }
+  void save() override {
+    write_frame_indexes(out_dir_, frames_);
+    checkpoint();
+  }
+  [[nodiscard]] std::optional<std::filesystem::path> checkpoint_file() const override { return checkpoint_path_; }
+  void checkpoint() override {
+    wall_seconds_ += wall_seconds() - checkpoint_wall_;
+    checkpoint_wall_ = wall_seconds();
+    detail::RunRecordContent r;
+    r.numbers = {{"last_probe_time", last_probe_time_},
+                 {"quiet_probes", static_cast<double>(quiet_probes_)},
+                 {"step_seconds", step_seconds_},
+                 {"wall_seconds", wall_seconds_}};
+    detail::add_accepted_solves(accepted_, r);
+    r.series["last_u"] = last_.u;
+    r.series["last_v"] = last_.v;
+    r.series["resumed_at_steps"] = resumed_at_steps_;
+    for (const auto& frame : frames_) r.series["frame_times"].push_back(frame.time);
+    detail::write_checkpoint(checkpoint_path_, c_, solver_.state(), r, history_);
+  }
+  [[nodiscard]] double seconds_since_checkpoint() const override { return wall_seconds() - checkpoint_wall_; }
 
   [[nodiscard]] const core::CsvTable& history() const { return history_; }
   [[nodiscard]] double step_seconds() const { return step_seconds_; }
+  // Over every process that ran the case, up to the last checkpoint (written when the loop stops).
+  [[nodiscard]] double wall_time() const { return wall_seconds_; }
+  [[nodiscard]] const std::vector<double>& resumed_at_steps() const { return resumed_at_steps_; }
   [[nodiscard]] const detail::AcceptedSolves& accepted() const { return accepted_; }
 
  private:
+  [[nodiscard]] double wall_seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+  }
+  // Centre lines from their stored velocities (the coordinates are the probes' fixed fractions).
+  static Centerlines centerlines_of(const std::vector<double>& u, const std::vector<double>& v) {
+    Centerlines c;
+    for (int k = 0; k < probe_count; ++k) {
+      const double f = static_cast<double>(k) / (probe_count - 1);
+      c.y.push_back(f);
+      c.x.push_back(f);
+    }
+    c.u = u;
+    c.v = v;
+    return c;
+  }
+
+  const Case& c_;
   const CaseSettings& l_;
   const Cavity& cavity_;
   Solver& solver_;
   std::filesystem::path out_dir_;
+  std::chrono::steady_clock::time_point wall_start_;
+  std::filesystem::path checkpoint_path_;
+  const core::Log& log_;
   core::CsvTable history_{{{"time", "s"},
                            {"residual", ""},
                            {"kinetic_energy", "J/m"},
@@ -263,6 +345,8 @@ class CavityRun final : public detail::SceneRun {
   double last_probe_time_ = 0;
   int quiet_probes_ = 0;
   double step_seconds_ = 0;
+  double wall_seconds_ = 0, checkpoint_wall_ = 0;  // all processes' wall time; this one's at the last checkpoint
+  std::vector<double> resumed_at_steps_;
   CavityStepStats stats_;
   detail::AcceptedSolves accepted_;
 };
@@ -298,8 +382,10 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
            solver.node_count(), solver.fluid_node_count(), l.spacing, l.time_step, threads, reynolds);
 
   const auto requested_preconditioner = solver.params().pressure_preconditioner;
-  CavityRun run(l, cavity, solver, out_dir);
-  RunOutcome outcome = detail::run_steps(run, detail::RunSchedule::of(l), control, wall_start, log);
+  CavityRun run(c, cavity, solver, out_dir, wall_start, log);
+  const detail::RunSchedule schedule = detail::RunSchedule::of(l);
+  run.resume_or_start(schedule.total_steps);
+  RunOutcome outcome = detail::run_steps(run, schedule, control, wall_start, log);
   const core::CsvTable& history = run.history();
 
   const Centerlines final_lines = sample_centerlines(solver, cavity);
@@ -322,7 +408,8 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
   summary["reynolds_number"] = reynolds;
   summary["final_residual"] = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
-  summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  summary["wall_time"] = run.wall_time();
+  summary["resumed_at_steps"] = detail::as_counts(run.resumed_at_steps());
   summary["centerlines"] = {{"vertical", vertical_json}, {"horizontal", horizontal_json}};
   if (const auto ghia_re = ghia_reynolds(*scene, l.fluid)) {
     summary["ghia"] = compare_with_ghia(solver, cavity, *ghia_re, out_dir);

@@ -72,6 +72,28 @@ Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>>
   rest_density_ = densities[densities.size() / 2];
 }
 
+SolverState Solver::state() const {
+  SolverState s = common_state();
+  s.momentum_increment = momentum_increment_;
+  s.older_momentum_increment = older_momentum_increment_;
+  return s;
+}
+
+void Solver::restore(SolverState state) {
+  const std::size_t values = 2 * node_count();
+  for (const std::vector<double>* increment : {&state.momentum_increment, &state.older_momentum_increment})
+    if (!increment->empty() && increment->size() != values)
+      throw std::invalid_argument(
+          fmt::format("LDD cavity state: a momentum increment of {} values for {} nodes", increment->size(), values));
+  restore_common_state(state, 2, "LDD cavity");
+  momentum_increment_ = std::move(state.momentum_increment);
+  older_momentum_increment_ = std::move(state.older_momentum_increment);
+  next_momentum_increment_.clear();
+  operators_valid_ = false;  // rebuilt from the restored cloud and neighbour list
+  lattice_fit_ = QuadraticFit{};
+  pressure_lu_ = numerics::SparseLu{};
+}
+
 Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;

@@ -7,8 +7,12 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
@@ -189,6 +193,69 @@ TEST(RunCase, WritesSummaryCenterlinesFramesAndResiduals) {
         "frames/field.vtk.series", "frames/field_0001.vtk", "nodes.pvd", "centerlines.gp"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   std::filesystem::remove_all(dir);
+}
+
+// A cavity run stopped part-way (step limit: status interrupted, checkpoint.h5 written) and run
+// again into the same folder ends with the numbers of the run that was never stopped, bit for
+// bit: the residual history, the centre lines, the summary, the state and the last frames. The
+// stop falls between probes (every 5 steps) and frames (every 20), so the residual's last sample
+// and the momentum solves' initial-guess increments come from the checkpoint. With AMG
+// preconditioners the kept PPE hierarchy is restored too.
+void expect_resumed_cavity_matches_the_straight_one(const std::string& solver, const std::string& name) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: cavity, size: [1, 1], lid_velocity: 1}\n"
+      "fluid: {density: 1, rheology: {model: casson, plastic_viscosity: 0.01, yield_stress: 0.01, "
+      "regularization: 100}}\ngravity: [0, 0]\nresolution: {spacing: 0.0625}\ntime: {step: 0.01, end: 0.6}\n"
+      "output: {probe_interval: 0.05, frame_interval: 0.2}\nsolver: {threads: 1" +
+      solver + "}\n";
+  const ldd::Case c = ldd::parse_case(text, name + ".yaml");
+  const auto straight = std::filesystem::temp_directory_path() / ("rheosim_" + name + "_straight");
+  const auto resumed = std::filesystem::temp_directory_path() / ("rheosim_" + name + "_twice");
+  std::filesystem::remove_all(straight);
+  std::filesystem::remove_all(resumed);
+  EXPECT_EQ(run_case(c, straight, core::Log::null()).status, "end_time");
+  RunControl stop;
+  stop.step_limit = 27;
+  const RunOutcome first = run_case(c, resumed, core::Log::null(), stop);
+  EXPECT_EQ(first.status, "interrupted");
+  EXPECT_EQ(first.steps, 27U);
+  ASSERT_TRUE(std::filesystem::exists(resumed / "checkpoint.h5"));
+  const RunOutcome second = run_case(c, resumed, core::Log::null());
+  EXPECT_EQ(second.status, "end_time");
+  EXPECT_EQ(second.steps, 60U);
+
+  for (const char* table : {"residual.csv", "centerline_vertical.csv", "centerline_horizontal.csv"})
+    EXPECT_EQ(core::read_csv(straight / table), core::read_csv(resumed / table)) << table;
+  auto a = core::read_json(straight / "summary.json"), b = core::read_json(resumed / "summary.json");
+  EXPECT_EQ(b["resumed_at_steps"], nlohmann::json::array({27}));
+  for (const char* timing : {"ms_per_step", "phase_seconds", "wall_time", "resumed_at_steps", "git_revision"}) {
+    a.erase(timing);
+    b.erase(timing);
+  }
+  EXPECT_EQ(a, b);
+  for (const char* state : {"state/velocity", "state/previous_velocity", "state/pressure", "state/viscosity"})
+    EXPECT_EQ(core::read_hdf5_dataset(straight / "checkpoint.h5", state).data,
+              core::read_hdf5_dataset(resumed / "checkpoint.h5", state).data)
+        << state;
+  const auto bytes = [](const std::filesystem::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const char* frame : {"frames/nodes_0003.vtk", "frames/field_0003.vtk", "nodes.pvd", "field.vtk"}) {
+    ASSERT_TRUE(std::filesystem::exists(straight / frame)) << frame;
+    EXPECT_TRUE(bytes(straight / frame) == bytes(resumed / frame)) << frame;
+  }
+  std::filesystem::remove_all(straight);
+  std::filesystem::remove_all(resumed);
+}
+
+TEST(RunCase, InterruptedCavityGoesOnBitForBitFromItsCheckpoint) {
+  expect_resumed_cavity_matches_the_straight_one("", "ldd_resume_cavity");
+}
+
+TEST(RunCase, InterruptedCavityWithAmgGoesOnBitForBit) {
+  expect_resumed_cavity_matches_the_straight_one(", pressure_preconditioner: amg, velocity_preconditioner: amg",
+                                                 "ldd_resume_cavity_amg");
 }
 
 }  // namespace

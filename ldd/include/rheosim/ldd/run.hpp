@@ -21,6 +21,7 @@
 //   ghia.csv                        a square cavity of a Newtonian liquid at Re = 100 or 1000: the
 //                                   centre-line velocities at Ghia et al.'s points against their
 //                                   table (cavity_reference.hpp); summary.json `ghia` holds the same
+//   checkpoint.h5                   the solver's state and the run's records (as for free surfaces, below)
 //   log.txt                         (written by the caller's Log)
 // The steady-state residual is max over the centre-line probes of |Δu|/U per unit of L/U time
 // between two samples. On divergence (NaN, Courant number, failed solves, residual > 1e3) the
@@ -44,8 +45,7 @@ struct RunOutcome {
   double ms_per_step = 0;
 };
 
-// When a free-surface run stops before its end (cavity runs ignore these; they take minutes):
-// after step_limit steps of this process, or once wall_time_limit seconds have passed, the run
+// When an LDD run stops before its end: after step_limit steps of this process, or once wall_time_limit seconds have passed, the run
 // writes its checkpoint and returns status "interrupted" (0: no limit).
 struct RunControl {
   std::size_t step_limit = 0;

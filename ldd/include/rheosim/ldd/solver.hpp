@@ -90,6 +90,14 @@ class Solver : public NodeState {
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const SolverParams& params() const { return params_; }
 
+  // The state a checkpoint keeps (node_state.hpp), with the momentum solves' initial-guess
+  // increments. restore() takes a state of a solver built from the same cavity and parameters
+  // (throws std::invalid_argument naming a mismatch, before anything is changed); the run then
+  // continues bit for bit (the constant operators, the lattice fit and the PPE's factors or AMG
+  // set-up are rebuilt from the same cloud).
+  [[nodiscard]] SolverState state() const;
+  void restore(SolverState state);
+
   // Velocity at arbitrary points (interleaved x, y) by Shepard interpolation (eq. 12) with a
   // first-order gradient correction: ⟨u(x)⟩ = Σ W_j (u_j + ⟨∇u⟩_j·(x − x_j)) / Σ W_j over the
   // nodes within h of x. Points without a node within h get NaN.
