@@ -199,6 +199,191 @@ void set_steady_stress(const SteadyStateDetector& detector, double time, const S
   out.bulk_parts = means.parts;
 }
 
+// One coupling step of the shear cell, phase by phase as coupling::Coupler's (coupler.hpp):
+// the particles over the coupling interval, the layers' void fraction, the fluid forces on the
+// particles and their reaction on the column, the bulk stress from the virial, then the column.
+class ShearCellCoupling {
+ public:
+  ShearCellCoupling(const ShearCellPointSettings& settings, dem::ShearCellScene* scene, fluid::CouetteColumn& column,
+                    NearFieldStepHook* hook, ShearCellPoint& out)
+      : settings_(settings),
+        scene_(scene),
+        column_(column),
+        hook_(hook),
+        out_(out),
+        area_(settings.cell_length * settings.cell_width),
+        cell_volume_(area_ * settings.gap),
+        box_volume_(scene ? area_ * (scene->box_high()[2] - scene->box_low()[2]) : 0.0),
+        // One-cell-wide cylindrical grid of N_z layers around the cell's centre: the void-fraction
+        // schemes' sub-points and plate mirroring are reused as they are; only the z index matters.
+        grid_({.radius = 0.5 * std::hypot(settings.cell_length, settings.cell_width) +
+                         2.0 * std::max(settings.particles.diameter, settings.gap),
+               .gap = settings.gap,
+               .radial_cells = 1,
+               .azimuthal_cells = 1,
+               .axial_cells = settings.axial_cells}),
+        locator_(grid_),
+        scheme_(make_void_fraction_scheme(settings.void_fraction)),
+        drag_(make_drag_model(settings.drag)),
+        solid_(column.layers()) {}
+
+  // One coupling step of fluid time step dt ending at `time`: its record.
+  ShearCellStepRecord step(double dt, double time) {
+    ShearCellStepRecord record;
+    column_.clear_sources();
+    if (scene_) {
+      advance_particles(record);
+      update_void_fraction();
+      const double drag_virial = update_forces();
+      add_particle_stress(record, drag_virial);
+    }
+    const auto t0 = Clock::now();
+    column_.advance(dt);
+    out_.cost.fluid += seconds_since(t0);
+    ++out_.cost.steps;
+    record.time = time;
+    record.fluid_top = column_.wall_stress_top();
+    record.fluid_bottom = column_.wall_stress_bottom();
+    record.bulk += column_.mean_fluid_stress();
+    record.parts.fluid = column_.mean_fluid_stress();
+    return record;
+  }
+
+  [[nodiscard]] double near_field_seconds() const { return near_field_seconds_; }
+
+ private:
+  // LIGGGHTS over the coupling interval; the plates' contact stress (mean over it).
+  void advance_particles(ShearCellStepRecord& record) {
+    const auto t0 = Clock::now();
+    scene_->advance(settings_.coupling_interval);
+    out_.cost.dem += seconds_since(t0);
+    const auto& sample = scene_->stress_series().back();
+    record.contact_top = sample.top_shear;
+    record.contact_bottom = sample.bottom_shear;
+  }
+
+  // Void fraction of each layer (floored, the clamps counted), from the particles' shares.
+  void update_void_fraction() {
+    const auto t0 = Clock::now();
+    auto& engine = scene_->engine();
+    const auto x = engine.positions();
+    shifted_.assign(x.begin(), x.end());
+    for (std::size_t i = 0; i < shifted_.size(); i += 3) {
+      shifted_[i] -= 0.5 * settings_.cell_length;
+      shifted_[i + 1] -= 0.5 * settings_.cell_width;
+    }
+    velocities_.assign(engine.velocities().begin(), engine.velocities().end());
+    radii_.assign(engine.radii().begin(), engine.radii().end());
+    scheme_->split(locator_, view(), map_);
+    std::fill(solid_.begin(), solid_.end(), 0.0);
+    for (const auto& share : map_.shares) solid_[share.cell] += share.volume;
+    const auto eps = column_.void_fraction();
+    bool clamped = false;
+    for (std::size_t k = 0; k < column_.layers(); ++k) {
+      const double raw = 1.0 - solid_[k] / column_.layer_volume();
+      out_.cost.min_raw_void_fraction = std::min(out_.cost.min_raw_void_fraction, raw);
+      clamped = clamped || raw < settings_.void_fraction_floor;
+      eps[k] = std::max(settings_.void_fraction_floor, raw);
+      out_.min_void_fraction = std::min(out_.min_void_fraction, eps[k]);
+    }
+    if (clamped) ++out_.cost.void_fraction_clamped_steps;
+    out_.cost.void_fraction += seconds_since(t0);
+  }
+
+  // Drag (and the viscous force) on the particles from the column as it is now, handed to
+  // LIGGGHTS; the reaction to the column's layers. Returns the drag's virial
+  // Σ −(z_p − z_layer) F_x: the fluid forces act at the particle and react at the layer.
+  double update_forces() {
+    const auto t0 = Clock::now();
+    const ParticleView particles = view();
+    const std::size_t n = particles.size();
+    const auto eps = column_.void_fraction();
+    forces_.assign(3 * n, 0.0);
+    double drag_virial = 0.0;
+    for (std::size_t p = 0; p < n; ++p) {
+      const double vp = sphere_volume_from_radius(radii_[p]);
+      double eps_p = 0.0, mu_p = 0.0, div_x = 0.0, div_y = 0.0;
+      for (const auto& share : map_.of(p)) {
+        const double w = share.volume / vp;
+        eps_p += w * eps[share.cell];
+        mu_p += w * column_.cell_viscosity(share.cell);
+        div_x += w * column_.div_tau_x(share.cell);
+        div_y += w * column_.div_tau_y(share.cell);
+      }
+      const Vector3 up = particles.velocity(p);
+      const DragInput input{.fluid_velocity = column_.velocity_at(shifted_[3 * p + 2]),
+                            .particle_velocity = up,
+                            .void_fraction = eps_p,
+                            .diameter = 2.0 * radii_[p],
+                            .fluid_density = settings_.fluid.density,
+                            .fluid_viscosity = mu_p};
+      const double beta = drag_->exchange_coefficient(input);
+      for (int c = 0; c < 3; ++c) forces_[3 * p + c] = beta * (input.fluid_velocity[c] - up[c]);
+      if (settings_.viscous_force) {
+        forces_[3 * p] += vp * div_x;
+        forces_[3 * p + 1] += vp * div_y;
+      }
+      for (const auto& share : map_.of(p)) {
+        column_.add_reaction(share.cell, beta * share.volume / vp, input.fluid_velocity, up);
+        drag_virial -= share.volume / vp * (shifted_[3 * p + 2] - column_.centre(share.cell)) * forces_[3 * p];
+      }
+    }
+    scene_->engine().set_external_forces(forces_);
+    out_.cost.forces += seconds_since(t0);
+    return drag_virial;
+  }
+
+  // Bulk (Batchelor) stress from the particle virial, for the cross-check of the plate reading:
+  // pair contacts (LIGGGHTS), plate contacts as pairs with the contact point a below/above the
+  // centre, the fluid forces' offset, and the near field's virial and plate stresses.
+  void add_particle_stress(ShearCellStepRecord& record, double drag_virial) {
+    const double a = 0.5 * settings_.particles.diameter;
+    const double pair_contact = -scene_->engine().fix_scalar("rheosim_cell_virial") * box_volume_;
+    record.bulk =
+        (pair_contact + a * area_ * (record.contact_top + record.contact_bottom) + drag_virial) / cell_volume_;
+    record.parts.pair_contact = pair_contact / cell_volume_;
+    record.parts.plate_contact = a * area_ * (record.contact_top + record.contact_bottom) / cell_volume_;
+    record.parts.drag = drag_virial / cell_volume_;
+    if (!hook_) return;
+    const NearFieldStepHook::Means m = hook_->take_means();
+    record.lubrication_top = -m.plate_forces[1][0] / area_;
+    record.lubrication_bottom = m.plate_forces[0][0] / area_;
+    record.stresslet = m.stresslet_sum[4] / cell_volume_;
+    record.couple = 0.5 * m.rotation_torque_sum[1] / cell_volume_;
+    // Force x, lever z (the plates' momentum balance), plus the stresslets.
+    record.bulk += (m.lubrication_virial_full[2] + m.stresslet_sum[4]) / cell_volume_ + record.couple;
+    // Plate gaps have a z lever only, so their full xz is twice their symmetric xz.
+    const double plate_full = 2.0 * m.plate_virial[4];
+    const double pair_symmetric = m.lubrication_virial[4] - m.plate_virial[4];
+    record.parts.pair_lubrication = pair_symmetric / cell_volume_;
+    record.parts.pair_lubrication_antisymmetric =
+        (m.lubrication_virial_full[2] - plate_full - pair_symmetric) / cell_volume_;
+    record.parts.plate_lubrication = plate_full / cell_volume_;
+    record.parts.stresslet = record.stresslet;
+    record.parts.couple = record.couple;
+    near_field_seconds_ += m.seconds;
+    out_.max_near_field_iterations = std::max(out_.max_near_field_iterations, m.max_solver_iterations);
+  }
+
+  [[nodiscard]] ParticleView view() const {
+    return {.positions = shifted_, .velocities = velocities_, .radii = radii_};
+  }
+
+  const ShearCellPointSettings& settings_;
+  dem::ShearCellScene* scene_;
+  fluid::CouetteColumn& column_;
+  NearFieldStepHook* hook_;
+  ShearCellPoint& out_;
+  double area_, cell_volume_, box_volume_;
+  fluid::CylindricalGrid grid_;
+  CellLocator locator_;
+  std::unique_ptr<const VoidFractionScheme> scheme_;
+  std::unique_ptr<const DragModel> drag_;
+  ParticleCellMap map_;
+  std::vector<double> shifted_, velocities_, radii_, forces_, solid_;
+  double near_field_seconds_ = 0.0;
+};
+
 }  // namespace
 
 ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
@@ -239,141 +424,12 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
                                                  a.velocity_gradient[5] = slope[1];  // ∂u_y/∂z
                                                  return a;
                                                });
-  const double cell_volume = area * settings.gap;
-  const double box_volume = scene ? area * (scene->box_high()[2] - scene->box_low()[2]) : 0.0;
-  double near_field_seconds = 0.0;
-  // One-cell-wide cylindrical grid of N_z layers around the cell's centre: the void-fraction
-  // schemes' sub-points and plate mirroring are reused as they are; only the z index matters.
-  const double half_diagonal = 0.5 * std::hypot(settings.cell_length, settings.cell_width);
-  const fluid::CylindricalGrid grid({.radius = half_diagonal + 2.0 * std::max(q.diameter, settings.gap),
-                                     .gap = settings.gap,
-                                     .radial_cells = 1,
-                                     .azimuthal_cells = 1,
-                                     .axial_cells = settings.axial_cells});
-  const CellLocator locator(grid);
-  const auto scheme = make_void_fraction_scheme(settings.void_fraction);
-  const auto drag = make_drag_model(settings.drag);
-
+  ShearCellCoupling coupling(settings, scene.get(), column, hook.get(), out);
   SteadyStateDetector detector(settings.steady, settings.shear_rate);
-  ParticleCellMap map;
-  std::vector<double> shifted, velocities, radii, forces, solid(column.layers());
   double time = 0.0;
   while (!detector.done()) {
-    ShearCellStepRecord record;
-    column.clear_sources();
-    if (scene) {
-      auto t0 = Clock::now();
-      scene->advance(settings.coupling_interval);
-      out.cost.dem += seconds_since(t0);
-      const auto& sample = scene->stress_series().back();
-      record.contact_top = sample.top_shear;
-      record.contact_bottom = sample.bottom_shear;
-
-      // Void fraction of each layer.
-      t0 = Clock::now();
-      auto& engine = scene->engine();
-      const auto x = engine.positions();
-      shifted.assign(x.begin(), x.end());
-      for (std::size_t i = 0; i < shifted.size(); i += 3) {
-        shifted[i] -= 0.5 * settings.cell_length;
-        shifted[i + 1] -= 0.5 * settings.cell_width;
-      }
-      velocities.assign(engine.velocities().begin(), engine.velocities().end());
-      radii.assign(engine.radii().begin(), engine.radii().end());
-      const ParticleView view{.positions = shifted, .velocities = velocities, .radii = radii};
-      scheme->split(locator, view, map);
-      std::fill(solid.begin(), solid.end(), 0.0);
-      for (const auto& share : map.shares) solid[share.cell] += share.volume;
-      const auto eps = column.void_fraction();
-      bool clamped = false;
-      for (std::size_t k = 0; k < column.layers(); ++k) {
-        const double raw = 1.0 - solid[k] / column.layer_volume();
-        out.cost.min_raw_void_fraction = std::min(out.cost.min_raw_void_fraction, raw);
-        clamped = clamped || raw < settings.void_fraction_floor;
-        eps[k] = std::max(settings.void_fraction_floor, raw);
-        out.min_void_fraction = std::min(out.min_void_fraction, eps[k]);
-      }
-      if (clamped) ++out.cost.void_fraction_clamped_steps;
-      out.cost.void_fraction += seconds_since(t0);
-
-      // Forces on the particles from the column as it is now; reaction to the column.
-      t0 = Clock::now();
-      const std::size_t n = view.size();
-      forces.assign(3 * n, 0.0);
-      double drag_virial = 0.0;  // Σ −(z_p − z_layer) F_x: the fluid forces act at the particle, react at the layer
-      for (std::size_t p = 0; p < n; ++p) {
-        const double vp = sphere_volume_from_radius(radii[p]);
-        double eps_p = 0.0, mu_p = 0.0, div_x = 0.0, div_y = 0.0;
-        for (const auto& share : map.of(p)) {
-          const double w = share.volume / vp;
-          eps_p += w * eps[share.cell];
-          mu_p += w * column.cell_viscosity(share.cell);
-          div_x += w * column.div_tau_x(share.cell);
-          div_y += w * column.div_tau_y(share.cell);
-        }
-        const Vector3 up = view.velocity(p);
-        const DragInput input{.fluid_velocity = column.velocity_at(shifted[3 * p + 2]),
-                              .particle_velocity = up,
-                              .void_fraction = eps_p,
-                              .diameter = 2.0 * radii[p],
-                              .fluid_density = settings.fluid.density,
-                              .fluid_viscosity = mu_p};
-        const double beta = drag->exchange_coefficient(input);
-        for (int c = 0; c < 3; ++c) forces[3 * p + c] = beta * (input.fluid_velocity[c] - up[c]);
-        if (settings.viscous_force) {
-          forces[3 * p] += vp * div_x;
-          forces[3 * p + 1] += vp * div_y;
-        }
-        for (const auto& share : map.of(p)) {
-          column.add_reaction(share.cell, beta * share.volume / vp, input.fluid_velocity, up);
-          drag_virial -= share.volume / vp * (shifted[3 * p + 2] - column.centre(share.cell)) * forces[3 * p];
-        }
-      }
-      engine.set_external_forces(forces);
-      out.cost.forces += seconds_since(t0);
-
-      // Bulk (Batchelor) stress from the particle virial, for the cross-check of the plate
-      // reading: pair contacts (LIGGGHTS), plate contacts as pairs with the contact point a
-      // below/above the centre, the fluid forces' offset, and the near-field virial below.
-      const double a = 0.5 * q.diameter;
-      const double pair_contact = -engine.fix_scalar("rheosim_cell_virial") * box_volume;
-      record.bulk =
-          (pair_contact + a * area * (record.contact_top + record.contact_bottom) + drag_virial) / cell_volume;
-      record.parts.pair_contact = pair_contact / cell_volume;
-      record.parts.plate_contact = a * area * (record.contact_top + record.contact_bottom) / cell_volume;
-      record.parts.drag = drag_virial / cell_volume;
-      if (hook) {
-        const NearFieldStepHook::Means m = hook->take_means();
-        record.lubrication_top = -m.plate_forces[1][0] / area;
-        record.lubrication_bottom = m.plate_forces[0][0] / area;
-        record.stresslet = m.stresslet_sum[4] / cell_volume;
-        record.couple = 0.5 * m.rotation_torque_sum[1] / cell_volume;
-        // Force x, lever z (the plates' momentum balance), plus the stresslets.
-        record.bulk += (m.lubrication_virial_full[2] + m.stresslet_sum[4]) / cell_volume + record.couple;
-        // Plate gaps have a z lever only, so their full xz is twice their symmetric xz.
-        const double plate_full = 2.0 * m.plate_virial[4];
-        const double pair_symmetric = m.lubrication_virial[4] - m.plate_virial[4];
-        record.parts.pair_lubrication = pair_symmetric / cell_volume;
-        record.parts.pair_lubrication_antisymmetric =
-            (m.lubrication_virial_full[2] - plate_full - pair_symmetric) / cell_volume;
-        record.parts.plate_lubrication = plate_full / cell_volume;
-        record.parts.stresslet = record.stresslet;
-        record.parts.couple = record.couple;
-        near_field_seconds += m.seconds;
-        out.max_near_field_iterations = std::max(out.max_near_field_iterations, m.max_solver_iterations);
-      }
-    }
-
-    const auto t0 = Clock::now();
-    column.advance(dt);
-    out.cost.fluid += seconds_since(t0);
-    ++out.cost.steps;
     time += dt;
-    record.time = time;
-    record.fluid_top = column.wall_stress_top();
-    record.fluid_bottom = column.wall_stress_bottom();
-    record.bulk += column.mean_fluid_stress();
-    record.parts.fluid = column.mean_fluid_stress();
+    const ShearCellStepRecord record = coupling.step(dt, time);
     if (!std::isfinite(record.total_top()))
       throw std::runtime_error(fmt::format("shear cell: wall stress is not finite at t = {:.6g} s", time));
     out.series.push_back(record);
@@ -381,8 +437,8 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   }
 
   set_steady_stress(detector, time, settings, out);
-  out.cost.near_field = near_field_seconds;  // spent inside the DEM steps
-  out.cost.dem = std::max(0.0, out.cost.dem - near_field_seconds);
+  out.cost.near_field = coupling.near_field_seconds();  // spent inside the DEM steps
+  out.cost.dem = std::max(0.0, out.cost.dem - coupling.near_field_seconds());
   out.wall_time = seconds_since(start);
   return out;
 }
