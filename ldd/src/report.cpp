@@ -103,78 +103,78 @@ RunSummary read_run_summary(const fs::path& summary_json) {
   return s;
 }
 
-ReportFiles write_report(const fs::path& run_dir) {
-  const fs::path summary_path = core::run_summary_file(run_dir);
-  const RunSummary s = read_run_summary(summary_path);
-  ReportFiles files;
+namespace {
+
+// What the run folder holds beside summary.json, which decides the figures and tables.
+struct RunFolder {
+  fs::path dir;
+  bool table1 = false;        // LDD §4.3's dam break: table1.csv
+  bool martin_moyce = false;  // a water column: martin_moyce.csv
+  bool profile = false;       // a dam break's final free surface: profile.csv
+  bool wall_height = false;   // a sloshing column's probe file has the height at the left wall
+};
+
+// The free-surface run's gnuplot scripts and plots: the scene's probe, energy, volume.
+void write_free_surface_plots(const RunSummary& s, RunFolder& run, ReportFiles& files) {
   const auto plot = [&](const std::string& name, const std::string& what, const std::string& body) {
-    core::write_atomically(run_dir / (name + ".gp"), [&](std::ostream& os) {
+    core::write_atomically(run.dir / (name + ".gp"), [&](std::ostream& os) {
       os << core::gnuplot_header(name, what) << core::gnuplot_outputs(name, body);
     });
-    (core::plot_with_gnuplot(run_dir, name) ? files.plots : files.missing_plots).push_back(name);
+    (core::plot_with_gnuplot(run.dir, name) ? files.plots : files.missing_plots).push_back(name);
   };
-
-  std::string body;
   const std::string energy_unit = s.dimension == 2 ? "J/m" : "J";
-  const bool table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
-  const bool martin_moyce = s.scene == "dam_break" && fs::exists(run_dir / "martin_moyce.csv");
-  const bool profile = s.scene == "dam_break" && fs::exists(run_dir / "profile.csv");
-  bool wall_height = false;  // a sloshing column's probe file has the height at the left wall
-  if (s.free_surface) {
-    const std::string probes = probe_file_name(s.scene);
-    const core::CsvTable table = core::read_csv(run_dir / probes);
-    const auto col = [&](std::string_view name) {
-      const int c = column_of(table, name);
-      if (c == 0) missing(run_dir / probes, name, "a column of the probe file");
-      return c;
-    };
-    if (s.scene == "dam_break") {
-      std::string curves = fmt::format("'{}' using 1:{} with lines lw 2 title 'LDD (this run)'", probes, col("front"));
-      if (table1)
-        curves +=
-            ", 'table1.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (LDD Table 1)', "
-            "'table1.csv' using 1:5 with points pt 6 ps 1.4 title 'seed LDD (same Δ, δt)'";
-      if (martin_moyce)
-        curves += ", 'martin_moyce.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (Martin and Moyce 1952)'";
-      if (s.thin_film_front)
-        curves += fmt::format(", {:.6g} with lines dt 2 lw 2 title 'shallow yield-stress arrest (thin film)'",
-                              *s.thin_film_front);
-      plot("front", "Mass front position vs time",
-           "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
-      if (profile) {
-        const core::CsvTable shape = core::read_csv(run_dir / "profile.csv");
-        std::string lines = "'profile.csv' using 1:2 with steps lw 2 title 'LDD (this run, end)'";
-        if (const int c = column_of(shape, "thin_film_arrest"); c > 0)
-          lines +=
-              fmt::format(", 'profile.csv' using 1:{} with lines dt 2 lw 2 title 'shallow yield-stress arrest'", c);
-        plot("profile", "Free surface at the end of the run",
-             "set xlabel 'x [m] (from the gate)'\nset ylabel 'height [m]'\nplot " + lines + "\n");
-      }
-    } else if (s.scene == "slump") {
-      plot("spread", "Slump spread and height vs time",
-           fmt::format("set xlabel 't [s]'\nset ylabel 'length [m]'\nplot '{0}' using 1:{1} with lines lw 2 title "
-                       "'spread (diameter)', '{0}' using 1:{2} with lines lw 2 title 'height'\n",
-                       probes, col("diameter"), col("height")));
-    } else if (column_of(table, "left_wall_height") > 0) {
-      wall_height = true;
-      plot("wall_height", "Free-surface height at the left wall vs time",
-           fmt::format("set xlabel 't [s]'\nset ylabel 'height [m]'\nplot '{}' using 1:{} with lines lw 2 title "
-                       "'LDD'\n",
-                       probes, col("left_wall_height")));
+  const std::string probes = probe_file_name(s.scene);
+  const core::CsvTable table = core::read_csv(run.dir / probes);
+  const auto col = [&](std::string_view name) {
+    const int c = column_of(table, name);
+    if (c == 0) missing(run.dir / probes, name, "a column of the probe file");
+    return c;
+  };
+  if (s.scene == "dam_break") {
+    std::string curves = fmt::format("'{}' using 1:{} with lines lw 2 title 'LDD (this run)'", probes, col("front"));
+    if (run.table1)
+      curves +=
+          ", 'table1.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (LDD Table 1)', "
+          "'table1.csv' using 1:5 with points pt 6 ps 1.4 title 'seed LDD (same Δ, δt)'";
+    if (run.martin_moyce)
+      curves += ", 'martin_moyce.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (Martin and Moyce 1952)'";
+    if (s.thin_film_front)
+      curves += fmt::format(", {:.6g} with lines dt 2 lw 2 title 'shallow yield-stress arrest (thin film)'",
+                            *s.thin_film_front);
+    plot("front", "Mass front position vs time", "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
+    if (run.profile) {
+      const core::CsvTable shape = core::read_csv(run.dir / "profile.csv");
+      std::string lines = "'profile.csv' using 1:2 with steps lw 2 title 'LDD (this run, end)'";
+      if (const int c = column_of(shape, "thin_film_arrest"); c > 0)
+        lines += fmt::format(", 'profile.csv' using 1:{} with lines dt 2 lw 2 title 'shallow yield-stress arrest'", c);
+      plot("profile", "Free surface at the end of the run",
+           "set xlabel 'x [m] (from the gate)'\nset ylabel 'height [m]'\nplot " + lines + "\n");
     }
-    plot("energy", "Kinetic energy and released potential energy vs time",
-         fmt::format("set xlabel 't [s]'\nset ylabel 'energy [{0}]'\nplot '{1}' using 1:{2} with lines lw 2 title "
-                     "'kinetic energy', '{1}' using 1:{3} with lines lw 2 title 'potential energy released'\n",
-                     energy_unit, probes, col("kinetic_energy"), col("potential_energy_released")));
-    plot("volume", "Relative fluid volume drift vs time",
-         fmt::format("set xlabel 't [s]'\nset ylabel 'volume drift [-]'\nplot '{}' using 1:{} with lines lw 2 title "
-                     "'(V − V₀)/V₀'\n",
-                     probes, col("volume_drift")));
+  } else if (s.scene == "slump") {
+    plot("spread", "Slump spread and height vs time",
+         fmt::format("set xlabel 't [s]'\nset ylabel 'length [m]'\nplot '{0}' using 1:{1} with lines lw 2 title "
+                     "'spread (diameter)', '{0}' using 1:{2} with lines lw 2 title 'height'\n",
+                     probes, col("diameter"), col("height")));
+  } else if (column_of(table, "left_wall_height") > 0) {
+    run.wall_height = true;
+    plot("wall_height", "Free-surface height at the left wall vs time",
+         fmt::format("set xlabel 't [s]'\nset ylabel 'height [m]'\nplot '{}' using 1:{} with lines lw 2 title "
+                     "'LDD'\n",
+                     probes, col("left_wall_height")));
   }
+  plot("energy", "Kinetic energy and released potential energy vs time",
+       fmt::format("set xlabel 't [s]'\nset ylabel 'energy [{0}]'\nplot '{1}' using 1:{2} with lines lw 2 title "
+                   "'kinetic energy', '{1}' using 1:{3} with lines lw 2 title 'potential energy released'\n",
+                   energy_unit, probes, col("kinetic_energy"), col("potential_energy_released")));
+  plot("volume", "Relative fluid volume drift vs time",
+       fmt::format("set xlabel 't [s]'\nset ylabel 'volume drift [-]'\nplot '{}' using 1:{} with lines lw 2 title "
+                   "'(V − V₀)/V₀'\n",
+                   probes, col("volume_drift")));
+}
 
-  // ---- the page
-  std::string html = core::html_page_head("rheosim LDD report");
-  html += fmt::format("<h1>rheosim LDD report: {}</h1>\n", esc(s.case_name));
+// The run at a glance: the head table and the rules the run bent.
+std::string header_html(const RunSummary& s) {
+  std::string html = fmt::format("<h1>rheosim LDD report: {}</h1>\n", esc(s.case_name));
   if (s.status == "diverged")
     html += fmt::format("<div class=fail><b>The run diverged</b>: {}</div>\n", esc(s.message));
   html += "<table>\n";
@@ -220,79 +220,108 @@ ReportFiles write_report(const fs::path& run_dir) {
     for (const auto& w : s.warnings) html += fmt::format("<li>{}</li>\n", esc(w));
     html += "</ul></div>\n";
   }
-  if (s.free_surface) {
-    if (s.scene == "dam_break") {
-      html += "<h2>Front</h2>\n";
-      std::string caption = "Mass front x(t) from the gate of this run (front.csv)";
-      if (martin_moyce)
-        caption +=
-            "; points: the water column of Martin &amp; Moyce (1952, n² = 2) at the same a and g "
-            "(martin_moyce.csv)";
-      if (table1)
-        caption +=
-            "; points: the experiment and the seed's LDD column of LDD Table 1 where the case's Δ and δt have "
-            "one (table1.csv)";
-      if (s.thin_film_front) caption += "; dashed: the shallow yield-stress arrest front (summary thin_film_arrest)";
-      html += figure_or_note(files, "front", caption + ".");
-      if (martin_moyce) {
-        const core::CsvTable t = core::read_csv(run_dir / "martin_moyce.csv");
-        html +=
-            "<table>\n<tr><th>T = t√(2g/a)</th><th>Z = x/a, Martin &amp; Moyce</th><th>Z, this run</th>"
-            "<th>difference</th></tr>\n";
-        for (std::size_t i = 0; i < t.row_count(); ++i) {
-          const auto r = t.row(i);  // time, experiment, front, T, Z_experiment, Z, relative_error
-          html += fmt::format("<tr><td>{:.3f}</td><td>{:.3f}</td><td>{}</td><td>{}</td></tr>\n", r[3], r[4],
-                              std::isfinite(r[5]) ? fmt::format("{:.3f}", r[5]) : std::string("not reached"),
-                              std::isfinite(r[6]) ? fmt::format("{:+.1f} %", 100 * r[6]) : std::string("—"));
-        }
-        html += "</table>\n";
-      }
-      if (table1) {
-        const core::CsvTable t = core::read_csv(run_dir / "table1.csv");
-        html +=
-            "<table>\n<tr><th>t [s]</th><th>experiment [m]</th><th>this run [m]</th><th>error [m]</th>"
-            "<th>seed LDD [m]</th></tr>\n";
-        const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : std::string("—"); };
-        for (std::size_t i = 0; i < t.row_count(); ++i) {
-          const auto r = t.row(i);
-          html += fmt::format("<tr><td>{:.2f}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", r[0],
-                              cell(r[1]), cell(r[2]), cell(r[3]), cell(r[4]));
-        }
-        html += "</table>\n";
-      }
-      if (profile) {
-        html += "<h2>Final shape</h2>\n";
-        html +=
-            figure_or_note(files, "profile",
+  return html;
+}
+
+// A dam break's front against its references, with their tables, and its final shape.
+std::string dam_break_html(const RunSummary& s, const RunFolder& run, const ReportFiles& files) {
+  std::string html = "<h2>Front</h2>\n";
+  std::string caption = "Mass front x(t) from the gate of this run (front.csv)";
+  if (run.martin_moyce)
+    caption +=
+        "; points: the water column of Martin &amp; Moyce (1952, n² = 2) at the same a and g "
+        "(martin_moyce.csv)";
+  if (run.table1)
+    caption +=
+        "; points: the experiment and the seed's LDD column of LDD Table 1 where the case's Δ and δt have "
+        "one (table1.csv)";
+  if (s.thin_film_front) caption += "; dashed: the shallow yield-stress arrest front (summary thin_film_arrest)";
+  html += figure_or_note(files, "front", caption + ".");
+  if (run.martin_moyce) {
+    const core::CsvTable t = core::read_csv(run.dir / "martin_moyce.csv");
+    html +=
+        "<table>\n<tr><th>T = t√(2g/a)</th><th>Z = x/a, Martin &amp; Moyce</th><th>Z, this run</th>"
+        "<th>difference</th></tr>\n";
+    for (std::size_t i = 0; i < t.row_count(); ++i) {
+      const auto r = t.row(i);  // time, experiment, front, T, Z_experiment, Z, relative_error
+      html += fmt::format("<tr><td>{:.3f}</td><td>{:.3f}</td><td>{}</td><td>{}</td></tr>\n", r[3], r[4],
+                          std::isfinite(r[5]) ? fmt::format("{:.3f}", r[5]) : std::string("not reached"),
+                          std::isfinite(r[6]) ? fmt::format("{:+.1f} %", 100 * r[6]) : std::string("—"));
+    }
+    html += "</table>\n";
+  }
+  if (run.table1) {
+    const core::CsvTable t = core::read_csv(run.dir / "table1.csv");
+    html +=
+        "<table>\n<tr><th>t [s]</th><th>experiment [m]</th><th>this run [m]</th><th>error [m]</th>"
+        "<th>seed LDD [m]</th></tr>\n";
+    const auto cell = [](double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : std::string("—"); };
+    for (std::size_t i = 0; i < t.row_count(); ++i) {
+      const auto r = t.row(i);
+      html += fmt::format("<tr><td>{:.2f}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", r[0], cell(r[1]),
+                          cell(r[2]), cell(r[3]), cell(r[4]));
+    }
+    html += "</table>\n";
+  }
+  if (run.profile) {
+    html += "<h2>Final shape</h2>\n";
+    html += figure_or_note(files, "profile",
                            s.thin_film_length ? "Free surface at the end of the run, the top of the fluid nodes per "
                                                 "Δ column (profile.csv); dashed: the shallow yield-stress arrest "
                                                 "h = √(2τ₀(ℓ − s)/(ρg)) of the same reservoir."
                                               : "Free surface at the end of the run, the top of the fluid nodes "
                                                 "per Δ column (profile.csv).");
-      }
-    } else if (s.scene == "slump") {
-      html += "<h2>Spread</h2>\n";
-      html += figure_or_note(files, "spread", "Spread (diameter) and height of the slump against time (spread.csv).");
-    } else if (wall_height) {
-      html += "<h2>Free surface at the left wall</h2>\n";
-      html += figure_or_note(files, "wall_height", "Free-surface height at the left wall (column.csv).");
-    }
-    html += "<h2>Energy and volume</h2>\n";
-    html += figure_or_note(files, "energy",
-                           "Kinetic energy against the potential energy released: with no energy source the "
-                           "first stays below the second (energy_gain in the table).");
-    html += figure_or_note(files, "volume", "Relative volume drift of the fluid nodes.");
-  } else {
-    html += "<h2>Centre lines and streamlines</h2>\n";
-    for (const char* name : {"centerlines", "streamlines"})
-      html +=
-          fs::exists(run_dir / (std::string(name) + ".png"))
-              ? fmt::format(
-                    "<figure><img src=\"{0}.png\" alt=\"{0}\"><figcaption>{0}.png, drawn by the run "
-                    "({0}.gp)</figcaption></figure>\n",
-                    name)
-              : fmt::format("<p class=warn>{0}.png was not drawn; run <code>gnuplot {0}.gp</code> here.</p>\n", name);
   }
+  return html;
+}
+
+// A free surface's figures: the scene's probe, then energy and volume.
+std::string free_surface_html(const RunSummary& s, const RunFolder& run, const ReportFiles& files) {
+  std::string html;
+  if (s.scene == "dam_break") {
+    html += dam_break_html(s, run, files);
+  } else if (s.scene == "slump") {
+    html += "<h2>Spread</h2>\n";
+    html += figure_or_note(files, "spread", "Spread (diameter) and height of the slump against time (spread.csv).");
+  } else if (run.wall_height) {
+    html += "<h2>Free surface at the left wall</h2>\n";
+    html += figure_or_note(files, "wall_height", "Free-surface height at the left wall (column.csv).");
+  }
+  html += "<h2>Energy and volume</h2>\n";
+  html += figure_or_note(files, "energy",
+                         "Kinetic energy against the potential energy released: with no energy source the "
+                         "first stays below the second (energy_gain in the table).");
+  html += figure_or_note(files, "volume", "Relative volume drift of the fluid nodes.");
+  return html;
+}
+
+// A cavity's centre-line and streamline plots, drawn by the run.
+std::string cavity_html(const RunFolder& run) {
+  std::string html = "<h2>Centre lines and streamlines</h2>\n";
+  for (const char* name : {"centerlines", "streamlines"})
+    html += fs::exists(run.dir / (std::string(name) + ".png"))
+                ? fmt::format(
+                      "<figure><img src=\"{0}.png\" alt=\"{0}\"><figcaption>{0}.png, drawn by the run "
+                      "({0}.gp)</figcaption></figure>\n",
+                      name)
+                : fmt::format("<p class=warn>{0}.png was not drawn; run <code>gnuplot {0}.gp</code> here.</p>\n", name);
+  return html;
+}
+
+}  // namespace
+
+ReportFiles write_report(const fs::path& run_dir) {
+  const RunSummary s = read_run_summary(core::run_summary_file(run_dir));
+  ReportFiles files;
+  RunFolder run{run_dir};
+  run.table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
+  run.martin_moyce = s.scene == "dam_break" && fs::exists(run_dir / "martin_moyce.csv");
+  run.profile = s.scene == "dam_break" && fs::exists(run_dir / "profile.csv");
+  if (s.free_surface) write_free_surface_plots(s, run, files);
+
+  std::string html = core::html_page_head("rheosim LDD report");
+  html += header_html(s);
+  html += s.free_surface ? free_surface_html(s, run, files) : cavity_html(run);
   html +=
       "<p class=small>Every number above is in summary.json or the CSV files of this folder; the node "
       "clouds are in frames/ (nodes.pvd for ParaView).</p>\n";
