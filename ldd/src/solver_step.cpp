@@ -372,11 +372,10 @@ void Solver::correct_velocity() {
   }
 }
 
-// 5. Divergence checks before anything is committed.
+// 5. Divergence checks before anything is committed (step.hpp, check_step).
 void Solver::check_divergence(double next_time, const numerics::KrylovResult& pressure, bool velocity_converged,
                               CavityStepStats& stats) const {
   const std::size_t n = kinds_.size();
-  const double dt = params_.time_step;
   double max_speed_squared = 0;
   bool finite = true;
   for (std::size_t i = 0; i < n; ++i) {
@@ -384,26 +383,15 @@ void Solver::check_divergence(double next_time, const numerics::KrylovResult& pr
     if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(new_pressure_[i])) finite = false;
     max_speed_squared = std::max(max_speed_squared, u * u + v * v);
   }
-  stats.max_speed = std::sqrt(max_speed_squared);
-  stats.courant = stats.max_speed * dt / params_.spacing;
-  if (!finite)
-    throw DivergenceError(
-        fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", next_time, steps_ + 1));
-  if (stats.courant > params_.max_courant)
-    throw DivergenceError(fmt::format(
-        "Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = {:.4g} m/s): reduce "
-        "time.step",
-        stats.courant, params_.max_courant, next_time, steps_ + 1, stats.max_speed));
-  if (!pressure.converged && !(pressure.relative_residual < 1e3 * params_.pressure_tolerance))
-    throw DivergenceError(fmt::format(
-        "pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after {} iterations "
-        "(tolerance {:.3g})",
-        next_time, steps_ + 1, pressure.relative_residual, pressure.iterations, params_.pressure_tolerance));
-  if (!velocity_converged && !(stats.velocity_residual < 1e3 * params_.velocity_tolerance))
-    throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
-                                      next_time, steps_ + 1, stats.velocity_residual));
-  stats.pressure_accepted_unconverged = !pressure.converged;
-  stats.velocity_accepted_unconverged = !velocity_converged;
+  StepCheck check;
+  check.next_time = next_time;
+  check.step = steps_ + 1;
+  check.finite = finite;
+  check.max_speed = std::sqrt(max_speed_squared);
+  check.pressure = pressure;
+  check.velocity_converged = velocity_converged;
+  check.pressure_failure = [&] { return fmt::format("(tolerance {:.3g})", params_.pressure_tolerance); };
+  check_step(check, params_, stats);
 }
 
 // 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler. In lattice mode the

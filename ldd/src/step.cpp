@@ -29,4 +29,29 @@ void StepParams::check(std::string_view solver, std::size_t dimension) const {
   require(neighbour_skin >= 0 && neighbour_skin <= 1, "neighbour_skin", neighbour_skin, "[0, 1]");
 }
 
+void check_step(const StepCheck& c, const StepParams& params, StepStats& stats) {
+  stats.max_speed = c.max_speed;
+  stats.courant = stats.max_speed * params.time_step / params.spacing;
+  if (!c.finite)
+    throw DivergenceError(
+        fmt::format("NaN or infinite velocity/pressure at t = {:.6g} s (step {})", c.next_time, c.step));
+  if (stats.courant > params.max_courant)
+    throw DivergenceError(fmt::format(
+        "Courant number max|u|·δt/Δ = {:.3g} exceeds {:.3g} at t = {:.6g} s (step {}, max |u| = {:.4g} m/s{}): reduce "
+        "time.step",
+        stats.courant, params.max_courant, c.next_time, c.step, stats.max_speed,
+        c.where_fastest ? c.where_fastest() : std::string()));
+  if (!c.pressure.converged && !(c.pressure.relative_residual < 1e3 * params.pressure_tolerance))
+    throw DivergenceError(
+        fmt::format("pressure solve failed at t = {:.6g} s (step {}): relative residual {:.3g} after "
+                    "{} iterations {}",
+                    c.next_time, c.step, c.pressure.relative_residual, c.pressure.iterations,
+                    c.pressure_failure ? c.pressure_failure() : std::string()));
+  if (!c.velocity_converged && !(stats.velocity_residual < 1e3 * params.velocity_tolerance))
+    throw DivergenceError(fmt::format("velocity solve failed at t = {:.6g} s (step {}): relative residual {:.3g}",
+                                      c.next_time, c.step, stats.velocity_residual));
+  stats.pressure_accepted_unconverged = !c.pressure.converged;
+  stats.velocity_accepted_unconverged = !c.velocity_converged;
+}
+
 }  // namespace rheosim::ldd

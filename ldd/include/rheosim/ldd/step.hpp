@@ -6,14 +6,17 @@
 // with their scenes' own settings; where a free surface needs another default, FreeSurfaceParams'
 // constructor sets it.
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/numerics/amg.hpp"
+#include "rheosim/numerics/krylov.hpp"
 
 namespace rheosim::ldd {
 
@@ -63,6 +66,22 @@ struct StepStats {
   // 1000× the tolerance; beyond that the step stops as diverged).
   bool pressure_accepted_unconverged = false, velocity_accepted_unconverged = false;
 };
+
+// Phase 5 of both steps, before anything is committed: what the checks read.
+struct StepCheck {
+  double next_time = 0;             // [s]
+  std::size_t step = 0;             // this step's number
+  bool finite = true;               // every new velocity and pressure
+  double max_speed = 0;             // over the nodes that limit the Courant number [m/s]
+  numerics::KrylovResult pressure;  // the PPE's solve
+  bool velocity_converged = true;   // eq. 19's solves (their residual is in the stats)
+  // What the solver adds to a message: where the fastest node is (" at a wall node at …"), and
+  // after "… after N iterations " why a pressure solve may have failed ("(tolerance 1e-6)").
+  std::function<std::string()> where_fastest, pressure_failure;
+};
+// Sets stats' max_speed, courant and accepted-unconverged flags; throws DivergenceError for a
+// non-finite value, a Courant number above params.max_courant, or a solve 10³ above its tolerance.
+void check_step(const StepCheck& check, const StepParams& params, StepStats& stats);
 
 // Wall-clock seconds per phase, accumulated over all steps (for the benchmark and summary.json).
 struct PhaseTimes {
