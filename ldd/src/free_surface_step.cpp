@@ -100,28 +100,6 @@ void FreeSurfaceSolver::update_operators(FreeSurfaceStats& stats) {
   }
 }
 
-// ∇u (eq. 14) of a velocity field on the current operators.
-void FreeSurfaceSolver::velocity_gradient_of(std::span<const double> u, std::span<double> out) const {
-  const auto dim = static_cast<std::size_t>(dim_);
-  const std::size_t dd = dim * dim;
-  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
-  const numerics::NeighbourList& nb = neighbours_;
-  const Operators& ops = operators_;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    double grad[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // grad[a·dim + b] = ∂u_a/∂x_b
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-      const std::size_t j = nb.indices[k];
-      for (std::size_t a = 0; a < dim; ++a) {
-        const double du = u[dim * j + a] - u[dim * i + a];
-        for (std::size_t b = 0; b < dim; ++b) grad[a * dim + b] += ops.gradient[k * dim + b] * du;
-      }
-    }
-    for (std::size_t c = 0; c < dd; ++c) out[dd * i + c] = grad[c];
-  }
-}
-
 // 2. ∇u (eq. 14), γ̇ = √(2E:E) (eq. 5), μ(γ̇), explicit ∇·(μ(∇u)ᵀ).
 void FreeSurfaceSolver::update_viscosity() {
   const auto dim = static_cast<std::size_t>(dim_);
@@ -129,7 +107,7 @@ void FreeSurfaceSolver::update_viscosity() {
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   velocity_gradient_.assign(dd * n, 0.0);
-  velocity_gradient_of(velocity_, velocity_gradient_);
+  velocity_gradient_of(velocity_, velocity_gradient_, dim_);
   for (std::size_t i = 0; i < n; ++i) {
     const double* grad = &velocity_gradient_[dd * i];
     double e2 = 0;  // E:E
@@ -460,7 +438,7 @@ void FreeSurfaceSolver::commit_and_advect(double next_time) {
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const double dt = params_.time_step;
   pressure_.swap(new_pressure_);
-  velocity_gradient_of(new_velocity_, velocity_gradient_);  // ∇u_n, to carry velocities along PBD shifts
+  velocity_gradient_of(new_velocity_, velocity_gradient_, dim_);  // ∇u_n, to carry velocities along PBD shifts
   const double older = first_step_ ? 0.0 : 0.5;
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {

@@ -23,6 +23,27 @@ const char* kind_name(NodeKind k) {
   }
 }
 
+void NodeState::velocity_gradient_of(std::span<const double> u, std::span<double> out, int dimension) const {
+  const auto dim = static_cast<std::size_t>(dimension);
+  const std::size_t dd = dim * dim;
+  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double grad[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // grad[a·dim + b] = ∂u_a/∂x_b
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      for (std::size_t a = 0; a < dim; ++a) {
+        const double du = u[dim * j + a] - u[dim * i + a];
+        for (std::size_t b = 0; b < dim; ++b) grad[a * dim + b] += ops.gradient[k * dim + b] * du;
+      }
+    }
+    for (std::size_t c = 0; c < dd; ++c) out[dd * i + c] = grad[c];
+  }
+}
+
 SolverState NodeState::common_state() const {
   SolverState s;
   s.time = time_;

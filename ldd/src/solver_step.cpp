@@ -95,25 +95,14 @@ void Solver::update_operators(CavityStepStats& stats) {
 // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇).
 void Solver::update_viscosity() {
   const std::size_t n = kinds_.size();
-  const auto count = static_cast<std::ptrdiff_t>(n);
-  const numerics::NeighbourList& nb = neighbours_;
-  const Operators& ops = operators_;
   velocity_gradient_.resize(4 * n);  // per node: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y
   divergence_.resize(n);
+  velocity_gradient_of(velocity_, velocity_gradient_, 2);
+  const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    double g[4] = {0, 0, 0, 0};
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-      const std::size_t j = nb.indices[k];
-      const double du = velocity_[2 * j] - velocity_[2 * i], dv = velocity_[2 * j + 1] - velocity_[2 * i + 1];
-      const double cx = ops.gradient[2 * k], cy = ops.gradient[2 * k + 1];
-      g[0] += cx * du;
-      g[1] += cy * du;
-      g[2] += cx * dv;
-      g[3] += cy * dv;
-    }
-    for (int d = 0; d < 4; ++d) velocity_gradient_[4 * i + static_cast<std::size_t>(d)] = g[d];
+    const double* g = &velocity_gradient_[4 * i];
     const double shear_xy = 0.5 * (g[1] + g[2]);
     shear_rate_[i] = std::sqrt(2.0 * (g[0] * g[0] + g[3] * g[3] + 2.0 * shear_xy * shear_xy));  // eq. 5
   }
@@ -402,7 +391,6 @@ void Solver::commit_and_advect() {
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step;
   const numerics::NeighbourList& nb = neighbours_;
-  const Operators& ops = operators_;
   pressure_.swap(new_pressure_);
   if (!next_momentum_increment_.empty()) {
     older_momentum_increment_.swap(momentum_increment_);
@@ -412,21 +400,7 @@ void Solver::commit_and_advect() {
   // gradient-corrected interpolation); the quadratic interpolation fits its own.
   const bool needs_velocity_gradient =
       params_.reordering == Reordering::density || params_.interpolation == LatticeInterpolation::gradient_corrected;
-#pragma omp parallel for schedule(static) if (needs_velocity_gradient)
-  for (std::ptrdiff_t s = 0; s < (needs_velocity_gradient ? count : 0); ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    double g[4] = {0, 0, 0, 0};
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-      const std::size_t j = nb.indices[k];
-      const double du = new_velocity_[2 * j] - new_velocity_[2 * i],
-                   dv = new_velocity_[2 * j + 1] - new_velocity_[2 * i + 1];
-      g[0] += ops.gradient[2 * k] * du;
-      g[1] += ops.gradient[2 * k + 1] * du;
-      g[2] += ops.gradient[2 * k] * dv;
-      g[3] += ops.gradient[2 * k + 1] * dv;
-    }
-    for (int d = 0; d < 4; ++d) velocity_gradient_[4 * i + static_cast<std::size_t>(d)] = g[d];
-  }
+  if (needs_velocity_gradient) velocity_gradient_of(new_velocity_, velocity_gradient_, 2);
   const double older_weight = first_step_ ? 0.0 : 0.5;
   // Displacement of every node over the step (eq. 20); walls stay.
   const auto displacement = [&](std::size_t j, std::size_t d) {

@@ -191,7 +191,6 @@ class FreeSurfaceSolver : public NodeState {
                         bool velocity_converged, FreeSurfaceStats& stats) const;
   void commit_and_advect(double next_time);
   [[nodiscard]] double largest_pbd_shift() const;
-  void velocity_gradient_of(std::span<const double> velocity, std::span<double> gradient) const;
 
   void rebuild_neighbours();
   void keep_laplacian_positive();

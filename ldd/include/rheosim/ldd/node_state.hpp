@@ -56,6 +56,9 @@ class NodeState {
   // turned fluid or back, a neighbour list or a kept AMG matrix that does not fit), before
   // anything is changed.
   void restore_common_state(SolverState& state, int dimension, const char* who);
+  // ∇u (eq. 14) of a velocity field on the current operators: per node ∂u_a/∂x_b at
+  // out[dimension² i + dimension a + b].
+  void velocity_gradient_of(std::span<const double> u, std::span<double> out, int dimension) const;
 
   std::vector<NodeKind> kinds_;
   std::vector<double> positions_, velocity_, previous_velocity_, pressure_, shear_rate_, viscosity_;

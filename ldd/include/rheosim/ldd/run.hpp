@@ -45,8 +45,8 @@ struct RunOutcome {
   double ms_per_step = 0;
 };
 
-// When an LDD run stops before its end: after step_limit steps of this process, or once wall_time_limit seconds have passed, the run
-// writes its checkpoint and returns status "interrupted" (0: no limit).
+// When an LDD run stops before its end: after step_limit steps of this process, or once wall_time_limit seconds have
+// passed, the run writes its checkpoint and returns status "interrupted" (0: no limit).
 struct RunControl {
   std::size_t step_limit = 0;
   double wall_time_limit = 0;        // [s]
