@@ -131,12 +131,6 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
   }
 }
 
-std::size_t FreeSurfaceSolver::fluid_node_count() const {
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < kinds_.size(); ++i) count += is_fluid(i) ? 1 : 0;
-  return count;
-}
-
 SolverState FreeSurfaceSolver::state() const { return common_state(); }
 
 void FreeSurfaceSolver::restore(SolverState state) {

@@ -44,6 +44,12 @@ void NodeState::velocity_gradient_of(std::span<const double> u, std::span<double
   }
 }
 
+std::size_t NodeState::fluid_node_count() const {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < kinds_.size(); ++i) count += is_fluid(i) ? 1 : 0;
+  return count;
+}
+
 SolverState NodeState::common_state() const {
   SolverState s;
   s.time = time_;

@@ -98,10 +98,6 @@ Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;
 
-std::size_t Solver::fluid_node_count() const {
-  return static_cast<std::size_t>(std::count(kinds_.begin(), kinds_.end(), NodeKind::interior));
-}
-
 void Solver::rebuild_neighbours() {
   neighbours_ = numerics::find_neighbours(positions_, 2, support_radius_ + params_.neighbour_skin * params_.spacing);
 }

@@ -144,7 +144,6 @@ class FreeSurfaceSolver : public NodeState {
   FreeSurfaceStats step();
 
   [[nodiscard]] int dimension() const { return dim_; }
-  [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const FreeSurfaceParams& params() const { return params_; }
 
   [[nodiscard]] SolverState state() const;

@@ -37,6 +37,7 @@ class NodeState {
   [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= NodeKind::splash; }
+  [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
   [[nodiscard]] std::span<const double> positions() const { return positions_; }    // interleaved [m]

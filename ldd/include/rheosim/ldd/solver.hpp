@@ -87,7 +87,6 @@ class Solver : public NodeState {
   CavityStepStats step();
 
   [[nodiscard]] static constexpr int dimension() { return 2; }
-  [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] const SolverParams& params() const { return params_; }
 
   // The state a checkpoint keeps (node_state.hpp), with the momentum solves' initial-guess
