@@ -163,43 +163,33 @@ struct SeriesAnalysis {
   std::map<std::string, std::vector<std::pair<double, FitResult>>> best_fits;
 };
 
-// One flow curve: the rim stress and validity of its points (written into them), the fits ranked
-// by AICc, the yield stresses, into `out`.
-void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysisInputs& in, SeriesAnalysis& out) {
-  std::sort(s.point_indices.begin(), s.point_indices.end(), [&](std::size_t a, std::size_t b) {
-    return number(points[a], "shear_rate") < number(points[b], "shear_rate");
-  });
-  nlohmann::ordered_json sj;
-  sj["label"] = s.label;
-  sj["fluid"] = s.fluid;
-  sj["volume_fraction"] = s.volume_fraction;
-  sj["points"] = s.point_indices.size();
-  auto warnings = nlohmann::ordered_json::array();
-  const auto& fluid = find_fluid(in, s.fluid).properties;
+// The measured points of one flow curve, by rate.
+struct FlowCurveData {
+  std::vector<double> rates, torques, relative_errors;  // relative_errors: empty unless every point has one
+};
 
-  std::vector<double> rates, torques, relative_errors;
+FlowCurveData flow_curve_data(const Series& s, const nlohmann::ordered_json& points) {
+  FlowCurveData d;
   bool all_errors = true;
   for (std::size_t i : s.point_indices) {
-    rates.push_back(number(points[i], "shear_rate"));
-    torques.push_back(number(points[i], "torque"));
+    d.rates.push_back(number(points[i], "shear_rate"));
+    d.torques.push_back(number(points[i], "torque"));
     const double se = number(points[i], "torque_std_error");
     all_errors = all_errors && se > 0;
-    relative_errors.push_back(se / torques.back());
+    d.relative_errors.push_back(se / d.torques.back());
   }
-  if (!all_errors) relative_errors.clear();
+  if (!all_errors) d.relative_errors.clear();
+  return d;
+}
 
-  if (rates.size() < 2) {
-    warnings.push_back(fmt::format("{}: {} finished point(s): the plate correction and the fits need at least 2",
-                                   s.label, rates.size()));
-    sj["warnings"] = warnings;
-    out.series.push_back(sj);
-    return;
-  }
-
-  const RimStressCurve curve = rim_stress_curve(in.plate, rates, torques, relative_errors);
-  std::vector<bool> valid(rates.size(), true);
+// The rim stress of each point and its validity checks, written into the points; returns which
+// points pass the checks.
+std::vector<bool> add_rim_stress_and_validity(const Series& s, const FlowCurveData& d, const RimStressCurve& curve,
+                                              nlohmann::ordered_json& points, const RunAnalysisInputs& in) {
+  const auto& fluid = find_fluid(in, s.fluid).properties;
+  std::vector<bool> valid(d.rates.size(), true);
   const double particle_density = in.particles ? in.particles->density : 0.0;
-  for (std::size_t k = 0; k < rates.size(); ++k) {
+  for (std::size_t k = 0; k < d.rates.size(); ++k) {
     auto& p = points[s.point_indices[k]];
     p["log_slope"] = finite_or_null(curve.log_slope[k]);
     p["log_slope_std_error"] = finite_or_null(curve.log_slope_std_error[k]);
@@ -209,11 +199,11 @@ void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysis
     p["viscosity"] = curve.corrected_viscosity[k];
     // Validity at this point: the sample's density is the mixture's, its viscosity the measured one.
     PointConditions cond;
-    cond.rim_shear_rate = rates[k];
+    cond.rim_shear_rate = d.rates[k];
     cond.density = (1.0 - s.volume_fraction) * fluid.density + s.volume_fraction * particle_density;
     cond.viscosity = curve.corrected_viscosity[k] > 0 ? curve.corrected_viscosity[k] : curve.apparent_viscosity[k];
     cond.fluid_density = fluid.density;
-    cond.fluid_viscosity = fluid.rheology->viscosity(rates[k]);
+    cond.fluid_viscosity = fluid.rheology->viscosity(d.rates[k]);
     if (s.volume_fraction > 0 && in.particles) {
       cond.particle_diameter = in.particles->diameter;
       cond.particle_density = in.particles->density;
@@ -235,45 +225,60 @@ void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysis
       valid[k] = v.is_valid();
     }
   }
+  return valid;
+}
 
-  // Fit only the points that pass the validity checks: a torque raised by secondary flow or
-  // particle inertia is not the material's flow curve (it reads as shear thickening or a yield
-  // stress). With fewer than 3 valid points every point is fitted, with a warning.
+// The points the fits use (each marked used_in_fits): only those that pass the validity checks,
+// since a torque raised by secondary flow or particle inertia is not the material's flow curve
+// (it reads as shear thickening or a yield stress); with fewer than 3 valid points every point,
+// with a warning.
+struct FitPoints {
+  std::vector<double> rates, stress, torques;
+};
+FitPoints choose_fit_points(const Series& s, const FlowCurveData& d, const RimStressCurve& curve,
+                            const std::vector<bool>& valid, nlohmann::ordered_json& points,
+                            nlohmann::ordered_json& warnings) {
   const auto valid_count = static_cast<std::size_t>(std::count(valid.begin(), valid.end(), true));
-  const bool fit_valid_only = valid_count >= 3 && valid_count < rates.size();
-  std::vector<double> fit_rates, fit_stress, fit_torques;
-  for (std::size_t k = 0; k < rates.size(); ++k) {
+  const bool fit_valid_only = valid_count >= 3 && valid_count < d.rates.size();
+  FitPoints f;
+  for (std::size_t k = 0; k < d.rates.size(); ++k) {
     const bool used = !fit_valid_only || valid[k];
     points[s.point_indices[k]]["used_in_fits"] = used;
     if (!used) continue;
-    fit_rates.push_back(rates[k]);
-    fit_stress.push_back(curve.corrected_stress[k]);
-    fit_torques.push_back(torques[k]);
+    f.rates.push_back(d.rates[k]);
+    f.stress.push_back(curve.corrected_stress[k]);
+    f.torques.push_back(d.torques[k]);
   }
   if (fit_valid_only)
     warnings.push_back(
         fmt::format("{}: {} of {} points fail the validity checks (see the point table) and are left "
                     "out of the fits and yield-stress estimates",
-                    s.label, rates.size() - valid_count, rates.size()));
-  else if (valid_count < rates.size())
+                    s.label, d.rates.size() - valid_count, d.rates.size()));
+  else if (valid_count < d.rates.size())
     warnings.push_back(
         fmt::format("{}: {} of {} points fail the validity checks; too few valid points remain, so all "
                     "are fitted: read the fits and yield stresses with that in mind",
-                    s.label, rates.size() - valid_count, rates.size()));
-  sj["fitted_points"] = fit_rates.size();
+                    s.label, d.rates.size() - valid_count, d.rates.size()));
+  return f;
+}
 
-  // Every flow model on (γ̇_R, τ_R), ranked by AICc.
+// Every flow model on (γ̇_R, τ_R), ranked by AICc, into out.fits; the best one into sj and
+// out.best_fits. Returns the fits and their ranking.
+std::pair<std::vector<FitResult>, std::vector<ModelRanking>> fit_and_rank(const Series& s, const FitPoints& f,
+                                                                          nlohmann::ordered_json& sj,
+                                                                          nlohmann::ordered_json& warnings,
+                                                                          SeriesAnalysis& out) {
   std::vector<FitResult> fits;
   for (const auto& name : builtin_flow_models().names()) {
     try {
-      fits.push_back(fit_flow_curve(name, fit_rates, fit_stress));
+      fits.push_back(fit_flow_curve(name, f.rates, f.stress));
     } catch (const std::exception& e) {
       warnings.push_back(fmt::format("{}: the {} fit failed: {}", s.label, name, e.what()));
     }
   }
-  const auto ranking = rank_by_aic(fits);
+  auto ranking = rank_by_aic(fits);
   std::vector<nlohmann::ordered_json> fit_entries;
-  for (const auto& f : fits) fit_entries.push_back(fit_json(f, s));
+  for (const auto& fit : fits) fit_entries.push_back(fit_json(fit, s));
   for (std::size_t r = 0; r < ranking.size(); ++r) {
     auto& fj = fit_entries[ranking[r].fit_index];
     fj["rank"] = r + 1;
@@ -286,12 +291,18 @@ void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysis
     sj["best_model"] = best.model_name;
     out.best_fits[s.fluid].emplace_back(s.volume_fraction, best);
   }
+  return {std::move(fits), std::move(ranking)};
+}
 
-  // Yield stress, four ways kept apart (analysis.hpp §3).
+// Yield stress, four ways kept apart (analysis.hpp §3): three fits' intercepts with the Akaike
+// weight of their model, and the seed's straight torque line (kept in sj).
+void add_yield_stresses(const Series& s, const FitPoints& f, const std::vector<FitResult>& fits,
+                        const std::vector<ModelRanking>& ranking, const RunAnalysisInputs& in,
+                        nlohmann::ordered_json& sj, SeriesAnalysis& out) {
   for (const auto& [model, method] :
        {std::pair{"bingham", "bingham_intercept"}, std::pair{"casson", "casson_intercept"},
         std::pair{"herschel_bulkley", "herschel_bulkley"}}) {
-    const auto it = std::find_if(fits.begin(), fits.end(), [&](const FitResult& f) { return f.model_name == model; });
+    const auto it = std::find_if(fits.begin(), fits.end(), [&](const FitResult& x) { return x.model_name == model; });
     if (it == fits.end()) continue;
     auto yj = yield_json(yield_stress_from_fit(*it, method), s);
     // How much the data support the model the estimate comes from (an intercept of a model
@@ -301,7 +312,7 @@ void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysis
       if (r.fit_index == index) yj["akaike_weight"] = finite_or_null(r.weight);
     out.yields.push_back(yj);
   }
-  const TorqueLineFit line = fit_torque_line(in.plate, fit_rates, fit_torques);
+  const TorqueLineFit line = fit_torque_line(in.plate, f.rates, f.torques);
   out.yields.push_back(yield_json(line.yield_stress, s));
   sj["torque_line"] = {{"intercept", line.intercept},
                        {"intercept_std_error", finite_or_null(line.intercept_std_error)},
@@ -310,6 +321,34 @@ void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysis
                        {"plastic_viscosity", line.plastic_viscosity},
                        {"plastic_viscosity_ci95", interval(line.plastic_viscosity_ci95)},
                        {"residuals", line.residuals}};
+}
+
+// One flow curve: the rim stress and validity of its points (written into them), the fits ranked
+// by AICc, the yield stresses, into `out`.
+void analyse_series(Series& s, nlohmann::ordered_json& points, const RunAnalysisInputs& in, SeriesAnalysis& out) {
+  std::sort(s.point_indices.begin(), s.point_indices.end(), [&](std::size_t a, std::size_t b) {
+    return number(points[a], "shear_rate") < number(points[b], "shear_rate");
+  });
+  nlohmann::ordered_json sj;
+  sj["label"] = s.label;
+  sj["fluid"] = s.fluid;
+  sj["volume_fraction"] = s.volume_fraction;
+  sj["points"] = s.point_indices.size();
+  auto warnings = nlohmann::ordered_json::array();
+  const FlowCurveData d = flow_curve_data(s, points);
+  if (d.rates.size() < 2) {
+    warnings.push_back(fmt::format("{}: {} finished point(s): the plate correction and the fits need at least 2",
+                                   s.label, d.rates.size()));
+    sj["warnings"] = warnings;
+    out.series.push_back(sj);
+    return;
+  }
+  const RimStressCurve curve = rim_stress_curve(in.plate, d.rates, d.torques, d.relative_errors);
+  const std::vector<bool> valid = add_rim_stress_and_validity(s, d, curve, points, in);
+  const FitPoints f = choose_fit_points(s, d, curve, valid, points, warnings);
+  sj["fitted_points"] = f.rates.size();
+  const auto [fits, ranking] = fit_and_rank(s, f, sj, warnings, out);
+  add_yield_stresses(s, f, fits, ranking, in, sj, out);
   sj["warnings"] = warnings;
   out.series.push_back(sj);
 }
