@@ -27,9 +27,134 @@ double FreeSurfaceSolver::kernel_density(std::size_t i) const {
   return rho;
 }
 
-void FreeSurfaceSolver::classify() {
+// What a fluid node sees within the search radius: the directions to its neighbours, the
+// offset of its fluid neighbours' centroid, the distinct normals of the walls nearby, and the
+// counts and kernel weight the surface criteria read.
+struct detail::Surroundings {
+  static constexpr std::size_t max_directions = 96;
+  // No initialisers: survey() writes every member it reads (a zeroed 2.4 kB per node per step
+  // doubled the classification's cost).
+  double seen[3 * max_directions];
+  std::size_t directions_seen, walls_near, within_search, within_support;
+  double centroid[3];
+  double wall_normals[3][3];  // distinct normals of the wall nodes nearby (the first walls_near)
+  double fluid_weight;        // Σ W_ij over fluid neighbours: what the PPE row actually couples to
+};
+
+namespace {
+
+using detail::Surroundings;
+
+// The fluid neighbours' centroid offset, normalised by all neighbours (walls included: the wall
+// nodes stand in for missing fluid); next to a wall the wall-normal part of it is the wall's
+// doing, not a free surface's, so it is projected out (Gram–Schmidt on the normals).
+double wall_projected_offset(Surroundings& at, std::size_t dim) {
+  double basis[3][3] = {};
+  std::size_t rank = 0;
+  for (std::size_t w = 0; w < at.walls_near; ++w) {
+    double v[3] = {at.wall_normals[w][0], at.wall_normals[w][1], at.wall_normals[w][2]};
+    for (std::size_t b = 0; b < rank; ++b) {
+      double dot = 0;
+      for (std::size_t d = 0; d < dim; ++d) dot += v[d] * basis[b][d];
+      for (std::size_t d = 0; d < dim; ++d) v[d] -= dot * basis[b][d];
+    }
+    double length = 0;
+    for (std::size_t d = 0; d < dim; ++d) length += v[d] * v[d];
+    length = std::sqrt(length);
+    if (length < 0.3) continue;
+    for (std::size_t d = 0; d < dim; ++d) basis[rank][d] = v[d] / length;
+    ++rank;
+  }
+  for (std::size_t b = 0; b < rank; ++b) {
+    double dot = 0;
+    for (std::size_t d = 0; d < dim; ++d) dot += at.centroid[d] * basis[b][d];
+    for (std::size_t d = 0; d < dim; ++d) at.centroid[d] -= dot * basis[b][d];
+  }
+  double offset = 0;
+  for (std::size_t d = 0; d < dim; ++d) offset += at.centroid[d] * at.centroid[d];
+  return std::sqrt(offset) / static_cast<double>(at.within_search);
+}
+
+// Empty-cone test: some probe direction with no neighbour (fluid or wall) within the cone
+// half-angle of it means a void beside the node — a surface, also under an overhang where the
+// centroid stays balanced (the dam-break toe).
+bool has_empty_cone(const Surroundings& at, std::span<const double> probe_directions, std::size_t dim,
+                    double cone_cosine) {
+  const std::size_t directions_seen = at.directions_seen, walls_near = at.walls_near;
+  const double* seen = at.seen;
+  std::size_t last_cover = 0;  // neighbouring probes are mostly covered by the same direction
+  bool empty_cone = false;
+  for (std::size_t q = 0; q + dim <= probe_directions.size() && !empty_cone; q += dim) {
+    bool covered = false;
+    // Directions into a nearby wall are covered by the wall itself (its nodes may sit up to
+    // ~1.5 Δ away on a sloped or curved boundary such as the Abrams mould).
+    for (std::size_t w = 0; w < walls_near && !covered; ++w) {
+      double dot = 0;
+      for (std::size_t d = 0; d < dim; ++d) dot -= probe_directions[q + d] * at.wall_normals[w][d];
+      covered = dot > 0.3;
+    }
+    for (std::size_t tried = 0; tried < directions_seen && !covered; ++tried) {
+      const std::size_t m = (last_cover + tried) % directions_seen;
+      double dot = 0;
+      for (std::size_t d = 0; d < dim; ++d) dot += probe_directions[q + d] * seen[3 * m + d];
+      covered = dot > cone_cosine;
+      if (covered) last_cover = m;
+    }
+    empty_cone = !covered;
+  }
+  return empty_cone;
+}
+
+}  // namespace
+
+// A fluid node's surroundings within the search radius (r2: its square; h2: the support's).
+void FreeSurfaceSolver::survey(std::size_t i, double r2, double h2, Surroundings& at) const {
   const auto dim = static_cast<std::size_t>(dim_);
   const numerics::NeighbourList& nb = neighbours_;
+  // Counters and sums in locals (kept in registers: through `at` every update would be a store
+  // the compiler cannot prove does not alias `at.seen`), copied out at the end.
+  std::size_t directions_seen = 0, walls_near = 0, within_search = 0, within_support = 0;
+  double centroid[3] = {0, 0, 0};
+  double fluid_weight = 0;
+  for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+    const std::size_t j = nb.indices[k];
+    const double r = detail::squared_distance(&positions_[dim * i], &positions_[dim * j], dim);
+    if (r >= r2) continue;
+    ++within_search;
+    if (r < h2) ++within_support;
+    if (r > 0 && directions_seen < Surroundings::max_directions) {
+      const double inverse = 1.0 / std::sqrt(r);
+      for (std::size_t d = 0; d < dim; ++d)
+        at.seen[directions_seen * 3 + d] = (positions_[dim * j + d] - positions_[dim * i + d]) * inverse;
+      ++directions_seen;
+    }
+    if (is_fluid(j)) {
+      fluid_weight += weight(std::sqrt(r), support_radius_);
+      for (std::size_t d = 0; d < dim; ++d) centroid[d] += positions_[dim * j + d] - positions_[dim * i + d];
+      continue;
+    }
+    const double* normal = &normals_[dim * j];
+    bool known = corner_[j] != 0;  // corners have no normal of their own
+    for (std::size_t w = 0; w < walls_near && !known; ++w) {
+      double dot = 0;
+      for (std::size_t d = 0; d < dim; ++d) dot += at.wall_normals[w][d] * normal[d];
+      known = dot > 0.9;
+    }
+    if (!known && walls_near < 3) {
+      for (std::size_t d = 0; d < dim; ++d) at.wall_normals[walls_near][d] = normal[d];
+      ++walls_near;
+    }
+  }
+  at.directions_seen = directions_seen;
+  at.walls_near = walls_near;
+  at.within_search = within_search;
+  at.within_support = within_support;
+  for (std::size_t d = 0; d < 3; ++d) at.centroid[d] = centroid[d];
+  at.fluid_weight = fluid_weight;
+}
+
+void FreeSurfaceSolver::classify() {
+  const auto dim = static_cast<std::size_t>(dim_);
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const double h2 = support_radius_ * support_radius_, r2 = search_radius_ * search_radius_;
   const double offset_limit = params_.surface_offset * params_.spacing;
@@ -44,97 +169,14 @@ void FreeSurfaceSolver::classify() {
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (!is_fluid(i)) continue;
-    constexpr std::size_t max_directions = 96;
-    double seen[3 * max_directions];
-    std::size_t directions_seen = 0;
-    double centroid[3] = {0, 0, 0};
-    double wall_normals[3][3] = {};  // distinct normals of the wall nodes nearby (up to 3)
-    std::size_t walls_near = 0, within_search = 0, within_support = 0, fluid_within = 0;
-    double fluid_weight = 0;  // Σ W_ij over fluid neighbours: what the PPE row actually couples to
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-      const std::size_t j = nb.indices[k];
-      const double r = detail::squared_distance(&positions_[dim * i], &positions_[dim * j], dim);
-      if (r >= r2) continue;
-      ++within_search;
-      if (r < h2) ++within_support;
-      if (r > 0 && directions_seen < max_directions) {
-        const double inverse = 1.0 / std::sqrt(r);
-        for (std::size_t d = 0; d < dim; ++d)
-          seen[directions_seen * 3 + d] = (positions_[dim * j + d] - positions_[dim * i + d]) * inverse;
-        ++directions_seen;
-      }
-      if (is_fluid(j)) {
-        ++fluid_within;
-        fluid_weight += weight(std::sqrt(r), support_radius_);
-        for (std::size_t d = 0; d < dim; ++d) centroid[d] += positions_[dim * j + d] - positions_[dim * i + d];
-        continue;
-      }
-      const double* normal = &normals_[dim * j];
-      bool known = corner_[j] != 0;  // corners have no normal of their own
-      for (std::size_t w = 0; w < walls_near && !known; ++w) {
-        double dot = 0;
-        for (std::size_t d = 0; d < dim; ++d) dot += wall_normals[w][d] * normal[d];
-        known = dot > 0.9;
-      }
-      if (!known && walls_near < 3) {
-        for (std::size_t d = 0; d < dim; ++d) wall_normals[walls_near][d] = normal[d];
-        ++walls_near;
-      }
-    }
-    if (within_support < splash_limit) {
+    Surroundings at;
+    survey(i, r2, h2, at);
+    if (at.within_support < splash_limit) {
       kinds_[i] = NodeKind::splash;
       continue;
     }
-    // The fluid neighbours' centroid offset; next to a wall the wall-normal part of it is the
-    // wall's doing, not a free surface's, so it is projected out (Gram–Schmidt on the normals).
-    double basis[3][3] = {};
-    std::size_t rank = 0;
-    for (std::size_t w = 0; w < walls_near; ++w) {
-      double v[3] = {wall_normals[w][0], wall_normals[w][1], wall_normals[w][2]};
-      for (std::size_t b = 0; b < rank; ++b) {
-        double dot = 0;
-        for (std::size_t d = 0; d < dim; ++d) dot += v[d] * basis[b][d];
-        for (std::size_t d = 0; d < dim; ++d) v[d] -= dot * basis[b][d];
-      }
-      double length = 0;
-      for (std::size_t d = 0; d < dim; ++d) length += v[d] * v[d];
-      length = std::sqrt(length);
-      if (length < 0.3) continue;
-      for (std::size_t d = 0; d < dim; ++d) basis[rank][d] = v[d] / length;
-      ++rank;
-    }
-    for (std::size_t b = 0; b < rank; ++b) {
-      double dot = 0;
-      for (std::size_t d = 0; d < dim; ++d) dot += centroid[d] * basis[b][d];
-      for (std::size_t d = 0; d < dim; ++d) centroid[d] -= dot * basis[b][d];
-    }
-    double offset = 0;
-    for (std::size_t d = 0; d < dim; ++d) offset += centroid[d] * centroid[d];
-    // Normalised by all neighbours, walls included: the wall nodes stand in for missing fluid.
-    offset = std::sqrt(offset) / static_cast<double>(within_search);
-    // Empty-cone test: some probe direction with no neighbour (fluid or wall) within the cone
-    // half-angle of it means a void beside the node — a surface, also under an overhang where the
-    // centroid stays balanced (the dam-break toe).
-    bool empty_cone = false;
-    std::size_t last_cover = 0;  // neighbouring probes are mostly covered by the same direction
-    for (std::size_t q = 0; q + dim <= probe_directions_.size() && !empty_cone; q += dim) {
-      bool covered = false;
-      // Directions into a nearby wall are covered by the wall itself (its nodes may sit up to
-      // ~1.5 Δ away on a sloped or curved boundary such as the Abrams mould).
-      for (std::size_t w = 0; w < walls_near && !covered; ++w) {
-        double dot = 0;
-        for (std::size_t d = 0; d < dim; ++d) dot -= probe_directions_[q + d] * wall_normals[w][d];
-        covered = dot > 0.3;
-      }
-      for (std::size_t tried = 0; tried < directions_seen && !covered; ++tried) {
-        const std::size_t m = (last_cover + tried) % directions_seen;
-        double dot = 0;
-        for (std::size_t d = 0; d < dim; ++d) dot += probe_directions_[q + d] * seen[3 * m + d];
-        covered = dot > cone_cosine;
-        if (covered) last_cover = m;
-      }
-      empty_cone = !covered;
-    }
+    const double offset = wall_projected_offset(at, dim);
+    const bool empty_cone = has_empty_cone(at, probe_directions_, dim, cone_cosine);
     // Fluid support: wall pressures are extrapolated from the fluid (the PPE's wall rows), so a
     // node whose kernel sees mostly wall nodes has no pressure level of its own — as interior it
     // formed a floating block with its walls (the slump cake's edge reached 9·10⁶ Pa, docs/ldd.md).
@@ -144,12 +186,19 @@ void FreeSurfaceSolver::classify() {
     // hydrostatic neighbours kicks it by δt·g·h/Δ (the δt = 1e-2 slump, docs/ldd.md).
     const bool degenerate =
         operators_.conditioning.size() == kinds_.size() && operators_.conditioning[i] < params_.surface_moment_rcond;
-    const bool thin_support = fluid_weight < weight_limit || degenerate;
+    const bool thin_support = at.fluid_weight < weight_limit || degenerate;
     const bool surface =
-        empty_cone || thin_support || offset > offset_limit || static_cast<double>(within_search) < count_limit;
+        empty_cone || thin_support || offset > offset_limit || static_cast<double>(at.within_search) < count_limit;
     kinds_[i] = surface ? NodeKind::surface : NodeKind::interior;
   }
-  // Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
+  classify_walls(h2);
+}
+
+// Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
+void FreeSurfaceSolver::classify_walls(double h2) {
+  const auto dim = static_cast<std::size_t>(dim_);
+  const numerics::NeighbourList& nb = neighbours_;
+  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);

@@ -72,6 +72,10 @@
 
 namespace rheosim::ldd {
 
+namespace detail {
+struct Surroundings;  // what a fluid node sees (free_surface_classify.cpp)
+}  // namespace detail
+
 // StepParams (step.hpp) and what a free surface adds; gravity has `dimension` entries.
 // Its defaults where a free surface needs others than the cavity: eq. 19 solved to 1e-6, three
 // PBD sweeps, a 0.3 Δ search skin, sparse-LU preconditioners (2D; case runs choose AMG).
@@ -202,6 +206,10 @@ class FreeSurfaceSolver : public NodeState {
   void probe_step_map(const numerics::KrylovSettings& velocity_settings,
                       const numerics::KrylovSettings& pressure_settings, FreeSurfaceStats& stats);
   [[nodiscard]] double kernel_density(std::size_t node) const;
+  // classify()'s parts (free_surface_classify.cpp).
+  void survey(std::size_t node, double search_radius_squared, double support_radius_squared,
+              detail::Surroundings& surroundings) const;
+  void classify_walls(double support_radius_squared);
 
   FreeSurfaceParams params_;
   int dim_;
