@@ -236,6 +236,17 @@ struct TransientSolver::Impl {
   }
 
   StepReport advance(double dt);
+  // advance()'s phases (transient_step.cpp).
+  struct Sbdf2 {  // the step's coefficients: a₀u^(n+1) + a₁uⁿ + a₂u^(n−1), extrapolation weight w
+    double a0 = 1, a1 = -1, a2 = 0, w = 0;
+    bool second_order = false;
+  };
+  void check_courant(double dt, StepReport& report) const;
+  [[nodiscard]] Sbdf2 sbdf2(double dt) const;
+  [[nodiscard]] Velocity extrapolated_velocity(const Sbdf2& c) const;
+  void project(double dt, const Sbdf2& c, const ViscosityField& mu, Candidate& next, StepReport& report);
+  void check_candidate(double dt, const Candidate& next, const StepReport& report) const;
+  void commit(double dt, Candidate& next, StepReport& report);
 
   // Speed scale against which a blow-up is judged: plates, current flow, what the source, the
   // gravity and the change of ε can drive within one step.

@@ -18,37 +18,11 @@ StepReport TransientSolver::Impl::advance(double dt) {
   report.time = time;
   if (!(dt > 0) || !std::isfinite(dt))
     throw std::invalid_argument(fmt::format("TransientSolver::advance: dt = {} s, expected a finite value > 0", dt));
-  const CourantResult before = courant(u, dt);
-  report.courant = before.value;
-  if (!(before.value <= params.max_courant))
-    fail(StepFailure::courant_exceeded,
-         fmt::format("Courant number {:.4g} at cell (i={}, j={}, k={}) exceeds max_courant = {:.4g} for dt = {:.4g} s; "
-                     "use dt <= {:.4g} s",
-                     before.value, before.i, before.j, before.k, params.max_courant, dt,
-                     dt * params.max_courant / before.value),
-         report);
-
-  // SBDF2 coefficients (variable step); BDF1 after a reset and when the step grows by more
-  // than max_step_ratio (variable-step BDF2 is zero-stable only for ratios below 1 + √2).
-  double a0 = 1, a1 = -1, a2 = 0, w = 0;
-  const bool second_order = have_old && dt <= max_step_ratio * dt_old;
-  if (second_order) {
-    w = dt / dt_old;
-    a0 = (1 + 2 * w) / (1 + w);
-    a1 = -(1 + w);
-    a2 = w * w / (1 + w);
-  }
-  Velocity ue = u;
-  if (second_order) {
-    const auto extrapolate = [w](std::vector<double>& out, const std::vector<double>& now,
-                                 const std::vector<double>& old) {
-      for (std::size_t n = 0; n < out.size(); ++n) out[n] = (1 + w) * now[n] - w * old[n];
-    };
-    extrapolate(ue.ur, u.ur, u_old.ur);
-    extrapolate(ue.ut, u.ut, u_old.ut);
-    extrapolate(ue.uz, u.uz, u_old.uz);
-    impose_boundary_values(g, ue);
-  }
+  check_courant(dt, report);
+  const Sbdf2 c = sbdf2(dt);
+  Candidate next;
+  next.u = u;
+  const Velocity ue = extrapolated_velocity(c);
   const ViscosityField mu = evaluate_viscosity(ue);
   for (const std::vector<double>* field : {&mu.centre, &mu.rt, &mu.tz_moment, &mu.wall_rz})
     if (!all_finite(*field))
@@ -59,23 +33,72 @@ StepReport TransientSolver::Impl::advance(double dt) {
            report);
   const Explicit conv = convection(ue, eps_next);
   const Explicit cross = viscous_cross(ue, mu);
-
-  Candidate next;
-  next.u = u;
   try {
-    solve_predictor(dt, a0, a1, a2, mu, conv, cross, next.u);
+    solve_predictor(dt, c.a0, c.a1, c.a2, mu, conv, cross, next.u);
   } catch (const std::runtime_error& e) {
     fail(StepFailure::linear_solver, e.what(), report);
   }
-
   if (!all_finite(next.u.ur) || !all_finite(next.u.ut) || !all_finite(next.u.uz))
     fail(StepFailure::non_finite,
          fmt::format("NaN or inf in the predicted velocity at t = {:.6g} s (step {}, dt = {:.4g} s); the state before "
                      "the step is kept",
                      time + dt, steps + 1, dt),
          report);
+  project(dt, c, mu, next, report);
+  check_candidate(dt, next, report);
+  commit(dt, next, report);
+  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
 
-  // Projection.
+// The step is refused before anything is computed when the current flow breaks max_courant.
+void TransientSolver::Impl::check_courant(double dt, StepReport& report) const {
+  const CourantResult before = courant(u, dt);
+  report.courant = before.value;
+  if (!(before.value <= params.max_courant))
+    fail(StepFailure::courant_exceeded,
+         fmt::format("Courant number {:.4g} at cell (i={}, j={}, k={}) exceeds max_courant = {:.4g} for dt = {:.4g} s; "
+                     "use dt <= {:.4g} s",
+                     before.value, before.i, before.j, before.k, params.max_courant, dt,
+                     dt * params.max_courant / before.value),
+         report);
+}
+
+// SBDF2 coefficients (variable step); BDF1 after a reset and when the step grows by more than
+// max_step_ratio (variable-step BDF2 is zero-stable only for ratios below 1 + √2).
+TransientSolver::Impl::Sbdf2 TransientSolver::Impl::sbdf2(double dt) const {
+  Sbdf2 c;
+  c.second_order = have_old && dt <= max_step_ratio * dt_old;
+  if (c.second_order) {
+    c.w = dt / dt_old;
+    c.a0 = (1 + 2 * c.w) / (1 + c.w);
+    c.a1 = -(1 + c.w);
+    c.a2 = c.w * c.w / (1 + c.w);
+  }
+  return c;
+}
+
+// The velocity the explicit terms and μ are evaluated at: (1 + w)uⁿ − w u^(n−1) (second order),
+// else uⁿ.
+Velocity TransientSolver::Impl::extrapolated_velocity(const Sbdf2& c) const {
+  Velocity ue = u;
+  if (!c.second_order) return ue;
+  const double w = c.w;
+  const auto extrapolate = [w](std::vector<double>& out, const std::vector<double>& now,
+                               const std::vector<double>& old) {
+    for (std::size_t n = 0; n < out.size(); ++n) out[n] = (1 + w) * now[n] - w * old[n];
+  };
+  extrapolate(ue.ur, u.ur, u_old.ur);
+  extrapolate(ue.ut, u.ut, u_old.ut);
+  extrapolate(ue.uz, u.uz, u_old.uz);
+  impose_boundary_values(g, ue);
+  return ue;
+}
+
+// Projection of the predicted velocity onto the volume-averaged continuity (CD eq. 26, with the
+// BDF2 ∂ε/∂t), the rotational pressure update, and the continuity residual left.
+void TransientSolver::Impl::project(double dt, const Sbdf2& c, const ViscosityField& mu, Candidate& next,
+                                    StepReport& report) {
   try {
     pressure_solver.set_void_fraction(eps_next);
   } catch (const std::runtime_error& e) {
@@ -84,19 +107,19 @@ StepReport TransientSolver::Impl::advance(double dt) {
   const std::vector<double> flux = flux_divergence(next.u, eps_next);
   const std::vector<double> flux_magnitude = flux_divergence(next.u, eps_next, true);
   Eigen::VectorXd b(static_cast<Eigen::Index>(g.nc));
-  const double scale = dt / (a0 * params.density);
+  const double scale = dt / (c.a0 * params.density);
   double flux_scale = 0;
   // BDF2 ∂ε/∂t with a₁ = −a₀ − a₂ substituted: exactly zero where ε does not change.
-  const auto eps_rate = [&](std::size_t c) {
-    return (a0 * (eps_next[c] - eps_now[c]) + a2 * (eps_old[c] - eps_now[c])) / dt;
+  const auto eps_rate = [&](std::size_t cell) {
+    return (c.a0 * (eps_next[cell] - eps_now[cell]) + c.a2 * (eps_old[cell] - eps_now[cell])) / dt;
   };
   for (std::size_t i = 0; i < g.nr; ++i)
     for (std::size_t j = 0; j < g.nt; ++j)
       for (std::size_t k = 0; k < g.nz; ++k) {
-        const std::size_t c = g.cell(i, j, k);
-        const double rate = g.volume(i, k) * eps_rate(c);
-        b[static_cast<Eigen::Index>(c)] = -(flux[c] + rate) / scale;
-        const double magnitude = (flux_magnitude[c] + std::abs(rate)) / scale;
+        const std::size_t cell = g.cell(i, j, k);
+        const double rate = g.volume(i, k) * eps_rate(cell);
+        b[static_cast<Eigen::Index>(cell)] = -(flux[cell] + rate) / scale;
+        const double magnitude = (flux_magnitude[cell] + std::abs(rate)) / scale;
         flux_scale += magnitude * magnitude;
       }
   Eigen::VectorXd phi;
@@ -118,8 +141,8 @@ StepReport TransientSolver::Impl::advance(double dt) {
   // tiny step; the term is zero at a steady state.
   const std::vector<double> div_new = velocity_divergence(next.u);
   next.p = p;
-  for (std::size_t c = 0; c < g.nc; ++c)
-    next.p[c] += phi[static_cast<Eigen::Index>(c)] - mu.centre[c] * (div_star[c] - div_new[c]);
+  for (std::size_t cell = 0; cell < g.nc; ++cell)
+    next.p[cell] += phi[static_cast<Eigen::Index>(cell)] - mu.centre[cell] * (div_star[cell] - div_new[cell]);
   remove_volume_mean(next.p);
 
   // Continuity residual after the projection.
@@ -127,12 +150,15 @@ StepReport TransientSolver::Impl::advance(double dt) {
   for (std::size_t i = 0; i < g.nr; ++i)
     for (std::size_t j = 0; j < g.nt; ++j)
       for (std::size_t k = 0; k < g.nz; ++k) {
-        const std::size_t c = g.cell(i, j, k);
-        next.max_divergence = std::max(next.max_divergence, std::abs(flux_after[c] / g.volume(i, k) + eps_rate(c)));
+        const std::size_t cell = g.cell(i, j, k);
+        next.max_divergence =
+            std::max(next.max_divergence, std::abs(flux_after[cell] / g.volume(i, k) + eps_rate(cell)));
       }
   report.max_divergence = next.max_divergence;
+}
 
-  // Health of the candidate: finite, and no blow-up.
+// Health of the candidate: finite, and no blow-up.
+void TransientSolver::Impl::check_candidate(double dt, const Candidate& next, const StepReport& report) const {
   if (!all_finite(next.u.ur) || !all_finite(next.u.ut) || !all_finite(next.u.uz) || !all_finite(next.p))
     fail(StepFailure::non_finite,
          fmt::format("NaN or inf in the velocity or pressure at t = {:.6g} s (step {}, dt = {:.4g} s); "
@@ -148,8 +174,9 @@ StepReport TransientSolver::Impl::advance(double dt) {
              "reduce dt (was {:.4g} s) — the state before the step is kept",
              speed, time + dt, params.blow_up_factor, reference, dt),
          report);
+}
 
-  // Commit.
+void TransientSolver::Impl::commit(double dt, Candidate& next, StepReport& report) {
   u_old = std::move(u);
   u = std::move(next.u);
   p = std::move(next.p);
@@ -164,8 +191,6 @@ StepReport TransientSolver::Impl::advance(double dt) {
   report.courant = courant(u, dt).value;
   report.torque = torque_top;
   report.bottom_torque = torque_bottom;
-  report.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return report;
 }
 
 void TransientSolver::Impl::solve_predictor(double dt, double a0, double a1, double a2, const ViscosityField& mu,
