@@ -116,6 +116,14 @@ struct TransientSolver::Impl {
   // exact and the rest is the mean over the adjacent cells at the edge's radius; on θz-edges
   // μ is taken at the three Gauss radii. For N_θ = 1 this is SwirlSolver's evaluation exactly.
   ViscosityField evaluate_viscosity(const Velocity& v) const;
+  // evaluate_viscosity()'s parts (transient_viscosity.cpp).
+  struct EdgeGradients;  // ∂_rω, ∂_θu_r/r on rθ-edges; ∂_zω, ∂_θu_z/r on θz-edges; 2E_rz on rz-edges
+  struct CellStrain;     // per cell: the normal strains and the edge moments of the shear rates
+  struct ShearRates;     // every γ̇ the viscosity is wanted at, in one array
+  [[nodiscard]] EdgeGradients edge_gradients(const Velocity& v) const;
+  [[nodiscard]] CellStrain cell_strain(const Velocity& v, const EdgeGradients& e) const;
+  [[nodiscard]] ShearRates shear_rates(const EdgeGradients& e, const CellStrain& c) const;
+  [[nodiscard]] ViscosityField viscosity_field(const ShearRates& rates) const;
 
   // μ on the rz-edge (r_i, θ_c,j, z_k): from the wall shear rate on the plates, else the mean of
   // the adjacent cells (SwirlSolver's corner value).
