@@ -5,10 +5,17 @@
 // another deck (its input sha256 differs) is refused.
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "rheosim/core/error.hpp"
+#include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/core/version.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/node_state.hpp"
 
@@ -40,5 +47,25 @@ struct StoredCheckpoint {
 };
 [[nodiscard]] StoredCheckpoint read_checkpoint(const std::filesystem::path& path, const Case& c,
                                                core::CsvTable& history);
+
+// A run resuming from `path`: its state into `solver` (ldd::Solver or FreeSurfaceSolver; a
+// RunError when it does not fit this case's cloud), its probe rows into `history`, the resume and
+// a change of build in the log. Returns the scene's record.
+template <class Solver>
+[[nodiscard]] RunRecordContent resume_from_checkpoint(const std::filesystem::path& path, const Case& c, Solver& solver,
+                                                      core::CsvTable& history, std::size_t total_steps,
+                                                      const core::Log& log) {
+  StoredCheckpoint stored = read_checkpoint(path, c, history);
+  try {
+    solver.restore(std::move(stored.state));
+  } catch (const std::invalid_argument& e) {
+    throw core::RunError(fmt::format("checkpoint '{}' does not fit this case's cloud: {}", path.string(), e.what()));
+  }
+  log.info("resuming from {}: t = {:.6g} s, step {} of {}", path.string(), solver.time(), solver.steps(), total_steps);
+  if (stored.git_revision != core::git_revision)
+    log.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build",
+             stored.git_revision, core::git_revision);
+  return std::move(stored.record);
+}
 
 }  // namespace rheosim::ldd::detail

@@ -223,14 +223,8 @@ class CavityRun final : public detail::SceneRun {
       add_frame();
       return;
     }
-    detail::StoredCheckpoint stored = detail::read_checkpoint(checkpoint_path_, c_, history_);
-    try {
-      solver_.restore(std::move(stored.state));
-    } catch (const std::invalid_argument& e) {
-      throw core::RunError(
-          fmt::format("checkpoint '{}' does not fit this case's cloud: {}", checkpoint_path_.string(), e.what()));
-    }
-    const detail::RunRecordContent& r = stored.record;
+    const detail::RunRecordContent r =
+        detail::resume_from_checkpoint(checkpoint_path_, c_, solver_, history_, total_steps, log_);
     last_probe_time_ = r.number("last_probe_time", checkpoint_path_);
     quiet_probes_ = static_cast<int>(r.number("quiet_probes", checkpoint_path_));
     step_seconds_ = r.number("step_seconds", checkpoint_path_);
@@ -241,11 +235,6 @@ class CavityRun final : public detail::SceneRun {
       frames_.push_back({t, detail::frame_name(frames_.size())});
     resumed_at_steps_ = r.values("resumed_at_steps", checkpoint_path_);
     resumed_at_steps_.push_back(static_cast<double>(solver_.steps()));
-    log_.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path_.string(), solver_.time(),
-              solver_.steps(), total_steps);
-    if (stored.git_revision != core::git_revision)
-      log_.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build",
-                stored.git_revision, core::git_revision);
   }
 
   [[nodiscard]] double time() const override { return solver_.time(); }

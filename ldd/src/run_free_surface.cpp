@@ -308,21 +308,9 @@ class FreeSurfaceRun final : public detail::SceneRun {
   // Continues from checkpoint.h5 when the folder holds one, else records the start.
   void resume_or_start(std::size_t total_steps) {
     if (std::filesystem::exists(checkpoint_path_)) {
-      detail::StoredCheckpoint stored = detail::read_checkpoint(checkpoint_path_, c_, history_);
-      try {
-        solver_.restore(std::move(stored.state));
-      } catch (const std::invalid_argument& e) {
-        throw core::RunError(
-            fmt::format("checkpoint '{}' does not fit this case's cloud: {}", checkpoint_path_.string(), e.what()));
-      }
-      run_ = record_of(stored.record, checkpoint_path_);
-      const std::string& writer = stored.git_revision;
+      run_ = record_of(detail::resume_from_checkpoint(checkpoint_path_, c_, solver_, history_, total_steps, log_),
+                       checkpoint_path_);
       run_.resumed_at_steps.push_back(static_cast<double>(solver_.steps()));
-      log_.info("resuming from {}: t = {:.6g} s, step {} of {}", checkpoint_path_.string(), solver_.time(),
-                solver_.steps(), total_steps);
-      if (writer != core::git_revision)
-        log_.warn("the checkpoint was written by rheosim git {}, this is git {}: the run goes on with this build",
-                  writer, core::git_revision);
       return;
     }
     run_.volume0 = solver_.fluid_volume();
