@@ -415,7 +415,7 @@ void FreeSurfaceSolver::check_divergence(double next_time, const Correction& cor
   check.velocity_converged = velocity_converged;
   check.where_fastest = [&] {
     const std::size_t at = correction.fastest;
-    return fmt::format(" at a {} node at {}, {} neighbours", kind_name(kinds_[at]), place(at),
+    return fmt::format(" at {} node at {}, {} neighbours", a_kind(kinds_[at]), place(at),
                        neighbours_.offsets[at + 1] - neighbours_.offsets[at]);
   };
   check.pressure_failure = [&] {
@@ -426,8 +426,8 @@ void FreeSurfaceSolver::check_divergence(double next_time, const Correction& cor
         floating.groups == 0
             ? std::string("every node reaches a free-surface node through the pressure matrix")
             : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
-                          "largest, {} nodes, includes a {} node at {}",
-                          floating.groups, floating.nodes, floating.largest, kind_name(kinds_[at]), place(at)));
+                          "largest, {} nodes, includes {} node at {}",
+                          floating.groups, floating.nodes, floating.largest, a_kind(kinds_[at]), place(at)));
   };
   check_step(check, params_, stats);
 }

@@ -44,6 +44,11 @@ void NodeState::velocity_gradient_of(std::span<const double> u, std::span<double
   }
 }
 
+std::string a_kind(NodeKind k) {
+  const std::string name = kind_name(k);
+  return (name.front() == 'i' ? "an " : "a ") + name;
+}
+
 std::size_t NodeState::fluid_node_count() const {
   std::size_t count = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i) count += is_fluid(i) ? 1 : 0;
@@ -79,8 +84,8 @@ void NodeState::restore_common_state(SolverState& state, int dimension, const ch
         fmt::format("{} state: its arrays do not fit this cloud of {} nodes in {}D", who, n, dimension));
   for (std::size_t i = 0; i < n; ++i)
     if ((state.kinds[i] <= NodeKind::splash) != is_fluid(i) || state.kinds[i] > NodeKind::idle_wall)
-      throw std::invalid_argument(fmt::format("{} state: node {} is a {} node in the state but {} here", who, i,
-                                              kind_name(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
+      throw std::invalid_argument(fmt::format("{} state: node {} is {} node in the state but {} here", who, i,
+                                              a_kind(state.kinds[i]), is_fluid(i) ? "fluid" : "a wall"));
   const numerics::NeighbourList& nb = state.neighbours;
   bool list_fits = nb.offsets.size() == n + 1 && nb.offsets.front() == 0 && nb.offsets.back() == nb.indices.size() &&
                    nb.distances.size() == nb.indices.size();

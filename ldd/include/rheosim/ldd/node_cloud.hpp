@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace rheosim::ldd {
@@ -13,8 +14,10 @@ namespace rheosim::ldd {
 // the free-surface solver reclassifies each step: fluid nodes on the surface (p = 0) or splashed
 // (few neighbours), wall nodes with no fluid within reach idle.
 enum class NodeKind : std::uint8_t { interior = 0, surface = 1, splash = 2, wall = 3, corner = 4, idle_wall = 5 };
-// The kind's name in messages ("free-surface", "idle wall", …).
+// The kind's name in messages ("free-surface", "idle wall", …), and with its article ("an
+// interior", "a wall").
 [[nodiscard]] const char* kind_name(NodeKind k);
+[[nodiscard]] std::string a_kind(NodeKind k);
 
 struct NodeCloud {
   int dimension = 2;
