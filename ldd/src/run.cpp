@@ -1,7 +1,5 @@
 #include "rheosim/ldd/run.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -348,10 +346,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   const auto* scene = std::get_if<ldd::CavityScene>(&l.scene);
   if (!scene) return run_free_surface_case(c, out_dir, log, control);
   const auto wall_start = std::chrono::steady_clock::now();
-  if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
-  const int threads = omp_get_max_threads();
-  std::filesystem::create_directories(out_dir / "frames");
-  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+  const int threads = detail::start_run(c, out_dir);
 
   const Cavity cavity(*scene, l.spacing);
   SolverParams params;

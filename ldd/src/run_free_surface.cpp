@@ -1,6 +1,4 @@
 // `rheosim run` for the free-surface LDD scenes (dam_break, slump, column); see run.hpp.
-#include <omp.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -472,10 +470,7 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
                                  const RunControl& control) {
   const auto& l = c.settings;
   const auto wall_start = std::chrono::steady_clock::now();
-  if (l.solver.threads > 0) omp_set_num_threads(l.solver.threads);
-  const int threads = omp_get_max_threads();
-  std::filesystem::create_directories(out_dir / "frames");
-  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+  const int threads = detail::start_run(c, out_dir);
 
   FreeSurfaceScene scene = build_scene(l);
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));

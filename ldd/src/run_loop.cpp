@@ -1,11 +1,22 @@
 #include "run_loop.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
 
+#include "rheosim/core/output.hpp"
+
 namespace rheosim::ldd::detail {
+
+int start_run(const Case& c, const std::filesystem::path& out_dir) {
+  if (c.settings.solver.threads > 0) omp_set_num_threads(c.settings.solver.threads);
+  std::filesystem::create_directories(out_dir / "frames");
+  core::write_atomically(out_dir / "case.yaml", [&](std::ostream& os) { os << c.text; });
+  return omp_get_max_threads();
+}
 
 RunSchedule RunSchedule::of(const CaseSettings& l) {
   const auto steps_for = [&](double interval) {

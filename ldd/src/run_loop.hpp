@@ -17,6 +17,10 @@
 
 namespace rheosim::ldd::detail {
 
+// The run's threads (solver.threads, else OpenMP's default; returned) and its folder: frames/ and
+// the exact input deck, case.yaml.
+int start_run(const Case& c, const std::filesystem::path& out_dir);
+
 // When the loop steps, records and writes frames: the steps to the end time and the intervals
 // in steps (at least 1).
 struct RunSchedule {
