@@ -2,6 +2,7 @@
 #include "rheosim/rheometer/sweep.hpp"
 #include "rheosim/rheometer/box_point.hpp"
 #include "rheosim/rheometer/shear_cell.hpp"
+#include "rheosim/rheometer/sweep_summary.hpp"
 
 #include <fmt/format.h>
 
@@ -79,10 +80,6 @@ constexpr NumberField number_fields[] = {
     {"n1", &PointResult::n1, true},
     {"n2", &PointResult::n2, true},
 };
-
-nlohmann::ordered_json finite_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
-}
 
 // N1 − N2 at the rim rate from the plates' normal force over a series of rates (one fluid and
 // φ): N1 − N2 = (F/πR²)(2 + d ln F/d ln γ̇_R) = (2F + γ̇_R dF/dγ̇_R)/(πR²), the derivative
@@ -565,80 +562,66 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
   for (const auto& point : points) {
     const PointResult& res = *results[point.index];
     const auto& fluid = fluid_named(r, point.fluid).properties;
+    SweepPointRecord record;
+    record.fluid = point.fluid;
+    record.volume_fraction = point.volume_fraction;
+    record.shear_rate = point.rim_shear_rate;
+    record.converged = res.converged;
+    record.method = res.method;
+    record.model = res.model;
+    record.model_reason = res.model_reason;
     if (res.converged) {
       const double rel_error = (res.torque - res.torque_analytic) / res.torque_analytic;
       const double reynolds = plate.gap_reynolds_number(fluid.density, point.rim_shear_rate,
                                                         fluid.rheology->viscosity(point.rim_shear_rate));
-      nlohmann::ordered_json p;
-      p["fluid"] = point.fluid;
-      p["volume_fraction"] = point.volume_fraction;
-      p["shear_rate"] = point.rim_shear_rate;
-      p["angular_velocity"] = plate.angular_velocity(point.rim_shear_rate);
-      p["torque"] = res.torque;
-      p["torque_fluid"] = finite_or_null(res.torque_fluid);
-      p["torque_contact"] = finite_or_null(res.torque_contact);
-      if (std::isfinite(res.torque_lubrication) || std::isfinite(res.torque_stresslet)) {
-        p["torque_lubrication"] = finite_or_null(res.torque_lubrication);
-        p["torque_stresslet"] = finite_or_null(res.torque_stresslet);
-        p["torque_couple"] = finite_or_null(res.torque_couple);
-      }
-      p["torque_std_error"] = finite_or_null(res.torque_std_error);
+      const auto finite = [](double x) { return std::isfinite(x) ? MaybeNumber(x) : std::nullopt; };
+      record.angular_velocity = plate.angular_velocity(point.rim_shear_rate);
+      record.torque = res.torque;
+      record.torque_fluid = finite(res.torque_fluid);
+      record.torque_contact = finite(res.torque_contact);
+      record.torque_lubrication = finite(res.torque_lubrication);
+      record.torque_stresslet = finite(res.torque_stresslet);
+      record.torque_couple = finite(res.torque_couple);
+      record.torque_std_error = finite(res.torque_std_error);
       if (std::isfinite(res.torque_grid)) {
-        p["torque_grid"] = res.torque_grid;            // this grid's own torque (solver.extrapolate)
-        p["torque_half_grid"] = res.torque_half_grid;  // half the cells in r and z
+        record.torque_grid = res.torque_grid;
+        record.torque_half_grid = res.torque_half_grid;
       }
-      p["torque_creeping"] = finite_or_null(res.torque_creeping);
-      if (std::isfinite(res.torque_creeping)) p["inertia_effect"] = res.torque / res.torque_creeping - 1.0;
+      record.torque_creeping = finite(res.torque_creeping);
+      if (std::isfinite(res.torque_creeping)) record.inertia_effect = res.torque / res.torque_creeping - 1.0;
       if (point.volume_fraction == 0)  // the creeping closed form by quadrature, for laws without one in closed form
-        p["torque_quadrature"] = creeping_torque(plate, *fluid.rheology, point.rim_shear_rate);
+        record.torque_quadrature = creeping_torque(plate, *fluid.rheology, point.rim_shear_rate);
       if (std::isfinite(res.torque_analytic)) {
-        p["torque_analytic"] = res.torque_analytic;
-        p["rel_error"] = rel_error;
-        p["creeping_rel_error"] = finite_or_null((res.torque_creeping - res.torque_analytic) / res.torque_analytic);
+        record.torque_analytic = res.torque_analytic;
+        record.rel_error = rel_error;
+        record.creeping_rel_error = finite((res.torque_creeping - res.torque_analytic) / res.torque_analytic);
       }
       if (std::isfinite(res.normal_force)) {
-        p["normal_force"] = res.normal_force;
-        p["n1"] = finite_or_null(res.n1);
-        p["n2"] = finite_or_null(res.n2);
+        record.normal_force = res.normal_force;
+        record.n1 = finite(res.n1);
+        record.n2 = finite(res.n2);
       }
-      if (!res.warnings.empty()) p["warnings"] = res.warnings;
-      p["gap_reynolds_number"] = reynolds;
-      p["strain"] = finite_or_null(res.strain);
-      p["method"] = res.method;
-      if (!res.model.empty()) {
-        p["model"] = res.model;
-        p["model_reason"] = res.model_reason;
-        p["estimated_error"] = finite_or_null(res.estimated_error);
-      }
-      p["iterations"] = res.iterations;
-      p["wall_time"] = res.wall_time;
+      record.warnings = res.warnings;
+      record.gap_reynolds_number = reynolds;
+      record.strain = finite(res.strain);
+      record.estimated_error = finite(res.estimated_error);
+      record.iterations = res.iterations;
+      record.wall_time = res.wall_time;
       if (std::isfinite(res.cost_dem)) {
         const double overhead = res.cost_dem > 0 ? (res.cost_void_fraction + res.cost_forces) / res.cost_dem : 0.0;
-        p["cost"] = {{"dem", res.cost_dem},
-                     {"void_fraction", res.cost_void_fraction},
-                     {"forces", res.cost_forces},
-                     {"fluid", res.cost_fluid},
-                     {"coupling_overhead", overhead}};
-        if (std::isfinite(res.cost_near_field)) p["cost"]["near_field"] = res.cost_near_field;
+        record.cost = PointCost{res.cost_dem, res.cost_void_fraction,     res.cost_forces, res.cost_fluid,
+                                overhead,     finite(res.cost_near_field)};
       }
-      p["converged"] = true;
-      json_points.push_back(p);
       table.add_row({point.volume_fraction, point.rim_shear_rate, res.torque, res.torque_std_error, res.torque_creeping,
                      res.torque_analytic, rel_error, reynolds, static_cast<double>(res.iterations), res.wall_time, 1.0},
                     point.fluid);
     } else {
-      json_points.push_back({{"fluid", point.fluid},
-                             {"volume_fraction", point.volume_fraction},
-                             {"shear_rate", point.rim_shear_rate},
-                             {"converged", false},
-                             {"method", res.method},
-                             {"model", res.model},
-                             {"model_reason", res.model_reason},
-                             {"failure", res.failure}});
+      record.failure = res.failure;
       table.add_row({point.volume_fraction, point.rim_shear_rate, nan, nan, nan, nan, nan, nan,
                      static_cast<double>(res.iterations), res.wall_time, 0.0},
                     point.fluid);
     }
+    json_points.push_back(to_json(record));
     columns["volume_fraction"].push_back(point.volume_fraction);
     columns["shear_rate"].push_back(point.rim_shear_rate);
     columns["converged"].push_back(res.converged ? 1.0 : 0.0);

@@ -33,12 +33,30 @@ SweepPointRecord point_of(const SummaryReader& p) {
   out.shear_rate = p.number("shear_rate");
   out.converged = p.boolean("converged");
   out.method = p.has("method") ? p.text("method") : std::string();
+  out.model = p.has("model") ? p.text("model") : std::string();
+  out.model_reason = p.has("model_reason") ? p.text("model_reason") : std::string();
   if (!out.converged) {
     out.failure = p.has("failure") ? p.text("failure") : std::string();
     return out;
   }
   out.torque = p.number("torque");
-  for (auto [key, value] : {std::pair{"torque_std_error", &out.torque_std_error},
+  out.warnings = texts_if_any(p, "warnings");
+  if (const auto cost = p.optional_object("cost"))
+    out.cost = PointCost{cost->number("dem"),   cost->number("void_fraction"),     cost->number("forces"),
+                         cost->number("fluid"), cost->number("coupling_overhead"), cost->optional_number("near_field")};
+  for (auto [key, value] : {std::pair{"angular_velocity", &out.angular_velocity},
+                            {"torque_fluid", &out.torque_fluid},
+                            {"torque_contact", &out.torque_contact},
+                            {"torque_lubrication", &out.torque_lubrication},
+                            {"torque_stresslet", &out.torque_stresslet},
+                            {"torque_couple", &out.torque_couple},
+                            {"torque_grid", &out.torque_grid},
+                            {"torque_half_grid", &out.torque_half_grid},
+                            {"inertia_effect", &out.inertia_effect},
+                            {"torque_quadrature", &out.torque_quadrature},
+                            {"strain", &out.strain},
+                            {"estimated_error", &out.estimated_error},
+                            {"torque_std_error", &out.torque_std_error},
                             {"torque_analytic", &out.torque_analytic},
                             {"rel_error", &out.rel_error},
                             {"torque_creeping", &out.torque_creeping},
@@ -150,7 +168,74 @@ RelativeViscosityRecord relative_viscosity_of(const SummaryReader& r) {
   return out;
 }
 
+nlohmann::ordered_json value_or_null(const MaybeNumber& x) {
+  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
+}
+
 }  // namespace
+
+nlohmann::ordered_json to_json(const SweepPointRecord& r) {
+  nlohmann::ordered_json p;
+  p["fluid"] = r.fluid;
+  p["volume_fraction"] = r.volume_fraction;
+  p["shear_rate"] = r.shear_rate;
+  if (!r.converged) {
+    p["converged"] = false;
+    p["method"] = r.method;
+    p["model"] = r.model;
+    p["model_reason"] = r.model_reason;
+    p["failure"] = r.failure;
+    return p;
+  }
+  p["angular_velocity"] = value_or_null(r.angular_velocity);
+  p["torque"] = r.torque;
+  p["torque_fluid"] = value_or_null(r.torque_fluid);
+  p["torque_contact"] = value_or_null(r.torque_contact);
+  if (r.torque_lubrication || r.torque_stresslet) {
+    p["torque_lubrication"] = value_or_null(r.torque_lubrication);
+    p["torque_stresslet"] = value_or_null(r.torque_stresslet);
+    p["torque_couple"] = value_or_null(r.torque_couple);
+  }
+  p["torque_std_error"] = value_or_null(r.torque_std_error);
+  if (r.torque_grid) {
+    p["torque_grid"] = *r.torque_grid;                          // this grid's own torque (solver.extrapolate)
+    p["torque_half_grid"] = value_or_null(r.torque_half_grid);  // half the cells in r and z
+  }
+  p["torque_creeping"] = value_or_null(r.torque_creeping);
+  if (r.inertia_effect) p["inertia_effect"] = *r.inertia_effect;
+  if (r.torque_quadrature) p["torque_quadrature"] = *r.torque_quadrature;
+  if (r.torque_analytic) {
+    p["torque_analytic"] = *r.torque_analytic;
+    p["rel_error"] = value_or_null(r.rel_error);
+    p["creeping_rel_error"] = value_or_null(r.creeping_rel_error);
+  }
+  if (r.normal_force) {
+    p["normal_force"] = *r.normal_force;
+    p["n1"] = value_or_null(r.n1);
+    p["n2"] = value_or_null(r.n2);
+  }
+  if (!r.warnings.empty()) p["warnings"] = r.warnings;
+  p["gap_reynolds_number"] = value_or_null(r.gap_reynolds_number);
+  p["strain"] = value_or_null(r.strain);
+  p["method"] = r.method;
+  if (!r.model.empty()) {
+    p["model"] = r.model;
+    p["model_reason"] = r.model_reason;
+    p["estimated_error"] = value_or_null(r.estimated_error);
+  }
+  p["iterations"] = static_cast<long long>(r.iterations.value_or(0.0));
+  p["wall_time"] = value_or_null(r.wall_time);
+  if (r.cost) {
+    p["cost"] = {{"dem", r.cost->dem},
+                 {"void_fraction", r.cost->void_fraction},
+                 {"forces", r.cost->forces},
+                 {"fluid", r.cost->fluid},
+                 {"coupling_overhead", r.cost->coupling_overhead}};
+    if (r.cost->near_field) p["cost"]["near_field"] = *r.cost->near_field;
+  }
+  p["converged"] = true;
+  return p;
+}
 
 SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
   const auto path = core::run_summary_file(run_dir);

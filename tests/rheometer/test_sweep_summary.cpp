@@ -191,5 +191,83 @@ TEST_F(SweepSummaryTest, RefusesAMissingOrMistypedKeyAtItsPath) {
   EXPECT_EQ(refused_at(ldd), "kind");
 }
 
+// A point written by to_json reads back as the same record: every group the writer emits only
+// when known (near-field torques, extrapolation, closed form, normal force, model, cost) and the
+// ones it always writes, null when empty.
+TEST_F(SweepSummaryTest, APointWrittenByToJsonReadsBackTheSame) {
+  SweepPointRecord p;
+  p.fluid = "oil";
+  p.volume_fraction = 0.2;
+  p.shear_rate = 10;
+  p.converged = true;
+  p.method = "box";
+  p.model = "lees_edwards";
+  p.model_reason = "H/d >= 10";
+  p.angular_velocity = 0.5;
+  p.torque = 2.5e-4;
+  p.torque_fluid = 2.0e-4;  // torque_contact empty: written as null
+  p.torque_lubrication = 1e-5;
+  p.torque_stresslet = 2e-5;
+  p.torque_grid = 2.4e-4;
+  p.torque_half_grid = 2.3e-4;
+  p.torque_creeping = 2.2e-4;
+  p.inertia_effect = 0.1;
+  p.torque_analytic = 2.45e-4;
+  p.rel_error = 0.02;
+  p.normal_force = -0.01;
+  p.n1 = -0.1;
+  p.warnings = {"ε clamped"};
+  p.gap_reynolds_number = 1e-3;
+  p.estimated_error = 0.01;
+  p.iterations = 12;
+  p.wall_time = 3.5;
+  p.cost = PointCost{1.0, 0.2, 0.3, 0.4, 0.5, 0.05};
+  SweepPointRecord failed;
+  failed.fluid = "oil";
+  failed.shear_rate = 100;
+  failed.method = "cfd_dem";
+  failed.failure = "over budget";
+
+  nlohmann::json json = summary_with_analysis();
+  json["points"] =
+      nlohmann::json::array({nlohmann::json::parse(to_json(p).dump()), nlohmann::json::parse(to_json(failed).dump())});
+  const SweepSummary s = read(json);
+  ASSERT_EQ(s.points.size(), 2U);
+  const SweepPointRecord& q = s.points[0];
+  EXPECT_EQ(q.model, p.model);
+  EXPECT_EQ(q.model_reason, p.model_reason);
+  for (auto [read_back, written] : {std::pair{q.angular_velocity, p.angular_velocity},
+                                    {q.torque_fluid, p.torque_fluid},
+                                    {q.torque_contact, p.torque_contact},
+                                    {q.torque_lubrication, p.torque_lubrication},
+                                    {q.torque_stresslet, p.torque_stresslet},
+                                    {q.torque_couple, p.torque_couple},
+                                    {q.torque_grid, p.torque_grid},
+                                    {q.torque_half_grid, p.torque_half_grid},
+                                    {q.torque_creeping, p.torque_creeping},
+                                    {q.inertia_effect, p.inertia_effect},
+                                    {q.torque_quadrature, p.torque_quadrature},
+                                    {q.torque_analytic, p.torque_analytic},
+                                    {q.rel_error, p.rel_error},
+                                    {q.creeping_rel_error, p.creeping_rel_error},
+                                    {q.normal_force, p.normal_force},
+                                    {q.n1, p.n1},
+                                    {q.n2, p.n2},
+                                    {q.gap_reynolds_number, p.gap_reynolds_number},
+                                    {q.strain, p.strain},
+                                    {q.estimated_error, p.estimated_error},
+                                    {q.iterations, p.iterations},
+                                    {q.wall_time, p.wall_time}})
+    EXPECT_EQ(read_back, written);
+  EXPECT_EQ(q.torque, p.torque);
+  EXPECT_EQ(q.warnings, p.warnings);
+  ASSERT_TRUE(q.cost.has_value());
+  EXPECT_EQ(q.cost->forces, 0.3);
+  EXPECT_EQ(q.cost->near_field, 0.05);
+  EXPECT_FALSE(s.points[1].converged);
+  EXPECT_EQ(s.points[1].failure, "over budget");
+  EXPECT_EQ(s.points[1].method, "cfd_dem");
+}
+
 }  // namespace
 }  // namespace rheosim::rheometer

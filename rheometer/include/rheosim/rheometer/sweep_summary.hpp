@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace rheosim::rheometer {
 
 using MaybeNumber = std::optional<double>;
@@ -26,17 +28,34 @@ struct PointChecks {
   std::vector<std::string> messages;
 };
 
+struct PointCost {  // a CFD-DEM point's wall time by part [s]
+  double dem = 0, void_fraction = 0, forces = 0, fluid = 0;
+  double coupling_overhead = 0;  // (void fraction + forces) / DEM
+  MaybeNumber near_field;
+};
+
+// One point as the sweep writes it (to_json) and reads it back. A value the point's method does
+// not give is empty; to_json knows which keys are always written (null when empty) and which only
+// when known.
 struct SweepPointRecord {
   std::string fluid;
   double volume_fraction = 0;  // φ (absent in a single-phase summary: 0)
   double shear_rate = 0;       // rim γ̇_R [1/s]
   bool converged = false;
-  std::string method;   // how the point was computed
-  std::string failure;  // a failed point: why it has no result
+  std::string method;               // how the point was computed
+  std::string model, model_reason;  // the suspension model chosen, and why (empty for a liquid)
+  std::string failure;              // a failed point: why it has no result
   // A converged point.
-  double torque = 0;  // [N·m]
-  MaybeNumber torque_std_error, torque_analytic, rel_error, torque_creeping, creeping_rel_error;
-  MaybeNumber gap_reynolds_number, wall_time, iterations;
+  MaybeNumber angular_velocity;                                     // Ω [rad/s]
+  double torque = 0;                                                // [N·m]
+  MaybeNumber torque_fluid, torque_contact;                         // its parts
+  MaybeNumber torque_lubrication, torque_stresslet, torque_couple;  // near-field parts
+  MaybeNumber torque_std_error, torque_grid, torque_half_grid;      // steady-state error; extrapolation
+  MaybeNumber torque_creeping, inertia_effect, torque_quadrature;   // creeping solve, closed form by quadrature
+  MaybeNumber torque_analytic, rel_error, creeping_rel_error;       // closed form and the errors against it
+  std::vector<std::string> warnings;                                // rules this point bent
+  MaybeNumber gap_reynolds_number, strain, estimated_error, wall_time, iterations;
+  std::optional<PointCost> cost;
   // The flow-curve analysis of its series.
   MaybeNumber log_slope, log_slope_std_error, apparent_stress, rim_stress, apparent_viscosity, viscosity;
   std::optional<PointChecks> validity;
@@ -133,6 +152,9 @@ struct SweepSummary {
   std::vector<YieldRecord> yield_stress;
   std::vector<RelativeViscosityRecord> relative_viscosity;
 };
+
+// The point's entry in summary.json `points` (before the flow analysis adds its keys).
+[[nodiscard]] nlohmann::ordered_json to_json(const SweepPointRecord& point);
 
 // Reads <run_dir>/summary.json; ConfigError when it is missing, of another kind of run (an LDD
 // run's is refused by name), or lacks (or mistypes) a required key, naming it.
