@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -112,7 +113,10 @@ class SweepSummaryTest : public ::testing::Test {
     }
     return "";
   }
-  std::filesystem::path folder = std::filesystem::temp_directory_path() / "rheosim_sweep_summary_test";
+  // One folder per test: ctest runs the tests of this file in parallel.
+  std::filesystem::path folder =
+      std::filesystem::temp_directory_path() /
+      (std::string("rheosim_sweep_summary_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
 };
 
 TEST_F(SweepSummaryTest, ReadsRequiredValuesAndLeavesAbsentOrNullOnesEmpty) {
