@@ -192,11 +192,12 @@ std::size_t target_particle_count(double plate_radius, double gap, double diamet
       std::llround(volume_fraction * pi * plate_radius * plate_radius * gap / particle_volume));
 }
 
-Placement place_particles(const PlacementParams& params) {
-  const double R = params.plate_radius;
-  const double H = params.gap;
+namespace {
+
+// The diameters to place (params.diameters, checked, or N equal ones) and the lattice diameter,
+// the largest of them.
+std::pair<std::vector<double>, double> diameters_to_place(const PlacementParams& params) {
   const bool sized = !params.diameters.empty();
-  // d: the lattice diameter, the largest particle.
   double d = params.diameter;
   if (sized) {
     d = 0.0;
@@ -207,75 +208,49 @@ Placement place_particles(const PlacementParams& params) {
             fmt::format("diameters[{}] = {} is out of range, expected a finite value > 0", i, di));
       d = std::max(d, di);
     }
-    check_geometry(R, H, d, 0.0);
+    check_geometry(params.plate_radius, params.gap, d, 0.0);
   }
-  const std::size_t count = sized ? params.diameters.size() : target_particle_count(R, H, d, params.volume_fraction);
+  const std::size_t count = sized ? params.diameters.size()
+                                  : target_particle_count(params.plate_radius, params.gap, d, params.volume_fraction);
   if (params.shake_sweeps < 0)
     throw std::invalid_argument(fmt::format("shake_sweeps = {} is out of range, expected >= 0", params.shake_sweeps));
   if (count > std::numeric_limits<std::uint32_t>::max())
     throw std::invalid_argument(fmt::format("{} particles are too many for the placement", count));
-  std::vector<double> diameters = sized ? params.diameters : std::vector<double>(count, d);
+  return {sized ? params.diameters : std::vector<double>(count, d), d};
+}
 
-  // Limits of each centre, for the Monte Carlo moves: particle i keeps r_i (1 + clearance)
-  // from the plates and the rim, pairs keep (r_i + r_j)(1 + clearance).
-  const auto half = [&](std::uint32_t i) { return 0.5 * diameters[i] * (1.0 + clearance); };
-  const double gap_volume = pi * R * R * H;
-
-  // The lattice keeps twice the clearance, so rounding cannot bring its sites closer than
-  // the contact distance to each other or to the walls.
-  Random random(params.seed);
-  const double lattice_contact = d * (1.0 + 2.0 * clearance);
-  Lattice lattice = choose_lattice(H - lattice_contact, lattice_contact);
-  const double angle = 2.0 * pi * random.uniform();
-  const double site_radius = R - 0.5 * lattice_contact;
-  const double site_z = 0.5 * lattice_contact;
-  auto sites = lattice_sites(lattice, site_radius, site_z, H, angle);
-
-  Placement result;
-  result.count = count;
-  double solid_volume = 0.0;
-  for (const double di : diameters) solid_volume += core::units::sphere_volume(di);
-  result.volume_fraction = solid_volume / gap_volume;
-  result.lattice = lattice.hexagonal ? "hexagonal" : "square";
-  result.layers = lattice.layers;
-  result.layer_spacing = lattice.layers > 1 ? lattice.layer_spacing : 0.0;
-  result.capacity_volume_fraction = static_cast<double>(sites.size()) * core::units::sphere_volume(d) / gap_volume;
-  if (sites.size() < count)
-    throw std::invalid_argument(fmt::format(
-        "volume_fraction = {:.4g} needs {} particles, but the placement lattice holds only {} (φ = {:.3f} of "
-        "spheres of {} m) for R = {} m, H = {} m, d = {} m ({} {} layers); use a lower volume fraction, a wider gap{}",
-        result.volume_fraction, count, sites.size(), result.capacity_volume_fraction, d, R, H, d, lattice.layers,
-        result.lattice, sized ? " or a narrower size distribution (sites are spaced for the largest particle)" : ""));
-
-  // Spread the layers in-plane so that they hold about `spare` · N sites: every particle then
-  // has room to move (in the densest lattice, neighbours touch and the Monte Carlo step would
-  // collapse).
+// Spreads the layers in-plane so that they hold about `spare` · N sites: every particle then has
+// room to move (in the densest lattice, neighbours touch and the Monte Carlo step would
+// collapse). Returns the sites of the spacing chosen (kept in lattice.spacing).
+std::vector<std::array<double, 3>> spread_lattice(Lattice& lattice, std::vector<std::array<double, 3>> sites,
+                                                  std::size_t count, double site_radius, double site_z, double gap,
+                                                  double angle) {
   const double wanted = std::ceil(spare * static_cast<double>(count));
-  if (count > 0 && static_cast<double>(sites.size()) > wanted) {
-    const double densest = lattice.spacing;
-    double stretch = std::sqrt(static_cast<double>(sites.size()) / wanted);
-    for (;;) {
-      lattice.spacing = densest * stretch;
-      auto stretched = lattice_sites(lattice, site_radius, site_z, H, angle);
-      if (static_cast<double>(stretched.size()) >= wanted || stretch <= 1.0) {
-        if (stretched.size() >= count)
-          sites = std::move(stretched);
-        else
-          lattice.spacing = densest;  // cannot happen for stretch <= 1; keep the densest
-        break;
-      }
-      stretch = std::max(1.0, stretch * 0.99);
+  if (count == 0 || static_cast<double>(sites.size()) <= wanted) return sites;
+  const double densest = lattice.spacing;
+  double stretch = std::sqrt(static_cast<double>(sites.size()) / wanted);
+  for (;;) {
+    lattice.spacing = densest * stretch;
+    auto stretched = lattice_sites(lattice, site_radius, site_z, gap, angle);
+    if (static_cast<double>(stretched.size()) >= wanted || stretch <= 1.0) {
+      if (stretched.size() >= count)
+        sites = std::move(stretched);
+      else
+        lattice.spacing = densest;  // cannot happen for stretch <= 1; keep the densest
+      return sites;
     }
+    stretch = std::max(1.0, stretch * 0.99);
   }
-  result.lattice_spacing = lattice.spacing;
-  result.lattice_sites = sites.size();
+}
 
-  // Random subset: the first `count` entries of a partial Fisher–Yates shuffle. Particle i
-  // (diameter diameters[i]) gets site i.
-  for (std::size_t i = 0; i < count; ++i) std::swap(sites[i], sites[i + random.below(sites.size() - i)]);
-  sites.resize(count);
-
-  // Hard-sphere Monte Carlo shaking.
+// Hard-sphere Monte Carlo shaking of the centres `sites` (particle i of diameter diameters[i]),
+// each keeping r_i (1 + clearance) from the plates and the rim and pairs (r_i + r_j)(1 +
+// clearance); the step adapts towards target_acceptance. Checks the invariant at the end.
+void shake(std::vector<std::array<double, 3>>& sites, const std::vector<double>& diameters, double d,
+           const PlacementParams& params, Random& random, Placement& result) {
+  const double R = params.plate_radius, H = params.gap;
+  const auto count = static_cast<std::uint32_t>(sites.size());
+  const auto half = [&](std::uint32_t i) { return 0.5 * diameters[i] * (1.0 + clearance); };
   CellList cells(R, H, d * (1.0 + clearance));
   for (std::uint32_t i = 0; i < count; ++i) cells.insert(i, sites[i]);
   const auto fits = [&](std::uint32_t self, const std::array<double, 3>& p) {
@@ -310,12 +285,57 @@ Placement place_particles(const PlacementParams& params) {
   }
   result.shake_acceptance = proposed > 0 ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
   result.shake_step = step;
-
-  // Final check of the invariant.
   for (std::uint32_t i = 0; i < count; ++i)
     if (!fits(i, sites[i]))
       throw std::logic_error(fmt::format("place_particles: particle {} at ({}, {}, {}) overlaps a neighbour or a wall",
                                          i, sites[i][0], sites[i][1], sites[i][2]));
+}
+
+}  // namespace
+
+Placement place_particles(const PlacementParams& params) {
+  const double R = params.plate_radius;
+  const double H = params.gap;
+  auto [diameters, d] = diameters_to_place(params);  // d: the lattice diameter, the largest particle
+  const std::size_t count = diameters.size();
+  const double gap_volume = pi * R * R * H;
+
+  // The lattice keeps twice the clearance, so rounding cannot bring its sites closer than
+  // the contact distance to each other or to the walls.
+  Random random(params.seed);
+  const double lattice_contact = d * (1.0 + 2.0 * clearance);
+  Lattice lattice = choose_lattice(H - lattice_contact, lattice_contact);
+  const double angle = 2.0 * pi * random.uniform();
+  const double site_radius = R - 0.5 * lattice_contact;
+  const double site_z = 0.5 * lattice_contact;
+  auto sites = lattice_sites(lattice, site_radius, site_z, H, angle);
+
+  Placement result;
+  result.count = count;
+  double solid_volume = 0.0;
+  for (const double di : diameters) solid_volume += core::units::sphere_volume(di);
+  result.volume_fraction = solid_volume / gap_volume;
+  result.lattice = lattice.hexagonal ? "hexagonal" : "square";
+  result.layers = lattice.layers;
+  result.layer_spacing = lattice.layers > 1 ? lattice.layer_spacing : 0.0;
+  result.capacity_volume_fraction = static_cast<double>(sites.size()) * core::units::sphere_volume(d) / gap_volume;
+  if (sites.size() < count)
+    throw std::invalid_argument(fmt::format(
+        "volume_fraction = {:.4g} needs {} particles, but the placement lattice holds only {} (φ = {:.3f} of "
+        "spheres of {} m) for R = {} m, H = {} m, d = {} m ({} {} layers); use a lower volume fraction, a wider gap{}",
+        result.volume_fraction, count, sites.size(), result.capacity_volume_fraction, d, R, H, d, lattice.layers,
+        result.lattice,
+        params.diameters.empty() ? ""
+                                 : " or a narrower size distribution (sites are spaced for the largest particle)"));
+  sites = spread_lattice(lattice, std::move(sites), count, site_radius, site_z, H, angle);
+  result.lattice_spacing = lattice.spacing;
+  result.lattice_sites = sites.size();
+
+  // Random subset: the first `count` entries of a partial Fisher–Yates shuffle. Particle i
+  // (diameter diameters[i]) gets site i.
+  for (std::size_t i = 0; i < count; ++i) std::swap(sites[i], sites[i + random.below(sites.size() - i)]);
+  sites.resize(count);
+  shake(sites, diameters, d, params, random, result);
 
   result.centres.reserve(3 * count);
   for (const auto& p : sites) result.centres.insert(result.centres.end(), p.begin(), p.end());
