@@ -224,6 +224,111 @@ PointRunner make_coupled_suspension_runner(const RheometerCase& rheometer, fs::p
   };
 }
 
+namespace {
+
+// The coupled point's settings for one sweep point of the full disk (the fluid grid is
+// coupling::SuspensionPointSettings' own, 8 × 8 × 2, not the case's `solver:` grid, which is the
+// φ = 0 swirl solver's: unresolved CFD-DEM needs cells wider than a particle, docs/coupling.md).
+coupling::SuspensionPointSettings full_disk_settings(const RheometerCase& r, const SweepPoint& point,
+                                                     const fs::path& work) {
+  coupling::SuspensionPointSettings s;
+  s.geometry = r.geometry;
+  s.fluid = fluid_named(r, point.fluid).properties;
+  s.particles = *r.particles;  // the solid; its drag and near field follow
+  s.particles.volume_fraction = point.volume_fraction;
+  s.drag = r.particles->drag;
+  s.hydrodynamics = r.particles->hydrodynamics;
+  s.coupling.forces = coupling::force_models(s.drag);
+  s.rim_shear_rate = point.rim_shear_rate;
+  s.inertia = r.solver.inertia;
+  s.seed = 1 + point.index;
+  s.run_directory = work / fmt::format("point_{:04d}", point.index);
+  return s;
+}
+
+// The rules a coupled point bent: split fluid steps, void-fraction floors and clamps, near-field
+// solves stopped at their cap.
+std::vector<std::string> full_disk_warnings(const coupling::SuspensionPoint& p,
+                                            const coupling::SuspensionPointSettings& s) {
+  std::vector<std::string> warnings;
+  if (p.cost.fluid_split_steps > 0)
+    warnings.push_back(fmt::format(
+        "fluid: {} of {} coupling steps broke the fluid's Courant limit and were split into up to {} substeps "
+        "(fluid step {:.3g} s)",
+        p.cost.fluid_split_steps, p.cost.steps, p.cost.max_fluid_substeps, p.fluid_time_step));
+  if (p.cost.void_fraction_floor_steps > 0)
+    warnings.push_back(fmt::format(
+        "void fraction: on {} of {} coupling steps some cells held more solid than the floor ε_min = {:g} allows "
+        "(ε down to {:.3g} before the floor); their excess was moved to neighbouring cells",
+        p.cost.void_fraction_floor_steps, p.cost.steps, s.coupling.void_fraction_floor, p.cost.min_raw_void_fraction));
+  if (p.cost.void_fraction_clamped_steps > 0)
+    warnings.push_back(fmt::format(
+        "void fraction: on {} of {} coupling steps the excess over the floor could not all be placed; ε was "
+        "clamped there and the grid carries less solid than the particles",
+        p.cost.void_fraction_clamped_steps, p.cost.steps));
+  if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
+    warnings.push_back(
+        fmt::format("near field: implicit solves stopped at their iteration cap ({}) on some DEM "
+                    "steps; their forces are the last iterate's",
+                    cap));
+  return warnings;
+}
+
+// The coupled point's result into `out`: torque and its parts, the rules it bent, the torque
+// series as the point's fields, its costs.
+void take_full_disk_point(const coupling::SuspensionPoint& p, const coupling::SuspensionPointSettings& s,
+                          PointResult& out) {
+  const bool near_field = s.hydrodynamics.terms.any();
+  out.method += fmt::format("; DEM step {:.3g} s, fluid step {:.3g} s ({} DEM steps){}", p.dem_time_step,
+                            p.fluid_time_step, s.coupling.coupling_interval,
+                            p.cost.fluid_split_steps > 0
+                                ? fmt::format(", split into up to {} substeps where it broke the fluid's Courant "
+                                              "limit",
+                                              p.cost.max_fluid_substeps)
+                                : std::string());
+  out.converged = p.converged;
+  if (!p.converged)
+    out.failure = fmt::format("torque not steady within {:g} strain units (last window {:.4g} ± {:.2g} N·m)",
+                              s.steady.max_strain, p.torque, p.torque_error);
+  out.torque = p.torque;
+  out.torque_fluid = p.torque_fluid;
+  out.torque_contact = p.torque_contact;
+  if (near_field) {
+    out.torque_lubrication = p.torque_lubrication;
+    out.torque_stresslet = p.torque_stresslet;
+    out.torque_couple = p.torque_couple;
+  }
+  out.torque_std_error = p.torque_error;
+  out.warnings = full_disk_warnings(p, s);
+  out.strain = p.strain;
+  out.iterations = static_cast<int>(p.cost.steps);
+  out.wall_time = p.wall_time;
+  std::vector<double> time, fluid, contact, lubrication, stresslet, couple;
+  for (const auto& rec : p.series) {
+    time.push_back(rec.time);
+    fluid.push_back(rec.fluid_torque);
+    contact.push_back(rec.contact_torque);
+    lubrication.push_back(rec.lubrication_torque);
+    stresslet.push_back(rec.stresslet_torque);
+    couple.push_back(rec.couple_torque);
+  }
+  out.fields.push_back(field("time", {time.size()}, time, "s"));
+  out.fields.push_back(field("torque_fluid", {fluid.size()}, fluid, "N m"));
+  out.fields.push_back(field("torque_contact", {contact.size()}, contact, "N m"));
+  if (near_field) {
+    out.fields.push_back(field("torque_lubrication", {lubrication.size()}, lubrication, "N m"));
+    out.fields.push_back(field("torque_stresslet", {stresslet.size()}, stresslet, "N m"));
+    out.fields.push_back(field("torque_couple", {couple.size()}, couple, "N m"));
+    out.cost_near_field = p.cost.near_field;
+  }
+  out.cost_dem = p.cost.dem;
+  out.cost_void_fraction = p.cost.void_fraction;
+  out.cost_forces = p.cost.forces;
+  out.cost_fluid = p.cost.fluid;
+}
+
+}  // namespace
+
 PointRunner make_full_disk_suspension_runner(const RheometerCase& rheometer, fs::path work_dir, double budget_seconds) {
   return [r = rheometer, work = std::move(work_dir), budget_seconds](const SweepPoint& point,
                                                                      const PointProgressCallback& progress) {
@@ -237,105 +342,27 @@ PointRunner make_full_disk_suspension_runner(const RheometerCase& rheometer, fs:
                                 point.volume_fraction);
       return out;
     }
-    coupling::SuspensionPointSettings s;
-    const auto cost = estimate_suspension_cost(r, point.volume_fraction, point.rim_shear_rate, s.steady.max_strain);
+    const double max_strain = coupling::SuspensionPointSettings{}.steady.max_strain;
+    const auto cost = estimate_suspension_cost(r, point.volume_fraction, point.rim_shear_rate, max_strain);
     if (cost.wall_time > budget_seconds) {
       out.failure = fmt::format(
           "CFD-DEM point not started: about {:.3g} particles × {:.3g} DEM steps (to strain {:g}) ≈ {:.3g} h on one "
           "core, above the point budget of {:g} s; raise it with `rheosim run --point-budget SECONDS` or shrink the "
           "disk (the cost scales with R²)",
-          cost.particles, cost.dem_steps, s.steady.max_strain, cost.wall_time / 3600, budget_seconds);
+          cost.particles, cost.dem_steps, max_strain, cost.wall_time / 3600, budget_seconds);
       return out;
     }
-    s.geometry = r.geometry;
-    s.fluid = fluid_named(r, point.fluid).properties;
-    s.particles = *r.particles;  // the solid; its drag and near field follow
-    s.particles.volume_fraction = point.volume_fraction;
-    s.drag = r.particles->drag;
-    s.hydrodynamics = r.particles->hydrodynamics;
-    s.coupling.forces = coupling::force_models(s.drag);
-    s.rim_shear_rate = point.rim_shear_rate;
-    s.inertia = r.solver.inertia;
-    // The fluid grid is coupling::SuspensionPointSettings' (8 × 8 × 2), not the case's `solver:`
-    // grid, which is the φ = 0 swirl solver's: unresolved CFD-DEM needs cells wider than a
-    // particle (docs/coupling.md). The point says which grid it used.
-    s.seed = 1 + point.index;
+    coupling::SuspensionPointSettings s = full_disk_settings(r, point, work);
     out.method += fmt::format(
         "; CFD-DEM fluid grid {} × {} × {} (r × θ × z; the case's solver: grid is the φ = 0 "
         "swirl solver's)",
         s.radial_cells, s.azimuthal_cells, s.axial_cells);
-    s.run_directory = work / fmt::format("point_{:04d}", point.index);
     try {
       fs::create_directories(s.run_directory);
-      if (progress) s.on_strain = [&progress](double strain, double max_strain) { progress({strain, max_strain}); };
+      if (progress) s.on_strain = [&progress](double strain, double limit) { progress({strain, limit}); };
       const coupling::SuspensionPoint p = coupling::run_point(s);
-      out.method += fmt::format("; DEM step {:.3g} s, fluid step {:.3g} s ({} DEM steps){}", p.dem_time_step,
-                                p.fluid_time_step, s.coupling.coupling_interval,
-                                p.cost.fluid_split_steps > 0
-                                    ? fmt::format(", split into up to {} substeps where it broke the fluid's Courant "
-                                                  "limit",
-                                                  p.cost.max_fluid_substeps)
-                                    : std::string());
-      out.converged = p.converged;
-      if (!p.converged)
-        out.failure = fmt::format("torque not steady within {:g} strain units (last window {:.4g} ± {:.2g} N·m)",
-                                  s.steady.max_strain, p.torque, p.torque_error);
-      out.torque = p.torque;
-      out.torque_fluid = p.torque_fluid;
-      out.torque_contact = p.torque_contact;
-      if (s.hydrodynamics.terms.any()) {
-        out.torque_lubrication = p.torque_lubrication;
-        out.torque_stresslet = p.torque_stresslet;
-        out.torque_couple = p.torque_couple;
-      }
-      out.torque_std_error = p.torque_error;
-      if (p.cost.fluid_split_steps > 0)
-        out.warnings.push_back(fmt::format(
-            "fluid: {} of {} coupling steps broke the fluid's Courant limit and were split into up to {} substeps "
-            "(fluid step {:.3g} s)",
-            p.cost.fluid_split_steps, p.cost.steps, p.cost.max_fluid_substeps, p.fluid_time_step));
-      if (p.cost.void_fraction_floor_steps > 0)
-        out.warnings.push_back(fmt::format(
-            "void fraction: on {} of {} coupling steps some cells held more solid than the floor ε_min = {:g} allows "
-            "(ε down to {:.3g} before the floor); their excess was moved to neighbouring cells",
-            p.cost.void_fraction_floor_steps, p.cost.steps, s.coupling.void_fraction_floor,
-            p.cost.min_raw_void_fraction));
-      if (p.cost.void_fraction_clamped_steps > 0)
-        out.warnings.push_back(fmt::format(
-            "void fraction: on {} of {} coupling steps the excess over the floor could not all be placed; ε was "
-            "clamped there and the grid carries less solid than the particles",
-            p.cost.void_fraction_clamped_steps, p.cost.steps));
-      if (const int cap = coupling::NearFieldSettings{}.max_solver_iterations; p.max_near_field_iterations >= cap)
-        out.warnings.push_back(
-            fmt::format("near field: implicit solves stopped at their iteration cap ({}) on some DEM "
-                        "steps; their forces are the last iterate's",
-                        cap));
-      out.strain = p.strain;
-      out.iterations = static_cast<int>(p.cost.steps);
-      out.wall_time = p.wall_time;
+      take_full_disk_point(p, s, out);
       if (progress) progress({p.strain, p.strain});
-      std::vector<double> time, fluid, contact, lubrication, stresslet, couple;
-      for (const auto& rec : p.series) {
-        time.push_back(rec.time);
-        fluid.push_back(rec.fluid_torque);
-        contact.push_back(rec.contact_torque);
-        lubrication.push_back(rec.lubrication_torque);
-        stresslet.push_back(rec.stresslet_torque);
-        couple.push_back(rec.couple_torque);
-      }
-      out.fields.push_back(field("time", {time.size()}, time, "s"));
-      out.fields.push_back(field("torque_fluid", {fluid.size()}, fluid, "N m"));
-      out.fields.push_back(field("torque_contact", {contact.size()}, contact, "N m"));
-      if (s.hydrodynamics.terms.any()) {
-        out.fields.push_back(field("torque_lubrication", {lubrication.size()}, lubrication, "N m"));
-        out.fields.push_back(field("torque_stresslet", {stresslet.size()}, stresslet, "N m"));
-        out.fields.push_back(field("torque_couple", {couple.size()}, couple, "N m"));
-        out.cost_near_field = p.cost.near_field;
-      }
-      out.cost_dem = p.cost.dem;
-      out.cost_void_fraction = p.cost.void_fraction;
-      out.cost_forces = p.cost.forces;
-      out.cost_fluid = p.cost.fluid;
     } catch (const std::exception& e) {
       out.failure = fmt::format("CFD-DEM point failed: {}", e.what());
     }
