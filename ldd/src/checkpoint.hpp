@@ -3,6 +3,7 @@
 // scene has recorded so far (named numbers, named series, the probe table), written atomically.
 // Running the same deck into the same folder continues from it, bit for bit; a checkpoint of
 // another deck (its input sha256 differs) is refused.
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
@@ -67,5 +68,43 @@ template <class Solver>
              stored.git_revision, core::git_revision);
   return std::move(stored.record);
 }
+
+// A run's checkpoint: its file, and the wall time the run has taken over every process that ran
+// it (kept in the record as "wall_seconds"; this process's share counted from `start`).
+class RunCheckpoint {
+ public:
+  RunCheckpoint(const Case& c, std::filesystem::path file, std::chrono::steady_clock::time_point start)
+      : c_(c), file_(std::move(file)), start_(start) {}
+  [[nodiscard]] const std::filesystem::path& file() const { return file_; }
+  [[nodiscard]] bool exists() const { return std::filesystem::exists(file_); }
+  // resume_from_checkpoint, and the wall time of the processes before this one.
+  template <class Solver>
+  [[nodiscard]] RunRecordContent resume(Solver& solver, core::CsvTable& history, std::size_t total_steps,
+                                        const core::Log& log) {
+    RunRecordContent record = resume_from_checkpoint(file_, c_, solver, history, total_steps, log);
+    wall_seconds_ = record.number("wall_seconds", file_);
+    return record;
+  }
+  // Writes the state, the record (with the wall time so far) and the probe rows.
+  void write(SolverState state, RunRecordContent record, const core::CsvTable& history) {
+    const double now = elapsed();
+    wall_seconds_ += now - written_at_;
+    written_at_ = now;
+    record.numbers["wall_seconds"] = wall_seconds_;
+    write_checkpoint(file_, c_, std::move(state), record, history);
+  }
+  [[nodiscard]] double seconds_since_write() const { return elapsed() - written_at_; }
+  // Over every process that ran the case, up to the last write.
+  [[nodiscard]] double wall_seconds() const { return wall_seconds_; }
+
+ private:
+  [[nodiscard]] double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  const Case& c_;
+  std::filesystem::path file_;
+  std::chrono::steady_clock::time_point start_;
+  double wall_seconds_ = 0, written_at_ = 0;
+};
 
 }  // namespace rheosim::ldd::detail

@@ -205,39 +205,35 @@ class CavityRun final : public detail::SceneRun {
  public:
   CavityRun(const Case& c, const Cavity& cavity, Solver& solver, const std::filesystem::path& out_dir,
             std::chrono::steady_clock::time_point wall_start, const core::Log& log)
-      : c_(c),
-        l_(c.settings),
+      : l_(c.settings),
         cavity_(cavity),
         solver_(solver),
         out_dir_(out_dir),
-        wall_start_(wall_start),
-        checkpoint_path_(out_dir / "checkpoint.h5"),
+        checkpoint_(c, out_dir / "checkpoint.h5", wall_start),
         log_(log) {}
 
   // Continues from checkpoint.h5 when the folder holds one, else writes the first frame.
   void resume_or_start(std::size_t total_steps) {
-    if (!std::filesystem::exists(checkpoint_path_)) {
+    if (!checkpoint_.exists()) {
       last_ = sample_centerlines(solver_, cavity_);
       add_frame();
       return;
     }
-    const detail::RunRecordContent r =
-        detail::resume_from_checkpoint(checkpoint_path_, c_, solver_, history_, total_steps, log_);
-    last_probe_time_ = r.number("last_probe_time", checkpoint_path_);
-    quiet_probes_ = static_cast<int>(r.number("quiet_probes", checkpoint_path_));
-    step_seconds_ = r.number("step_seconds", checkpoint_path_);
-    wall_seconds_ = r.number("wall_seconds", checkpoint_path_);
+    const detail::RunRecordContent r = checkpoint_.resume(solver_, history_, total_steps, log_);
+    const std::filesystem::path& file = checkpoint_.file();
+    last_probe_time_ = r.number("last_probe_time", file);
+    quiet_probes_ = static_cast<int>(r.number("quiet_probes", file));
+    step_seconds_ = r.number("step_seconds", file);
     accepted_ = detail::accepted_solves_of(r);
-    last_ = centerlines_of(r.values("last_u", checkpoint_path_), r.values("last_v", checkpoint_path_));
-    for (double t : r.values("frame_times", checkpoint_path_))
-      frames_.push_back({t, detail::frame_name(frames_.size())});
-    resumed_at_steps_ = r.values("resumed_at_steps", checkpoint_path_);
+    last_ = centerlines_of(r.values("last_u", file), r.values("last_v", file));
+    for (double t : r.values("frame_times", file)) frames_.push_back({t, detail::frame_name(frames_.size())});
+    resumed_at_steps_ = r.values("resumed_at_steps", file);
     resumed_at_steps_.push_back(static_cast<double>(solver_.steps()));
   }
 
   [[nodiscard]] double time() const override { return solver_.time(); }
   [[nodiscard]] std::size_t steps() const override { return solver_.steps(); }
-  [[nodiscard]] bool step(std::size_t, bool, RunOutcome& outcome) override {
+  [[nodiscard]] bool step(bool, RunOutcome& outcome) override {
     if (!detail::timed_step(solver_, stats_, outcome, step_seconds_)) return false;
     accepted_.add(stats_, solver_.params());
     return true;
@@ -270,35 +266,28 @@ class CavityRun final : public detail::SceneRun {
     write_frame_indexes(out_dir_, frames_);
     checkpoint();
   }
-  [[nodiscard]] std::optional<std::filesystem::path> checkpoint_file() const override { return checkpoint_path_; }
+  [[nodiscard]] const detail::RunCheckpoint& run_checkpoint() const override { return checkpoint_; }
   void checkpoint() override {
-    wall_seconds_ += wall_seconds() - checkpoint_wall_;
-    checkpoint_wall_ = wall_seconds();
     detail::RunRecordContent r;
     r.numbers = {{"last_probe_time", last_probe_time_},
                  {"quiet_probes", static_cast<double>(quiet_probes_)},
-                 {"step_seconds", step_seconds_},
-                 {"wall_seconds", wall_seconds_}};
+                 {"step_seconds", step_seconds_}};
     detail::add_accepted_solves(accepted_, r);
     r.series["last_u"] = last_.u;
     r.series["last_v"] = last_.v;
     r.series["resumed_at_steps"] = resumed_at_steps_;
     for (const auto& frame : frames_) r.series["frame_times"].push_back(frame.time);
-    detail::write_checkpoint(checkpoint_path_, c_, solver_.state(), r, history_);
+    checkpoint_.write(solver_.state(), std::move(r), history_);
   }
-  [[nodiscard]] double seconds_since_checkpoint() const override { return wall_seconds() - checkpoint_wall_; }
 
   [[nodiscard]] const core::CsvTable& history() const { return history_; }
   [[nodiscard]] double step_seconds() const { return step_seconds_; }
   // Over every process that ran the case, up to the last checkpoint (written when the loop stops).
-  [[nodiscard]] double wall_time() const { return wall_seconds_; }
+  [[nodiscard]] double wall_time() const { return checkpoint_.wall_seconds(); }
   [[nodiscard]] const std::vector<double>& resumed_at_steps() const { return resumed_at_steps_; }
   [[nodiscard]] const detail::AcceptedSolves& accepted() const { return accepted_; }
 
  private:
-  [[nodiscard]] double wall_seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
-  }
   // Centre lines from their stored velocities (the coordinates are the probes' fixed fractions).
   static Centerlines centerlines_of(const std::vector<double>& u, const std::vector<double>& v) {
     Centerlines c;
@@ -312,13 +301,11 @@ class CavityRun final : public detail::SceneRun {
     return c;
   }
 
-  const Case& c_;
   const CaseSettings& l_;
   const Cavity& cavity_;
   Solver& solver_;
   std::filesystem::path out_dir_;
-  std::chrono::steady_clock::time_point wall_start_;
-  std::filesystem::path checkpoint_path_;
+  detail::RunCheckpoint checkpoint_;
   const core::Log& log_;
   core::CsvTable history_{{{"time", "s"},
                            {"residual", ""},
@@ -332,7 +319,6 @@ class CavityRun final : public detail::SceneRun {
   double last_probe_time_ = 0;
   int quiet_probes_ = 0;
   double step_seconds_ = 0;
-  double wall_seconds_ = 0, checkpoint_wall_ = 0;  // all processes' wall time; this one's at the last checkpoint
   std::vector<double> resumed_at_steps_;
   CavityStepStats stats_;
   detail::AcceptedSolves accepted_;

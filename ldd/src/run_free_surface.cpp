@@ -124,7 +124,7 @@ struct RunRecord {
   // Energy balance: potential energy at the start, the most released so far, and the largest
   // excess of kinetic energy over the potential energy released (> 0: the scheme created energy).
   double potential0 = 0, max_released = 0, max_energy_excess = 0;
-  double step_seconds = 0, wall_seconds = 0;                // over all processes that ran the case
+  double step_seconds = 0;                                  // over all processes that ran the case
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
   detail::AcceptedSolves accepted;  // solves accepted above their tolerance
@@ -139,7 +139,6 @@ constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
     {"max_released", &RunRecord::max_released},
     {"max_energy_excess", &RunRecord::max_energy_excess},
     {"step_seconds", &RunRecord::step_seconds},
-    {"wall_seconds", &RunRecord::wall_seconds},
     {"pressure_iterations", &RunRecord::pressure_iterations},
     {"velocity_iterations", &RunRecord::velocity_iterations},
     {"repeated_solves", &RunRecord::repeated_solves},
@@ -200,8 +199,8 @@ std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bo
 // volume records, the rules the run bent, the probes, and a dam break's or slump's final shape
 // (a dam break also writes profile.csv and its references' files).
 nlohmann::ordered_json run_summary(const Case& c, const FreeSurfaceSolver& solver, const RunRecord& run,
-                                   const core::CsvTable& history, const RunOutcome& outcome, int threads,
-                                   const std::filesystem::path& out_dir, const core::Log& log) {
+                                   double wall_time, const core::CsvTable& history, const RunOutcome& outcome,
+                                   int threads, const std::filesystem::path& out_dir, const core::Log& log) {
   const auto& l = c.settings;
   const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
   const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
@@ -242,7 +241,7 @@ nlohmann::ordered_json run_summary(const Case& c, const FreeSurfaceSolver& solve
                                     {"velocity", run.velocity_iterations / steps_done}};
   // Neighbour searches by this process (the other steps filtered the Verlet list).
   summary["neighbour_searches"] = solver.neighbour_searches();
-  summary["wall_time"] = run.wall_seconds;
+  summary["wall_time"] = wall_time;
   summary["resumed_at_steps"] = detail::as_counts(run.resumed_at_steps);
   nlohmann::ordered_json probes = nlohmann::ordered_json::array();
   for (std::size_t q = 0; q < history.row_count(); ++q) {
@@ -286,18 +285,15 @@ class FreeSurfaceRun final : public detail::SceneRun {
  public:
   FreeSurfaceRun(const Case& c, FreeSurfaceSolver& solver, const std::filesystem::path& out_dir,
                  const RunControl& control, std::chrono::steady_clock::time_point wall_start, const core::Log& log)
-      : c_(c),
-        l_(c.settings),
+      : l_(c.settings),
         solver_(solver),
         out_dir_(out_dir),
-        wall_start_(wall_start),
         dam_break_(std::holds_alternative<ldd::DamBreakScene>(l_.scene)),
         slump_(std::holds_alternative<ldd::SlumpScene>(l_.scene)),
-        probe_stability_(control.stability_probe_iterations > 0),
         stability_probe_iterations_(control.stability_probe_iterations),
-        history_(probe_columns(l_, probe_stability_)),
+        history_(probe_columns(l_, probe_stability())),
         probe_file_(probe_file_name(l_.scene_type)),
-        checkpoint_path_(out_dir / "checkpoint.h5"),
+        checkpoint_(c, out_dir / "checkpoint.h5", wall_start),
         log_(log) {
     // Slump: the mould clears the fluid when its bottom passes the initial height.
     if (const auto* s = std::get_if<ldd::SlumpScene>(&l_.scene)) mould_clear_time_ = s->cone_height / s->lift_velocity;
@@ -305,9 +301,8 @@ class FreeSurfaceRun final : public detail::SceneRun {
 
   // Continues from checkpoint.h5 when the folder holds one, else records the start.
   void resume_or_start(std::size_t total_steps) {
-    if (std::filesystem::exists(checkpoint_path_)) {
-      run_ = record_of(detail::resume_from_checkpoint(checkpoint_path_, c_, solver_, history_, total_steps, log_),
-                       checkpoint_path_);
+    if (checkpoint_.exists()) {
+      run_ = record_of(checkpoint_.resume(solver_, history_, total_steps, log_), checkpoint_.file());
       run_.resumed_at_steps.push_back(static_cast<double>(solver_.steps()));
       return;
     }
@@ -323,9 +318,9 @@ class FreeSurfaceRun final : public detail::SceneRun {
 
   [[nodiscard]] double time() const override { return solver_.time(); }
   [[nodiscard]] std::size_t steps() const override { return solver_.steps(); }
-  [[nodiscard]] bool step(std::size_t, bool probed, RunOutcome& outcome) override {
+  [[nodiscard]] bool step(bool probed, RunOutcome& outcome) override {
     // The step map is probed only on the steps that are recorded (it costs ~3 solves an iteration).
-    if (probe_stability_) solver_.set_stability_probe(probed ? stability_probe_iterations_ : 0);
+    if (probe_stability()) solver_.set_stability_probe(probed ? stability_probe_iterations_ : 0);
     if (!detail::timed_step(solver_, stats_, outcome, run_.step_seconds)) return false;
     run_.pressure_iterations += stats_.pressure_iterations;
     run_.velocity_iterations += stats_.velocity_iterations;
@@ -364,21 +359,16 @@ class FreeSurfaceRun final : public detail::SceneRun {
     core::write_csv(out_dir_ / probe_file_, history_);
     checkpoint();
   }
-  [[nodiscard]] std::optional<std::filesystem::path> checkpoint_file() const override { return checkpoint_path_; }
-  void checkpoint() override {
-    run_.wall_seconds += wall_seconds() - checkpoint_wall_;
-    checkpoint_wall_ = wall_seconds();
-    detail::write_checkpoint(checkpoint_path_, c_, solver_.state(), content_of(run_), history_);
-  }
-  [[nodiscard]] double seconds_since_checkpoint() const override { return wall_seconds() - checkpoint_wall_; }
+  [[nodiscard]] const detail::RunCheckpoint& run_checkpoint() const override { return checkpoint_; }
+  void checkpoint() override { checkpoint_.write(solver_.state(), content_of(run_), history_); }
 
   [[nodiscard]] const RunRecord& record_so_far() const { return run_; }
+  // Over every process that ran the case, up to the last checkpoint (written when the loop stops).
+  [[nodiscard]] double wall_time() const { return checkpoint_.wall_seconds(); }
   [[nodiscard]] const core::CsvTable& history() const { return history_; }
 
  private:
-  [[nodiscard]] double wall_seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
-  }
+  [[nodiscard]] bool probe_stability() const { return stability_probe_iterations_ > 0; }
   std::vector<core::TimeSeriesEntry> frame_entries() const {
     std::vector<core::TimeSeriesEntry> entries;
     for (std::size_t q = 0; q < run_.frame_times.size(); ++q)
@@ -401,7 +391,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
       row.push_back(height);
     }
     if (!dam_break_ && !slump_) row.push_back(left_wall_height(solver_));
-    if (probe_stability_) {
+    if (probe_stability()) {
       const std::size_t at = st.step_map_node * static_cast<std::size_t>(solver_.dimension());
       row.push_back(st.step_map_growth);
       row.push_back(st.step_map_growth > 0 ? solver_.positions()[at] : 0.0);
@@ -415,18 +405,15 @@ class FreeSurfaceRun final : public detail::SceneRun {
     return energy;
   }
 
-  const Case& c_;
   const CaseSettings& l_;
   FreeSurfaceSolver& solver_;
   std::filesystem::path out_dir_;
-  std::chrono::steady_clock::time_point wall_start_;
-  bool dam_break_, slump_, probe_stability_;
+  bool dam_break_, slump_;
   int stability_probe_iterations_;
   double mould_clear_time_ = 0;
   core::CsvTable history_;
   std::string probe_file_;
-  std::filesystem::path checkpoint_path_;
-  double checkpoint_wall_ = 0;  // this process's wall time at the last checkpoint
+  detail::RunCheckpoint checkpoint_;
   RunRecord run_;
   FreeSurfaceStats stats_;
   const core::Log& log_;
@@ -486,7 +473,8 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   outcome.steps = solver.steps();
   const RunRecord& record = run.record_so_far();
   outcome.ms_per_step = solver.steps() > 0 ? 1e3 * record.step_seconds / static_cast<double>(solver.steps()) : 0.0;
-  const nlohmann::ordered_json summary = run_summary(c, solver, record, run.history(), outcome, threads, out_dir, log);
+  const nlohmann::ordered_json summary =
+      run_summary(c, solver, record, run.wall_time(), run.history(), outcome, threads, out_dir, log);
   core::write_json(out_dir / "summary.json", summary);
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,

@@ -34,19 +34,19 @@ RunOutcome run_steps(SceneRun& scene, const RunSchedule& schedule, const RunCont
   const auto wall_seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
-  const std::optional<std::filesystem::path> checkpoint_file = scene.checkpoint_file();
+  const RunCheckpoint& checkpoint = scene.run_checkpoint();
   RunOutcome outcome;
   outcome.status = "end_time";
   core::Progress progress = core::Progress::for_stderr("ldd", schedule.total_steps);
   std::size_t steps_now = 0;  // in this process
   for (std::size_t k = scene.steps() + 1; k <= schedule.total_steps; ++k) {
-    if (checkpoint_file && ((control.step_limit > 0 && steps_now >= control.step_limit) ||
-                            (control.wall_time_limit > 0 && wall_seconds() >= control.wall_time_limit))) {
+    if ((control.step_limit > 0 && steps_now >= control.step_limit) ||
+        (control.wall_time_limit > 0 && wall_seconds() >= control.wall_time_limit)) {
       outcome.status = "interrupted";
       break;
     }
     const bool probed = k % schedule.probe_every == 0 || k == schedule.total_steps;
-    if (!scene.step(k, probed, outcome)) break;
+    if (!scene.step(probed, outcome)) break;
     ++steps_now;
     if (probed) {
       if (const std::optional<std::string> status = scene.probe(k, progress, outcome)) {
@@ -57,14 +57,13 @@ RunOutcome run_steps(SceneRun& scene, const RunSchedule& schedule, const RunCont
     if (k % schedule.frame_every == 0) {
       scene.add_frame();
       scene.save();  // a run stopped from outside keeps its probes and state so far
-    } else if (control.checkpoint_interval > 0 && scene.seconds_since_checkpoint() >= control.checkpoint_interval) {
+    } else if (control.checkpoint_interval > 0 && checkpoint.seconds_since_write() >= control.checkpoint_interval) {
       scene.checkpoint();
     }
   }
   if (outcome.status == "diverged")
-    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame{}.",
-              outcome.message, scene.time(),
-              checkpoint_file ? fmt::format(" and to {}", checkpoint_file->string()) : std::string());
+    log.error("LDD run diverged: {}. The last good state (t = {:.6g} s) is written as the last frame and to {}.",
+              outcome.message, scene.time(), checkpoint.file().string());
   else
     progress.finish();
   // An interrupted run adds no frame: the checkpoint holds its state, and the frames of the run
@@ -76,7 +75,7 @@ RunOutcome run_steps(SceneRun& scene, const RunSchedule& schedule, const RunCont
     log.info(
         "interrupted at t = {:.6g} s (step {} of {}): the state is in {}; run the same case into the same folder "
         "to go on",
-        scene.time(), scene.steps(), schedule.total_steps, checkpoint_file->string());
+        scene.time(), scene.steps(), schedule.total_steps, checkpoint.file().string());
   return outcome;
 }
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "checkpoint.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/progress.hpp"
 #include "rheosim/ldd/case.hpp"
@@ -34,9 +35,9 @@ class SceneRun {
   virtual ~SceneRun() = default;
   [[nodiscard]] virtual double time() const = 0;
   [[nodiscard]] virtual std::size_t steps() const = 0;
-  // Step `step` of the run, timed into the scene's records; false when it diverged (outcome
-  // says why, the solver keeps the last good state). `probed`: the loop probes after it.
-  [[nodiscard]] virtual bool step(std::size_t step, bool probed, RunOutcome& outcome) = 0;
+  // The next step, timed into the scene's records; false when it diverged (outcome says why,
+  // the solver keeps the last good state). `probed`: the loop probes after it.
+  [[nodiscard]] virtual bool step(bool probed, RunOutcome& outcome) = 0;
   // Records the probes after `step`; a status ("steady", "settled", "diverged") ends the run,
   // outcome.message saying why where there is something to say.
   [[nodiscard]] virtual std::optional<std::string> probe(std::size_t step, core::Progress& progress,
@@ -47,11 +48,9 @@ class SceneRun {
   // The files a run stopped from outside keeps (the probes so far, the checkpoint), written
   // after every frame of the loop and once when it stops.
   virtual void save() = 0;
-  // Resumable scenes keep a checkpoint the next run into the same folder continues from; only
-  // they obey the caller's step and wall-time limits.
-  [[nodiscard]] virtual std::optional<std::filesystem::path> checkpoint_file() const { return std::nullopt; }
-  virtual void checkpoint() {}
-  [[nodiscard]] virtual double seconds_since_checkpoint() const { return 0; }
+  // The checkpoint the next run into the same folder continues from (checkpoint.hpp).
+  [[nodiscard]] virtual const RunCheckpoint& run_checkpoint() const = 0;
+  virtual void checkpoint() = 0;
 };
 
 // Steps `scene` from its current step to the schedule's end or a stop, then writes the last
