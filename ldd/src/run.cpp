@@ -54,19 +54,30 @@ std::vector<double> probe_points(const Cavity& cavity) {
   return points;
 }
 
-Centerlines sample_centerlines(const Solver& solver, const Cavity& cavity) {
-  const auto values = solver.sample_velocity(probe_points(cavity));
-  const double lid = cavity.lid_velocity() != 0 ? cavity.lid_velocity() : 1.0;
+// Centre lines of the velocities u/U and v/U at the probes (the coordinates are the probes'
+// fixed fractions of the lines).
+Centerlines centerlines_of(std::vector<double> u, std::vector<double> v) {
   Centerlines c;
   for (int k = 0; k < probe_count; ++k) {
     const double f = static_cast<double>(k) / (probe_count - 1);
-    const auto kk = static_cast<std::size_t>(k);
     c.y.push_back(f);
-    c.u.push_back(values[2 * kk] / lid);
     c.x.push_back(f);
-    c.v.push_back(values[2 * (kk + probe_count) + 1] / lid);
   }
+  c.u = std::move(u);
+  c.v = std::move(v);
   return c;
+}
+
+Centerlines sample_centerlines(const Solver& solver, const Cavity& cavity) {
+  const auto values = solver.sample_velocity(probe_points(cavity));
+  const double lid = cavity.lid_velocity() != 0 ? cavity.lid_velocity() : 1.0;
+  const auto n = static_cast<std::size_t>(probe_count);
+  std::vector<double> u, v;
+  for (std::size_t k = 0; k < n; ++k) {
+    u.push_back(values[2 * k] / lid);
+    v.push_back(values[2 * (k + n) + 1] / lid);
+  }
+  return centerlines_of(std::move(u), std::move(v));
 }
 
 double residual_between(const Centerlines& a, const Centerlines& b, double interval, const Cavity& cavity) {
@@ -288,19 +299,6 @@ class CavityRun final : public detail::SceneRun {
   [[nodiscard]] const detail::AcceptedSolves& accepted() const { return accepted_; }
 
  private:
-  // Centre lines from their stored velocities (the coordinates are the probes' fixed fractions).
-  static Centerlines centerlines_of(const std::vector<double>& u, const std::vector<double>& v) {
-    Centerlines c;
-    for (int k = 0; k < probe_count; ++k) {
-      const double f = static_cast<double>(k) / (probe_count - 1);
-      c.y.push_back(f);
-      c.x.push_back(f);
-    }
-    c.u = u;
-    c.v = v;
-    return c;
-  }
-
   const CaseSettings& l_;
   const Cavity& cavity_;
   Solver& solver_;
