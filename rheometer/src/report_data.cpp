@@ -33,6 +33,11 @@ std::string g4(double x) { return std::isfinite(x) ? fmt::format("{:.4g}", x) : 
 std::string g4(const MaybeNumber& x) { return g4(or_nan(x)); }
 std::string esc(const std::string& s) { return core::escape_markup(s); }
 
+const PointChecks& checks_of(const SweepPointRecord& point) {
+  static const PointChecks none{};
+  return point.validity ? *point.validity : none;
+}
+
 std::string ReportData::label_of(const SweepPointRecord& point) const {
   for (const auto& s : summary.series)
     if (s.fluid == point.fluid && s.volume_fraction == point.volume_fraction) return s.label;
@@ -96,8 +101,7 @@ void write_flow_tables(const ReportData& d, const fs::path& run_dir) {
                    "gap_reynolds_number"});
   for (const auto& p : d.summary.points) {
     if (!p.converged) continue;
-    const PointChecks none{};
-    const PointChecks& v = p.validity ? *p.validity : none;
+    const PointChecks& v = checks_of(p);
     flow.add({d.label_of(p), p.fluid, csv_number(p.volume_fraction), csv_number(p.shear_rate), csv_number(p.torque),
               csv_number(p.torque_std_error), csv_number(p.torque_analytic), csv_number(p.log_slope),
               csv_number(p.log_slope_std_error), csv_number(p.apparent_stress), csv_number(p.rim_stress),
@@ -127,9 +131,8 @@ void write_fit_tables(const ReportData& d, const fs::path& run_dir) {
       values.push_back(or_nan(p.value));
       fit_table.add({f.label, f.model, csv_number(static_cast<double>(f.rank)), csv_number(f.delta),
                      csv_number(f.akaike_weight), csv_number(f.aicc), csv_number(f.aic), csv_number(f.residual_std),
-                     csv_number(f.degrees_of_freedom), f.converged ? "1" : "0", p.name, p.unit,
-                     csv_number(p.value), csv_number(p.std_error), csv_number(p.ci95.lower), csv_number(p.ci95.upper),
-                     warnings});
+                     csv_number(f.degrees_of_freedom), f.converged ? "1" : "0", p.name, p.unit, csv_number(p.value),
+                     csv_number(p.std_error), csv_number(p.ci95.lower), csv_number(p.ci95.upper), warnings});
     }
     for (std::size_t i = 0; i < f.shear_rate.size() && i < f.residuals.size(); ++i)
       residuals.add({f.label, f.model, csv_number(f.shear_rate[i]), csv_number(100.0 * or_nan(f.residuals[i]))});

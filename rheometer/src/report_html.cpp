@@ -126,8 +126,7 @@ std::string flow_curve_section(const ReportData& d, const Figures& figure) {
         "<th>η = τ_R/γ̇_R [Pa s]</th><th>Re_gap</th><th>Re_p</th><th>St</th><th>H/d</th><th class=l>valid</th></tr>\n";
     for (const auto& p : points) {
       if (d.label_of(p) != label || !p.converged) continue;
-      const PointChecks none{};
-      const PointChecks& v = p.validity ? *p.validity : none;
+      const PointChecks& v = checks_of(p);
       std::string valid = "–";
       if (p.validity) {
         valid = v.valid ? "<span class=ok>✓</span>" : "<span class=bad>✗</span>";

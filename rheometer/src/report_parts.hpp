@@ -20,6 +20,8 @@ namespace fs = std::filesystem;
 [[nodiscard]] std::string g4(double x);  // 4 significant digits for HTML; "–" for missing
 [[nodiscard]] std::string g4(const MaybeNumber& x);
 [[nodiscard]] std::string esc(const std::string& s);
+// A point's validity checks, or checks with nothing known (every value "–").
+[[nodiscard]] const PointChecks& checks_of(const SweepPointRecord& point);
 
 struct SeriesInfo {  // a flow curve with data
   std::string label;
