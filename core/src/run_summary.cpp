@@ -53,6 +53,12 @@ std::size_t SummaryReader::count(std::string_view key) const {
   return v.get<std::size_t>();
 }
 
+long long SummaryReader::integer(std::string_view key) const {
+  const nlohmann::json& v = at(key);
+  if (!v.is_number_integer()) refuse(key, "an integer");
+  return v.get<long long>();
+}
+
 std::string SummaryReader::text(std::string_view key) const {
   const nlohmann::json& v = at(key);
   if (!v.is_string()) refuse(key, "a string");

@@ -125,7 +125,7 @@ void write_fit_tables(const ReportData& d, const fs::path& run_dir) {
   DataTable residuals({"series", "model", "shear_rate [1/s]", "relative_residual [%]"});
   for (const auto& f : d.summary.fits) {
     std::string warnings;
-    for (const auto& w : f.warnings) warnings += (warnings.empty() ? "" : "; ") + w;
+    for (const auto& w : f.warnings) warnings += (warnings.empty() ? "" : "; ") + w.message;
     std::vector<double> values;
     for (const auto& p : f.parameters) {
       values.push_back(or_nan(p.value));

@@ -181,7 +181,7 @@ std::string fits_section(const ReportData& d, const Figures& figure) {
       std::string warnings, more;
       int count = 0;
       for (const auto& w : f.warnings) {
-        const std::string message = esc(w);
+        const std::string message = esc(w.message);
         if (count == 0)
           warnings = message;
         else

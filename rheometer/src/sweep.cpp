@@ -84,23 +84,20 @@ constexpr NumberField number_fields[] = {
 // N1 − N2 at the rim rate from the plates' normal force over a series of rates (one fluid and
 // φ): N1 − N2 = (F/πR²)(2 + d ln F/d ln γ̇_R) = (2F + γ̇_R dF/dγ̇_R)/(πR²), the derivative
 // from the neighbouring rates (one-sided at the ends), valid for either sign of F.
-void add_normal_stress_differences(nlohmann::ordered_json& points, double radius) {
-  std::map<std::pair<std::string, double>, std::vector<nlohmann::ordered_json*>> series;
+void add_normal_stress_differences(std::vector<SweepPointRecord>& points, double radius) {
+  std::map<std::pair<std::string, double>, std::vector<SweepPointRecord*>> series;
   for (auto& p : points)
-    if (p.value("converged", false) && p.contains("normal_force") && p["normal_force"].is_number())
-      series[{p["fluid"].get<std::string>(), p["volume_fraction"].get<double>()}].push_back(&p);
+    if (p.converged && p.normal_force) series[{p.fluid, p.volume_fraction}].push_back(&p);
   const double area = std::acos(-1.0) * radius * radius;
   for (auto& [key, list] : series) {
     if (list.size() < 2) continue;
-    std::sort(list.begin(), list.end(), [](const auto* a, const auto* b) {
-      return (*a)["shear_rate"].template get<double>() < (*b)["shear_rate"].template get<double>();
-    });
-    const auto rate = [&](std::size_t k) { return (*list[k])["shear_rate"].get<double>(); };
-    const auto force = [&](std::size_t k) { return (*list[k])["normal_force"].get<double>(); };
+    std::sort(list.begin(), list.end(), [](const auto* a, const auto* b) { return a->shear_rate < b->shear_rate; });
+    const auto rate = [&](std::size_t k) { return list[k]->shear_rate; };
+    const auto force = [&](std::size_t k) { return *list[k]->normal_force; };
     for (std::size_t k = 0; k < list.size(); ++k) {
       const std::size_t lo = k == 0 ? 0 : k - 1, hi = k + 1 == list.size() ? k : k + 1;
       const double slope = (force(hi) - force(lo)) / (rate(hi) - rate(lo));
-      (*list[k])["n1_minus_n2"] = (2.0 * force(k) + rate(k) * slope) / area;
+      list[k]->n1_minus_n2 = (2.0 * force(k) + rate(k) * slope) / area;
     }
   }
 }
@@ -571,7 +568,7 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
   const auto& r = sweep.rheometer;
   const ParallelPlate plate = ParallelPlate::from(r.geometry);
   // summary.json: the points in sweep order, then the analysis.
-  nlohmann::ordered_json json_points = nlohmann::ordered_json::array();
+  std::vector<SweepPointRecord> records;
   core::CsvTable table({{"volume_fraction", ""},
                         {"shear_rate", "1/s"},
                         {"torque", "N m"},
@@ -648,7 +645,7 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
                      static_cast<double>(res.iterations), res.wall_time, 0.0},
                     point.fluid);
     }
-    json_points.push_back(to_json(record));
+    records.push_back(std::move(record));
     columns["volume_fraction"].push_back(point.volume_fraction);
     columns["shear_rate"].push_back(point.rim_shear_rate);
     columns["converged"].push_back(res.converged ? 1.0 : 0.0);
@@ -665,8 +662,10 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
   summary["points_failed"] = outcome.failed_points;
   summary["points_resumed"] = outcome.reused_points;
   summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  add_normal_stress_differences(json_points, r.geometry.radius);
-  summary["points"] = json_points;
+  add_normal_stress_differences(records, r.geometry.radius);
+  const FlowAnalysis analysis = analyse_flow_curves(records, {plate, r.fluids, r.particles});
+  auto& json_points = summary["points"] = nlohmann::ordered_json::array();
+  for (const auto& record : records) json_points.push_back(to_json(record));
   {  // every rule a point bent, with how many points bent it
     std::map<std::string, int> counts;
     for (const auto& point : points)
@@ -675,7 +674,14 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
     for (const auto& [text, count] : counts) warnings.push_back({{"warning", text}, {"points", count}});
     summary["warnings"] = warnings;
   }
-  add_flow_analysis(summary, {plate, r.fluids, r.particles});
+  const auto add_records = [&summary](const char* key, const auto& list) {
+    auto& array = summary[key] = nlohmann::ordered_json::array();
+    for (const auto& record : list) array.push_back(to_json(record));
+  };
+  add_records("series", analysis.series);
+  add_records("fits", analysis.fits);
+  add_records("yield_stress", analysis.yield_stress);
+  add_records("relative_viscosity", analysis.relative_viscosity);
 
   for (auto& [name, values] : columns) {
     core::Hdf5Dataset d;

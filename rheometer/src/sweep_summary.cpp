@@ -81,6 +81,10 @@ SweepPointRecord point_of(const SummaryReader& p) {
     checks.particle_reynolds = v->number_or_null("particle_reynolds");
     checks.stokes = v->number_or_null("stokes");
     checks.gap_to_diameter = v->number_or_null("gap_to_diameter");
+    checks.gap_reynolds_ok = v->boolean("gap_reynolds_ok");
+    checks.particle_reynolds_ok = v->boolean("particle_reynolds_ok");
+    checks.stokes_ok = v->boolean("stokes_ok");
+    checks.gap_to_diameter_ok = v->boolean("gap_to_diameter_ok");
     checks.valid = v->boolean("valid");
     checks.messages = v->texts("messages");
     out.validity = std::move(checks);
@@ -95,34 +99,41 @@ SeriesRecord series_of(const SummaryReader& s) {
   out.fluid = s.text("fluid");
   out.volume_fraction = s.number("volume_fraction");
   out.points = s.count("points");
+  if (s.has("fitted_points")) out.fitted_points = s.count("fitted_points");
   if (s.has("best_model")) out.best_model = s.text("best_model");
-  out.warnings = texts_if_any(s, "warnings");
   if (const auto line = s.optional_object("torque_line"))
-    out.torque_line = TorqueLine{line->number("intercept"), line->number("slope")};
+    out.torque_line = TorqueLine{line->number("intercept"),
+                                 line->number("slope"),
+                                 line->number_or_null("intercept_std_error"),
+                                 line->number_or_null("slope_std_error"),
+                                 line->number("plastic_viscosity"),
+                                 interval_of(*line, "plastic_viscosity_ci95"),
+                                 line->numbers("residuals")};
+  out.warnings = texts_if_any(s, "warnings");
   return out;
 }
 
 FitRecord fit_of(const SummaryReader& f) {
   FitRecord out;
   out.label = f.text("label");
+  out.fluid = f.text("fluid");
+  out.volume_fraction = f.number("volume_fraction");
   out.model = f.text("model");
   out.equation = f.text("equation");
   out.converged = f.boolean("converged");
-  out.rank = f.count("rank");
-  out.degrees_of_freedom = f.number("degrees_of_freedom");
-  out.delta = f.number_or_null("delta");
-  out.akaike_weight = f.number_or_null("akaike_weight");
-  out.aicc = f.number_or_null("aicc");
-  out.aic = f.number_or_null("aic");
+  out.iterations = f.integer("iterations");
+  out.stop_reason = f.text("stop_reason");
+  out.points = f.integer("points");
+  out.degrees_of_freedom = f.integer("degrees_of_freedom");
   out.residual_std = f.number_or_null("residual_std");
+  out.sum_of_squares = f.number_or_null("sum_of_squares");
+  out.aic = f.number_or_null("aic");
+  out.aicc = f.number_or_null("aicc");
   out.min_shear_rate = f.number("min_shear_rate");
   out.max_shear_rate = f.number("max_shear_rate");
   for (const auto& p : f.objects("parameters"))
     out.parameters.push_back({p.text("name"), p.text("symbol"), p.text("unit"), p.number_or_null("value"),
                               p.number_or_null("std_error"), interval_of(p, "ci95")});
-  for (const auto& w : f.objects("warnings")) out.warnings.push_back(w.text("message"));
-  out.shear_rate = f.numbers("shear_rate");
-  out.residuals = f.numbers_or_null("residuals");
   const nlohmann::json& correlation = f.at("correlation");
   if (!correlation.is_array() ||
       !std::all_of(correlation.begin(), correlation.end(), [](const nlohmann::json& row) { return row.is_array(); }))
@@ -132,20 +143,29 @@ FitRecord fit_of(const SummaryReader& f) {
     for (const auto& c : row) values.push_back(c.is_number() ? MaybeNumber(c.get<double>()) : std::nullopt);
     out.correlation.push_back(std::move(values));
   }
+  out.shear_rate = f.numbers("shear_rate");
+  out.residuals = f.numbers_or_null("residuals");
+  for (const auto& w : f.objects("warnings"))
+    out.warnings.push_back({w.text("kind"), w.text("parameter"), w.text("message")});
+  out.rank = f.count("rank");
+  out.delta = f.number_or_null("delta");
+  out.akaike_weight = f.number_or_null("akaike_weight");
   return out;
 }
 
 YieldRecord yield_of(const SummaryReader& y) {
   YieldRecord out;
   out.label = y.text("label");
-  out.method = y.text("method");
+  out.fluid = y.text("fluid");
   out.volume_fraction = y.number("volume_fraction");
+  out.method = y.text("method");
   out.value = y.number_or_null("value");
   out.std_error = y.number_or_null("std_error");
-  out.akaike_weight = y.optional_number("akaike_weight");
   out.ci95 = interval_of(y, "ci95");
   out.significant = y.boolean("significant");
   out.converged = y.boolean("converged");
+  out.warnings = texts_if_any(y, "warnings");
+  out.akaike_weight = y.optional_number("akaike_weight");
   return out;
 }
 
@@ -153,23 +173,64 @@ RelativeViscosityRecord relative_viscosity_of(const SummaryReader& r) {
   RelativeViscosityRecord out;
   out.fluid = r.text("fluid");
   out.warnings = texts_if_any(r, "warnings");
-  out.reference_shear_rate = r.optional_number("reference_shear_rate");
-  out.liquid_viscosity = r.optional_number("liquid_viscosity");
-  out.liquid_viscosity_source = r.has("liquid_viscosity_source") ? r.text("liquid_viscosity_source") : std::string();
-  if (r.has("points"))
-    for (const auto& p : r.objects("points"))
-      out.points.push_back({p.number("volume_fraction"), p.number_or_null("relative_viscosity"),
-                            p.number_or_null("std_error"), p.text("model")});
-  if (r.has("correlations"))
-    for (const auto& c : r.objects("correlations"))
-      out.correlations.push_back({c.text("name"), c.number_or_null("max_packing"), c.number_or_null("sum_of_squares"),
-                                  c.number_or_null("aic"), interval_of(c, "max_packing_ci95"),
-                                  c.numbers_or_null("predicted"), c.texts("warnings")});
+  if (!r.has("reference_shear_rate")) return out;  // nothing fitted
+  out.reference_shear_rate = r.number_or_null("reference_shear_rate");
+  out.liquid_viscosity_source = r.text("liquid_viscosity_source");
+  out.liquid_viscosity = r.number_or_null("liquid_viscosity");
+  out.liquid_viscosity_std_error = r.number_or_null("liquid_viscosity_std_error");
+  for (const auto& p : r.objects("points"))
+    out.points.push_back({p.number("volume_fraction"), p.number_or_null("relative_viscosity"),
+                          p.number_or_null("std_error"), p.number_or_null("viscosity"),
+                          p.number_or_null("viscosity_std_error"), p.text("std_error_source"), p.text("model")});
+  for (const auto& c : r.objects("correlations"))
+    out.correlations.push_back({c.text("name"), c.numbers_or_null("predicted"), c.number_or_null("sum_of_squares"),
+                                c.number_or_null("max_packing"), c.number_or_null("max_packing_std_error"),
+                                interval_of(c, "max_packing_ci95"), c.number_or_null("intrinsic_viscosity"),
+                                c.integer("degrees_of_freedom"), c.number_or_null("aic"), c.boolean("converged"),
+                                texts_if_any(c, "warnings")});
   return out;
 }
 
 nlohmann::ordered_json value_or_null(const MaybeNumber& x) {
   return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json values_or_null(const std::vector<MaybeNumber>& xs) {
+  auto out = nlohmann::ordered_json::array();
+  for (const auto& x : xs) out.push_back(value_or_null(x));
+  return out;
+}
+
+nlohmann::ordered_json interval_json(const Interval95& i) { return {value_or_null(i.lower), value_or_null(i.upper)}; }
+
+nlohmann::ordered_json checks_json(const PointChecks& c) {
+  nlohmann::ordered_json v;
+  v["gap_reynolds"] = value_or_null(c.gap_reynolds);
+  v["particle_reynolds"] = value_or_null(c.particle_reynolds);
+  v["stokes"] = value_or_null(c.stokes);
+  v["gap_to_diameter"] = value_or_null(c.gap_to_diameter);
+  v["gap_reynolds_ok"] = c.gap_reynolds_ok;
+  v["particle_reynolds_ok"] = c.particle_reynolds_ok;
+  v["stokes_ok"] = c.stokes_ok;
+  v["gap_to_diameter_ok"] = c.gap_to_diameter_ok;
+  v["valid"] = c.valid;
+  v["messages"] = c.messages;
+  return v;
+}
+
+// What the flow analysis adds to a converged point, after the sweep's keys.
+void add_flow_curve_keys(const SweepPointRecord& r, nlohmann::ordered_json& p) {
+  if (r.n1_minus_n2) p["n1_minus_n2"] = *r.n1_minus_n2;
+  if (r.apparent_stress) {
+    p["log_slope"] = value_or_null(r.log_slope);
+    p["log_slope_std_error"] = value_or_null(r.log_slope_std_error);
+    p["apparent_stress"] = *r.apparent_stress;
+    p["rim_stress"] = value_or_null(r.rim_stress);
+    p["apparent_viscosity"] = value_or_null(r.apparent_viscosity);
+    p["viscosity"] = value_or_null(r.viscosity);
+  }
+  if (r.validity) p["validity"] = checks_json(*r.validity);
+  if (r.used_in_fits) p["used_in_fits"] = *r.used_in_fits;
 }
 
 }  // namespace
@@ -234,7 +295,123 @@ nlohmann::ordered_json to_json(const SweepPointRecord& r) {
     if (r.cost->near_field) p["cost"]["near_field"] = *r.cost->near_field;
   }
   p["converged"] = true;
+  add_flow_curve_keys(r, p);
   return p;
+}
+
+nlohmann::ordered_json to_json(const SeriesRecord& s) {
+  nlohmann::ordered_json j;
+  j["label"] = s.label;
+  j["fluid"] = s.fluid;
+  j["volume_fraction"] = s.volume_fraction;
+  j["points"] = s.points;
+  if (s.fitted_points) j["fitted_points"] = *s.fitted_points;
+  if (s.best_model) j["best_model"] = *s.best_model;
+  if (const auto& line = s.torque_line)
+    j["torque_line"] = {{"intercept", line->intercept},
+                        {"intercept_std_error", value_or_null(line->intercept_std_error)},
+                        {"slope", line->slope},
+                        {"slope_std_error", value_or_null(line->slope_std_error)},
+                        {"plastic_viscosity", line->plastic_viscosity},
+                        {"plastic_viscosity_ci95", interval_json(line->plastic_viscosity_ci95)},
+                        {"residuals", line->residuals}};
+  j["warnings"] = s.warnings;
+  return j;
+}
+
+nlohmann::ordered_json to_json(const FitRecord& f) {
+  nlohmann::ordered_json j;
+  j["label"] = f.label;
+  j["fluid"] = f.fluid;
+  j["volume_fraction"] = f.volume_fraction;
+  j["model"] = f.model;
+  j["equation"] = f.equation;
+  j["converged"] = f.converged;
+  j["iterations"] = f.iterations;
+  j["stop_reason"] = f.stop_reason;
+  j["points"] = f.points;
+  j["degrees_of_freedom"] = f.degrees_of_freedom;
+  j["residual_std"] = value_or_null(f.residual_std);
+  j["sum_of_squares"] = value_or_null(f.sum_of_squares);
+  j["aic"] = value_or_null(f.aic);
+  j["aicc"] = value_or_null(f.aicc);
+  j["min_shear_rate"] = f.min_shear_rate;
+  j["max_shear_rate"] = f.max_shear_rate;
+  auto parameters = nlohmann::ordered_json::array();
+  for (const auto& p : f.parameters)
+    parameters.push_back({{"name", p.name},
+                          {"symbol", p.symbol},
+                          {"unit", p.unit},
+                          {"value", value_or_null(p.value)},
+                          {"std_error", value_or_null(p.std_error)},
+                          {"ci95", interval_json(p.ci95)}});
+  j["parameters"] = parameters;
+  auto correlation = nlohmann::ordered_json::array();
+  for (const auto& row : f.correlation) correlation.push_back(values_or_null(row));
+  j["correlation"] = correlation;
+  j["shear_rate"] = f.shear_rate;
+  j["residuals"] = values_or_null(f.residuals);
+  auto warnings = nlohmann::ordered_json::array();
+  for (const auto& w : f.warnings)
+    warnings.push_back({{"kind", w.kind}, {"parameter", w.parameter}, {"message", w.message}});
+  j["warnings"] = warnings;
+  j["rank"] = f.rank;
+  j["delta"] = value_or_null(f.delta);
+  j["akaike_weight"] = value_or_null(f.akaike_weight);
+  return j;
+}
+
+nlohmann::ordered_json to_json(const YieldRecord& y) {
+  nlohmann::ordered_json j;
+  j["label"] = y.label;
+  j["fluid"] = y.fluid;
+  j["volume_fraction"] = y.volume_fraction;
+  j["method"] = y.method;
+  j["value"] = value_or_null(y.value);
+  j["std_error"] = value_or_null(y.std_error);
+  j["ci95"] = interval_json(y.ci95);
+  j["significant"] = y.significant;
+  j["converged"] = y.converged;
+  j["warnings"] = y.warnings;
+  if (y.akaike_weight) j["akaike_weight"] = *y.akaike_weight;
+  return j;
+}
+
+nlohmann::ordered_json to_json(const RelativeViscosityRecord& r) {
+  nlohmann::ordered_json j;
+  j["fluid"] = r.fluid;
+  if (r.reference_shear_rate) {
+    j["reference_shear_rate"] = *r.reference_shear_rate;
+    j["liquid_viscosity_source"] = r.liquid_viscosity_source;
+    j["liquid_viscosity"] = value_or_null(r.liquid_viscosity);
+    j["liquid_viscosity_std_error"] = value_or_null(r.liquid_viscosity_std_error);
+    auto points = nlohmann::ordered_json::array();
+    for (const auto& p : r.points)
+      points.push_back({{"volume_fraction", p.volume_fraction},
+                        {"relative_viscosity", value_or_null(p.relative_viscosity)},
+                        {"std_error", value_or_null(p.std_error)},
+                        {"viscosity", value_or_null(p.viscosity)},
+                        {"viscosity_std_error", value_or_null(p.viscosity_std_error)},
+                        {"std_error_source", p.std_error_source},
+                        {"model", p.model}});
+    j["points"] = points;
+    auto correlations = nlohmann::ordered_json::array();
+    for (const auto& c : r.correlations)
+      correlations.push_back({{"name", c.name},
+                              {"predicted", values_or_null(c.predicted)},
+                              {"sum_of_squares", value_or_null(c.sum_of_squares)},
+                              {"max_packing", value_or_null(c.max_packing)},
+                              {"max_packing_std_error", value_or_null(c.max_packing_std_error)},
+                              {"max_packing_ci95", interval_json(c.max_packing_ci95)},
+                              {"intrinsic_viscosity", value_or_null(c.intrinsic_viscosity)},
+                              {"degrees_of_freedom", c.degrees_of_freedom},
+                              {"aic", value_or_null(c.aic)},
+                              {"converged", c.converged},
+                              {"warnings", c.warnings}});
+    j["correlations"] = correlations;
+  }
+  j["warnings"] = r.warnings;
+  return j;
 }
 
 SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {

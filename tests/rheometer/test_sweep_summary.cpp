@@ -8,8 +8,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rheosim/core/config.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
+#include "rheosim/core/rheology.hpp"
+#include "rheosim/rheometer/plate.hpp"
+#include "rheosim/rheometer/run_analysis.hpp"
 #include "rheosim/rheometer/sweep_summary.hpp"
 
 namespace rheosim::rheometer {
@@ -32,15 +36,24 @@ nlohmann::json summary_with_analysis() {
                    {"particle_reynolds", nullptr},
                    {"stokes", nullptr},
                    {"gap_to_diameter", 20.0},
+                   {"gap_reynolds_ok", true},
+                   {"particle_reynolds_ok", true},
+                   {"stokes_ok", true},
+                   {"gap_to_diameter_ok", true},
                    {"valid", true},
                    {"messages", J::array()}}},
                  {"used_in_fits", false}};
   J failed = {{"fluid", "oil"},     {"volume_fraction", 0.4}, {"shear_rate", 10.0},
               {"converged", false}, {"method", "box"},        {"failure", "over budget"}};
   J fit = {{"label", "oil φ 0.2"},
+           {"fluid", "oil"},
+           {"volume_fraction", 0.2},
            {"model", "carreau"},
            {"equation", "η = ..."},
            {"converged", true},
+           {"iterations", 9},
+           {"stop_reason", "small step"},
+           {"points", 2},
            {"rank", 2},
            {"degrees_of_freedom", -1},
            {"delta", 1.5},
@@ -48,6 +61,7 @@ nlohmann::json summary_with_analysis() {
            {"aicc", nullptr},
            {"aic", 3.0},
            {"residual_std", 0.01},
+           {"sum_of_squares", 2e-4},
            {"min_shear_rate", 1.0},
            {"max_shear_rate", 100.0},
            {"parameters",
@@ -80,10 +94,18 @@ nlohmann::json summary_with_analysis() {
              {"fluid", "oil"},
              {"volume_fraction", 0.2},
              {"points", 1},
-             {"torque_line", {{"intercept", 1e-5}, {"slope", 2e-5}}}}}},
+             {"torque_line",
+              {{"intercept", 1e-5},
+               {"intercept_std_error", nullptr},
+               {"slope", 2e-5},
+               {"slope_std_error", 1e-6},
+               {"plastic_viscosity", 0.1},
+               {"plastic_viscosity_ci95", {0.05, 0.15}},
+               {"residuals", {1e-7, -1e-7}}}}}}},
           {"fits", {fit}},
           {"yield_stress",
            {{{"label", "oil φ 0.2"},
+             {"fluid", "oil"},
              {"method", "torque_intercept"},
              {"volume_fraction", 0.2},
              {"value", 0.5},
@@ -159,7 +181,9 @@ TEST_F(SweepSummaryTest, ReadsRequiredValuesAndLeavesAbsentOrNullOnesEmpty) {
   ASSERT_EQ(f.parameters.size(), 1U);
   EXPECT_FALSE(f.parameters[0].ci95.lower.has_value());
   EXPECT_EQ(f.parameters[0].ci95.upper, 1.3);
-  EXPECT_EQ(f.warnings, std::vector<std::string>{"not identifiable"});
+  ASSERT_EQ(f.warnings.size(), 1U);
+  EXPECT_EQ(f.warnings[0].message, "not identifiable");
+  EXPECT_EQ(f.stop_reason, "small step");
   ASSERT_EQ(f.residuals.size(), 2U);
   EXPECT_FALSE(f.residuals[1].has_value());
   ASSERT_EQ(f.correlation.size(), 2U);
@@ -271,6 +295,70 @@ TEST_F(SweepSummaryTest, APointWrittenByToJsonReadsBackTheSame) {
   EXPECT_FALSE(s.points[1].converged);
   EXPECT_EQ(s.points[1].failure, "over budget");
   EXPECT_EQ(s.points[1].method, "cfd_dem");
+}
+
+// The flow analysis of two flow curves (a Bingham liquid alone and with φ = 0.2 at 1.6 times its
+// stress), written by the to_json of each record and read back: the same records, and the
+// analysis found what the torques hold.
+TEST_F(SweepSummaryTest, AFlowAnalysisWrittenByToJsonReadsBackTheSame) {
+  const ParallelPlate plate{0.02, 0.001};
+  const auto law = core::make_rheology(
+      core::Document::from_string("model: bingham\nplastic_viscosity: 0.5\nyield_stress: 10.0\n", "law.yaml").root());
+  std::vector<SweepPointRecord> points;
+  for (const double phi : {0.0, 0.2})
+    for (const double rate : {1.0, 3.0, 10.0, 30.0, 100.0}) {
+      SweepPointRecord p;
+      p.fluid = "paste";
+      p.volume_fraction = phi;
+      p.shear_rate = rate;
+      p.converged = true;
+      p.method = "closed form";
+      p.torque = (phi > 0 ? 1.6 : 1.0) * bingham_torque(plate, 0.5, 10.0, rate);
+      p.torque_std_error = 0.01 * p.torque;
+      p.iterations = 1;  // to_json writes a converged point's count always
+      points.push_back(p);
+    }
+  SweepPointRecord failed;
+  failed.fluid = "paste";
+  failed.volume_fraction = 0.2;
+  failed.shear_rate = 300;
+  failed.failure = "over budget";
+  points.push_back(failed);
+  const FlowAnalysis analysis = analyse_flow_curves(points, {plate, {{"paste", {1000.0, law}}}, std::nullopt});
+
+  ASSERT_EQ(analysis.series.size(), 2U);
+  EXPECT_EQ(analysis.series[1].points, 5U);
+  EXPECT_EQ(analysis.series[1].best_model, "bingham");
+  const auto torque_yield = std::find_if(analysis.yield_stress.begin(), analysis.yield_stress.end(),
+                                         [](const YieldRecord& y) { return y.method == "torque_intercept"; });
+  ASSERT_NE(torque_yield, analysis.yield_stress.end());  // T = 2πR³(τ₀/3 + μγ̇_R/4) is a straight line
+  EXPECT_NEAR(torque_yield->value.value_or(0), 10.0, 1e-6);
+  ASSERT_EQ(analysis.relative_viscosity.size(), 1U);
+  ASSERT_EQ(analysis.relative_viscosity[0].points.size(), 2U);
+  EXPECT_NEAR(analysis.relative_viscosity[0].points[1].relative_viscosity.value_or(0), 1.6, 1e-3);
+  EXPECT_TRUE(points[0].apparent_stress.has_value());
+  EXPECT_EQ(points[0].used_in_fits, true);
+  EXPECT_FALSE(points.back().apparent_stress.has_value());
+
+  nlohmann::json json = summary_with_analysis();
+  const auto written = [](const auto& records) {
+    auto array = nlohmann::json::array();
+    for (const auto& r : records) array.push_back(nlohmann::json::parse(to_json(r).dump()));
+    return array;
+  };
+  json["points"] = written(points);
+  json["series"] = written(analysis.series);
+  json["fits"] = written(analysis.fits);
+  json["yield_stress"] = written(analysis.yield_stress);
+  json["relative_viscosity"] = written(analysis.relative_viscosity);
+  const SweepSummary s = read(json);
+  ASSERT_EQ(s.points.size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) EXPECT_EQ(to_json(s.points[i]), to_json(points[i])) << i;
+  EXPECT_EQ(s.points, points);
+  EXPECT_EQ(s.series, analysis.series);
+  EXPECT_EQ(s.fits, analysis.fits);
+  EXPECT_EQ(s.yield_stress, analysis.yield_stress);
+  EXPECT_EQ(s.relative_viscosity, analysis.relative_viscosity);
 }
 
 }  // namespace

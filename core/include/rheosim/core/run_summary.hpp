@@ -46,6 +46,7 @@ class SummaryReader {
   [[nodiscard]] double number(std::string_view key) const;
   [[nodiscard]] std::optional<double> number_or_null(std::string_view key) const;
   [[nodiscard]] std::size_t count(std::string_view key) const;
+  [[nodiscard]] long long integer(std::string_view key) const;  // of either sign
   [[nodiscard]] std::string text(std::string_view key) const;
   [[nodiscard]] bool boolean(std::string_view key) const;
   [[nodiscard]] std::vector<std::string> texts(std::string_view key) const;

@@ -19,12 +19,12 @@
 //
 // Nothing here runs a solver or writes a file; the report (report.hpp) reads the result.
 #include <optional>
+#include <span>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "rheosim/rheometer/case.hpp"
 #include "rheosim/rheometer/plate.hpp"
+#include "rheosim/rheometer/sweep_summary.hpp"
 
 namespace rheosim::rheometer {
 
@@ -34,9 +34,18 @@ struct RunAnalysisInputs {
   std::optional<coupling::SuspendedParticles> particles;  // for the particle validity numbers (φ > 0)
 };
 
-// `summary["points"]` holds objects with fluid (default: the first fluid), volume_fraction
-// (default 0), shear_rate, torque, converged and optionally torque_std_error. Adds the keys above;
-// a series or correlation that cannot be analysed gets a warning instead of numbers.
-void add_flow_analysis(nlohmann::ordered_json& summary, const RunAnalysisInputs& inputs);
+// What the flow analysis adds to a summary besides the points' own keys.
+struct FlowAnalysis {
+  std::vector<SeriesRecord> series;
+  std::vector<FitRecord> fits;
+  std::vector<YieldRecord> yield_stress;
+  std::vector<RelativeViscosityRecord> relative_viscosity;
+};
+
+// Analyses the converged points with a positive torque, one flow curve per (fluid, φ) in order
+// of first appearance: fills each such point's log_slope … used_in_fits and returns the rest; a
+// series or correlation that cannot be analysed gets a warning instead of numbers. Throws
+// std::invalid_argument without fluids.
+[[nodiscard]] FlowAnalysis analyse_flow_curves(std::span<SweepPointRecord> points, const RunAnalysisInputs& inputs);
 
 }  // namespace rheosim::rheometer
