@@ -653,35 +653,39 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
     if (!res.converged) ++outcome.failed_points;
   }
 
-  nlohmann::ordered_json summary = core::summary_head(c, "sweep");  // a one-φ rheometer case runs as a sweep too
-  add_plates_and_grid(summary, r);
-  summary["grid"]["applies_to"] = "the φ = 0 points (steady swirl solve); a CFD-DEM point names its grid in method";
-  summary["volume_fractions"] = sweep.volume_fractions;
-  summary["shear_rates"] = r.shear_rates;
-  summary["points_total"] = outcome.points;
-  summary["points_failed"] = outcome.failed_points;
-  summary["points_resumed"] = outcome.reused_points;
-  summary["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  SweepSummary summary;
+  const core::SummaryHead head = core::summary_head_of(c, "sweep");  // a one-φ rheometer case runs as a sweep too
+  summary.case_name = head.case_name;
+  summary.kind = head.kind;
+  summary.rheosim_version = head.rheosim_version;
+  summary.git_revision = head.git_revision;
+  summary.input_sha256 = head.input_sha256;
+  summary.radius = r.geometry.radius;
+  summary.gap = r.geometry.gap;
+  summary.grid = SweepGridRecord{
+      r.solver.radial_cells,   r.solver.axial_cells,
+      r.solver.radial_grading, r.solver.axial_stretching,
+      r.solver.extrapolate,    "the φ = 0 points (steady swirl solve); a CFD-DEM point names its grid in method"};
+  summary.inertia = r.solver.inertia;
+  summary.volume_fractions = sweep.volume_fractions;
+  summary.shear_rates = r.shear_rates;
+  summary.points_total = static_cast<std::size_t>(outcome.points);
+  summary.points_failed = static_cast<std::size_t>(outcome.failed_points);
+  summary.points_resumed = static_cast<std::size_t>(outcome.reused_points);
+  summary.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   add_normal_stress_differences(records, r.geometry.radius);
-  const FlowAnalysis analysis = analyse_flow_curves(records, {plate, r.fluids, r.particles});
-  auto& json_points = summary["points"] = nlohmann::ordered_json::array();
-  for (const auto& record : records) json_points.push_back(to_json(record));
+  FlowAnalysis analysis = analyse_flow_curves(records, {plate, r.fluids, r.particles});
+  summary.points = std::move(records);
   {  // every rule a point bent, with how many points bent it
-    std::map<std::string, int> counts;
+    std::map<std::string, std::size_t> counts;
     for (const auto& point : points)
       for (const auto& w : results[point.index]->warnings) ++counts[w];
-    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    for (const auto& [text, count] : counts) warnings.push_back({{"warning", text}, {"points", count}});
-    summary["warnings"] = warnings;
+    for (const auto& [text, count] : counts) summary.warnings.push_back({text, count});
   }
-  const auto add_records = [&summary](const char* key, const auto& list) {
-    auto& array = summary[key] = nlohmann::ordered_json::array();
-    for (const auto& record : list) array.push_back(to_json(record));
-  };
-  add_records("series", analysis.series);
-  add_records("fits", analysis.fits);
-  add_records("yield_stress", analysis.yield_stress);
-  add_records("relative_viscosity", analysis.relative_viscosity);
+  summary.series = std::move(analysis.series);
+  summary.fits = std::move(analysis.fits);
+  summary.yield_stress = std::move(analysis.yield_stress);
+  summary.relative_viscosity = std::move(analysis.relative_viscosity);
 
   for (auto& [name, values] : columns) {
     core::Hdf5Dataset d;
@@ -693,7 +697,7 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
   sweep_h5.attributes = {{"case", c.name}, {"input_sha256", c.sha256}};
   core::write_hdf5(out_dir / "sweep.h5", sweep_h5);
   core::write_csv(out_dir / "torque.csv", table);
-  core::write_json(out_dir / "summary.json", summary);
+  core::write_json(out_dir / "summary.json", to_json(summary));
   write_report(out_dir);
 }
 

@@ -414,6 +414,40 @@ nlohmann::ordered_json to_json(const RelativeViscosityRecord& r) {
   return j;
 }
 
+nlohmann::ordered_json to_json(const SweepSummary& s) {
+  nlohmann::ordered_json j =
+      core::to_json(core::SummaryHead{s.case_name, s.kind, s.rheosim_version, s.git_revision, s.input_sha256});
+  j["radius"] = s.radius;
+  j["gap"] = s.gap;
+  if (const auto& g = s.grid) {
+    j["grid"] = {{"radial_cells", g->radial_cells},
+                 {"axial_cells", g->axial_cells},
+                 {"radial_grading", g->radial_grading},
+                 {"axial_stretching", g->axial_stretching},
+                 {"extrapolate", g->extrapolate}};
+    if (!g->applies_to.empty()) j["grid"]["applies_to"] = g->applies_to;
+  }
+  j["inertia"] = s.inertia;
+  j["volume_fractions"] = s.volume_fractions;
+  j["shear_rates"] = s.shear_rates;
+  j["points_total"] = s.points_total;
+  j["points_failed"] = s.points_failed;
+  if (s.points_resumed) j["points_resumed"] = *s.points_resumed;
+  j["wall_time"] = s.wall_time;
+  const auto add_records = [&j](const char* key, const auto& list) {
+    auto& array = j[key] = nlohmann::ordered_json::array();
+    for (const auto& record : list) array.push_back(to_json(record));
+  };
+  add_records("points", s.points);
+  auto& warnings = j["warnings"] = nlohmann::ordered_json::array();
+  for (const auto& w : s.warnings) warnings.push_back({{"warning", w.warning}, {"points", w.points}});
+  add_records("series", s.series);
+  add_records("fits", s.fits);
+  add_records("yield_stress", s.yield_stress);
+  add_records("relative_viscosity", s.relative_viscosity);
+  return j;
+}
+
 SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
   const auto path = core::run_summary_file(run_dir);
   const nlohmann::json json = core::read_json(path);
@@ -432,13 +466,20 @@ SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
   s.gap = r.number("gap");
   s.wall_time = r.number("wall_time");
   s.inertia = r.boolean("inertia");
+  if (r.has("volume_fractions")) s.volume_fractions = r.numbers("volume_fractions");
+  if (r.has("shear_rates")) s.shear_rates = r.numbers("shear_rates");
+  if (r.has("points_total")) s.points_total = r.count("points_total");
   s.points_failed = r.count("points_failed");
   if (r.has("points_resumed")) s.points_resumed = r.count("points_resumed");
   if (const auto g = r.optional_object("grid"))
-    s.grid = SweepGridRecord{g->number("radial_cells"), g->number("axial_cells"), g->number("radial_grading"),
-                             g->optional_number("axial_stretching").value_or(0.0)};
+    s.grid = SweepGridRecord{g->integer("radial_cells"),
+                             g->integer("axial_cells"),
+                             g->number("radial_grading"),
+                             g->optional_number("axial_stretching").value_or(0.0),
+                             g->optional_boolean("extrapolate").value_or(false),
+                             g->has("applies_to") ? g->text("applies_to") : std::string()};
   if (r.has("warnings"))
-    for (const auto& w : r.objects("warnings")) s.warnings.push_back({w.text("warning"), w.number("points")});
+    for (const auto& w : r.objects("warnings")) s.warnings.push_back({w.text("warning"), w.count("points")});
   for (const auto& p : r.objects("points")) s.points.push_back(point_of(p));
   for (const auto& x : r.objects("series")) s.series.push_back(series_of(x));
   for (const auto& f : r.objects("fits")) s.fits.push_back(fit_of(f));

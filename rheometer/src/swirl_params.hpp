@@ -5,24 +5,11 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "rheosim/fluid/swirl.hpp"
 #include "rheosim/rheometer/case.hpp"
 
 namespace rheosim::rheometer {
-
-// The plates and the swirl solver's grid in a summary.json: radius, gap, grid, inertia.
-inline void add_plates_and_grid(nlohmann::ordered_json& summary, const RheometerCase& r) {
-  summary["radius"] = r.geometry.radius;
-  summary["gap"] = r.geometry.gap;
-  summary["grid"] = {{"radial_cells", r.solver.radial_cells},
-                     {"axial_cells", r.solver.axial_cells},
-                     {"radial_grading", r.solver.radial_grading},
-                     {"axial_stretching", r.solver.axial_stretching},
-                     {"extrapolate", r.solver.extrapolate}};
-  summary["inertia"] = r.solver.inertia;
-}
 
 inline fluid::SwirlParams swirl_params(const RheometerCase& r, const core::FluidProperties& fluid, bool inertia) {
   fluid::SwirlParams p;

@@ -18,14 +18,26 @@
 
 namespace rheosim::core {
 
-[[nodiscard]] inline nlohmann::ordered_json summary_head(const CaseHeader& header, std::string_view kind) {
+struct SummaryHead {
+  std::string case_name, kind, rheosim_version, git_revision, input_sha256;
+};
+
+[[nodiscard]] inline SummaryHead summary_head_of(const CaseHeader& header, std::string_view kind) {
+  return {header.name, std::string(kind), std::string(version), std::string(git_revision), header.sha256};
+}
+
+[[nodiscard]] inline nlohmann::ordered_json to_json(const SummaryHead& head) {
   nlohmann::ordered_json summary;
-  summary["case"] = header.name;
-  summary["kind"] = kind;
-  summary["rheosim_version"] = version;
-  summary["git_revision"] = git_revision;
-  summary["input_sha256"] = header.sha256;
+  summary["case"] = head.case_name;
+  summary["kind"] = head.kind;
+  summary["rheosim_version"] = head.rheosim_version;
+  summary["git_revision"] = head.git_revision;
+  summary["input_sha256"] = head.input_sha256;
   return summary;
+}
+
+[[nodiscard]] inline nlohmann::ordered_json summary_head(const CaseHeader& header, std::string_view kind) {
+  return to_json(summary_head_of(header, kind));
 }
 
 // A ConfigError at summary.json's `key` (a dotted path, "points[3].shear_rate"): it has no

@@ -168,28 +168,35 @@ struct RelativeViscosityRecord {  // η_r(φ) of one liquid; only fluid and warn
 };
 
 struct SweepGridRecord {  // the swirl solve's grid (φ = 0 points)
-  double radial_cells = 0, axial_cells = 0, radial_grading = 1, axial_stretching = 0;
+  long long radial_cells = 0, axial_cells = 0;
+  double radial_grading = 1, axial_stretching = 0;
+  bool extrapolate = false;  // Richardson extrapolation from a half grid
+  std::string applies_to;    // which points it serves
+  friend bool operator==(const SweepGridRecord&, const SweepGridRecord&) = default;
 };
 
 struct RuleBent {  // a rule points bent, and how many
   std::string warning;
-  double points = 0;
+  std::size_t points = 0;
+  friend bool operator==(const RuleBent&, const RuleBent&) = default;
 };
 
 struct SweepSummary {
   std::string case_name, kind, rheosim_version, git_revision, input_sha256;
   double radius = 0, gap = 0;  // [m]
-  double wall_time = 0;        // [s]
-  bool inertia = true;
-  std::size_t points_failed = 0;
-  std::optional<std::size_t> points_resumed;
   std::optional<SweepGridRecord> grid;
-  std::vector<RuleBent> warnings;
+  bool inertia = true;
+  std::vector<double> volume_fractions, shear_rates;  // the sweep's φ and rim rates [1/s]
+  std::size_t points_total = 0, points_failed = 0;
+  std::optional<std::size_t> points_resumed;  // read back from an interrupted run's point store
+  double wall_time = 0;                       // [s]
   std::vector<SweepPointRecord> points;
+  std::vector<RuleBent> warnings;
   std::vector<SeriesRecord> series;
   std::vector<FitRecord> fits;
   std::vector<YieldRecord> yield_stress;
   std::vector<RelativeViscosityRecord> relative_viscosity;
+  friend bool operator==(const SweepSummary&, const SweepSummary&) = default;
 };
 
 // Each record as summary.json holds it; read_sweep_summary reads the same keys back.
@@ -198,6 +205,8 @@ struct SweepSummary {
 [[nodiscard]] nlohmann::ordered_json to_json(const FitRecord& fit);
 [[nodiscard]] nlohmann::ordered_json to_json(const YieldRecord& yield);
 [[nodiscard]] nlohmann::ordered_json to_json(const RelativeViscosityRecord& relative_viscosity);
+// The whole file: the head every run writes (core/run_summary.hpp), then the keys above.
+[[nodiscard]] nlohmann::ordered_json to_json(const SweepSummary& summary);
 
 // Reads <run_dir>/summary.json; ConfigError when it is missing, of another kind of run (an LDD
 // run's is refused by name), or lacks (or mistypes) a required key, naming it.
