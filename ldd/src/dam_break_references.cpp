@@ -13,6 +13,8 @@ namespace rheosim::ldd::detail {
 
 namespace {
 
+MaybeNumber finite_or_empty(double x) { return std::isfinite(x) ? MaybeNumber(x) : std::nullopt; }
+
 // The seed's LDD column for this Δ and δt, if it ran one (Table 1).
 const double* table1_column(double spacing, double dt) {
   const auto close = [](double a, double b) { return std::abs(a / b - 1) < 1e-6; };
@@ -24,11 +26,11 @@ const double* table1_column(double spacing, double dt) {
 }
 
 void compare_with_table1(const CaseSettings& l, const std::vector<double>& front_time, const std::vector<double>& front,
-                         const std::filesystem::path& out_dir, nlohmann::ordered_json& summary, const core::Log& log) {
+                         const std::filesystem::path& out_dir, RunSummary& summary, const core::Log& log) {
   // LDD Table 1 layout: time, experiment, this run, the seed's LDD for the same Δ and δt.
   const double* paper = table1_column(l.spacing, l.time_step);
   core::CsvTable table({{"time", "s"}, {"experiment", "m"}, {"front", "m"}, {"error", "m"}, {"ldd_seed", "m"}});
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  Table1Comparison comparison;
   std::string text = fmt::format(
       "Mass front position, LDD Table 1 layout (Δ = {} mm, δt = {:g} s; seed LDD column for the same Δ, δt)\n"
       "{:>8} {:>10} {:>12} {:>10} {:>10}\n",
@@ -40,11 +42,8 @@ void compare_with_table1(const CaseSettings& l, const std::vector<double>& front
     const double x = interpolate(front_time, front, time);
     const double seed = paper ? paper[q] : std::numeric_limits<double>::quiet_NaN();
     table.add_row({time, exp, x, x - exp, seed});
-    rows.push_back({{"t", time},
-                    {"experiment", exp},
-                    {"front", x},
-                    {"error", x - exp},
-                    {"ldd_seed", paper ? nlohmann::ordered_json(seed) : nlohmann::ordered_json()}});
+    comparison.rows.push_back(
+        {time, exp, finite_or_empty(x), finite_or_empty(x - exp), paper ? MaybeNumber(seed) : std::nullopt});
     text += fmt::format("{:>8.2f} {:>10.3f} {:>12.3f} {:>+10.3f} {:>10}\n", time, exp, x, x - exp,
                         paper ? fmt::format("{:.3f}", seed) : std::string("-"));
     if (std::isfinite(x)) {
@@ -57,14 +56,16 @@ void compare_with_table1(const CaseSettings& l, const std::vector<double>& front
   text += fmt::format("RMS error vs experiment {:.4f} m, max {:.4f} m ({} of 6 times reached)\n", rms, worst, counted);
   core::write_csv(out_dir / "table1.csv", table);
   core::write_atomically(out_dir / "table1.txt", [&](std::ostream& os) { os << text; });
-  summary["table1"] = {{"rows", rows}, {"rms_error", rms}, {"max_error", worst}};
+  comparison.rms_error = finite_or_empty(rms);
+  comparison.max_error = worst;
+  summary.table1 = std::move(comparison);
   log.info("{}", text);
 }
 
 // The front from the gate, x, is the water column's Z = (x + a)/a; T = t√(2g/a).
 void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene, const std::vector<double>& front_time,
                                const std::vector<double>& front, const std::filesystem::path& out_dir,
-                               nlohmann::ordered_json& summary, const core::Log& log) {
+                               RunSummary& summary, const core::Log& log) {
   const double a = scene.reservoir[0];
   double g = 0;
   for (double c : l.gravity) g += c * c;
@@ -76,7 +77,7 @@ void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene
                         {"Z_experiment", ""},
                         {"Z", ""},
                         {"relative_error", ""}});
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  MartinMoyceComparison comparison;
   std::string text = fmt::format(
       "Front Z = x/a against Martin & Moyce (1952), n² = 2, a = {:g} m (x from the back wall)\n{:>7} {:>8} {:>8} "
       "{:>10}\n",
@@ -89,11 +90,7 @@ void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene
     const double x = interpolate(front_time, front, t);
     const double z = (x + a) / a, error = z / z_exp - 1.0;
     table.add_row({t, (z_exp - 1.0) * a, x, T, z_exp, z, error});
-    rows.push_back(
-        {{"T", T},
-         {"Z_experiment", z_exp},
-         {"Z", std::isfinite(z) ? nlohmann::ordered_json(z) : nlohmann::ordered_json()},
-         {"relative_error", std::isfinite(error) ? nlohmann::ordered_json(error) : nlohmann::ordered_json()}});
+    comparison.rows.push_back({T, z_exp, finite_or_empty(z), finite_or_empty(error)});
     text += std::isfinite(z) ? fmt::format("{:>7.3f} {:>8.3f} {:>8.3f} {:>+9.1f} %\n", T, z_exp, z, 100 * error)
                              : fmt::format("{:>7.3f} {:>8.3f} {:>8} {:>10}\n", T, z_exp, "-", "not reached");
     if (std::isfinite(error)) {
@@ -104,8 +101,8 @@ void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene
   text += fmt::format("largest difference {:.1f} % ({} of {} times reached)\n", 100 * worst, counted,
                       std::size(WaterColumnReference::times));
   core::write_csv(out_dir / "martin_moyce.csv", table);
-  summary["martin_moyce"] = {
-      {"rows", rows}, {"max_relative_error", counted > 0 ? nlohmann::ordered_json(worst) : nlohmann::ordered_json()}};
+  if (counted > 0) comparison.max_relative_error = worst;
+  summary.martin_moyce = std::move(comparison);
   log.info("{}", text);
 }
 
@@ -126,22 +123,18 @@ bool is_table1_release(const CaseSettings& l, const DamBreakScene& scene) {
 
 // The front at the end of the run against the shallow yield-stress arrest (ThinFilmArrest).
 void compare_with_thin_film_arrest(const ThinFilmArrest& arrest, const DamBreakScene& scene,
-                                   const std::vector<double>& front, nlohmann::ordered_json& summary,
-                                   const core::Log& log) {
+                                   const std::vector<double>& front, RunSummary& summary, const core::Log& log) {
   const double length = scene.reservoir[0];
-  nlohmann::ordered_json entry = {
-      {"length", arrest.length}, {"front", arrest.length - length}, {"wall_height", arrest.wall_height}};
-  if (front.empty()) {
-    entry["relative_error"] = nullptr;
-  } else {
+  ThinFilmArrestComparison entry{arrest.length, arrest.length - length, arrest.wall_height, std::nullopt};
+  if (!front.empty()) {
     const double runout = front.back() + length;  // from the back wall
-    entry["relative_error"] = runout / arrest.length - 1.0;
+    entry.relative_error = runout / arrest.length - 1.0;
     log.info(
         "thin-film arrest (shallow yield-stress limit): length {:.4g} m from the back wall (front {:.4g} m), wall "
         "height {:.4g} m; this run ends at {:.4g} m ({:+.1f} %)",
         arrest.length, arrest.length - length, arrest.wall_height, runout, 1e2 * (runout / arrest.length - 1.0));
   }
-  summary["thin_film_arrest"] = entry;
+  summary.thin_film_arrest = entry;
 }
 
 }  // namespace
@@ -157,7 +150,7 @@ std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l) 
 
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
                              const std::vector<double>& front, const std::filesystem::path& out_dir,
-                             nlohmann::ordered_json& summary, const core::Log& log) {
+                             RunSummary& summary, const core::Log& log) {
   const auto& scene = std::get<DamBreakScene>(l.scene);
   const std::string law(l.fluid.rheology->name());
   const double aspect = scene.reservoir[1] / scene.reservoir[0];

@@ -1,6 +1,6 @@
 #pragma once
 // The experiments a dam break's front is compared with (run_free_surface.cpp writes them beside
-// the run and into summary.json; the LDD report draws them):
+// the run and into its RunSummary; the LDD report draws them):
 //   - LDD §4.3's release (2 m × 0.1 m of a Bingham material, ρ 1200, μ_B 25, τ_B 25): LDD Table 1
 //     (its experiment and the seed's LDD columns for the same Δ and δt), table1.csv and
 //     table1.txt, summary "table1";
@@ -11,8 +11,6 @@
 //   - anything else: no experiment (the log says so);
 //   - and for any law with a yield stress, the shallow arrest of ThinFilmArrest (run.hpp),
 //     summary "thin_film_arrest".
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <filesystem>
 #include <limits>
@@ -22,6 +20,7 @@
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/summary.hpp"
 
 namespace rheosim::ldd::detail {
 
@@ -51,6 +50,6 @@ struct WaterColumnReference {
 
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
                              const std::vector<double>& front, const std::filesystem::path& out_dir,
-                             nlohmann::ordered_json& summary, const core::Log& log);
+                             RunSummary& summary, const core::Log& log);
 
 }  // namespace rheosim::ldd::detail

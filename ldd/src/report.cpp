@@ -47,62 +47,6 @@ int column_of(const core::CsvTable& table, std::string_view name) {
 
 }  // namespace
 
-RunSummary read_run_summary(const fs::path& summary_json) {
-  const Json json = core::read_json(summary_json);
-  const core::SummaryReader r(json, summary_json, "every LDD run", std::string(summary_hint));
-  if (const std::string kind = r.text("kind"); kind != "ldd")
-    core::refuse_summary_kind(
-        summary_json, kind, "the summary of a kind: ldd run",
-        "'rheosim report' writes the report of a rheometer or sweep run with the rheometer report");
-  RunSummary s;
-  s.case_name = r.text("case");
-  s.scene = r.text("scene");
-  s.status = r.text("status");
-  s.message = r.has("message") ? r.text("message") : std::string();
-  s.dimension = static_cast<int>(r.count("dimension"));
-  s.nodes = r.count("nodes");
-  s.steps = r.count("steps");
-  s.threads = r.count("threads");
-  s.spacing = r.number("spacing");
-  s.time_step = r.number("time_step");
-  s.time_step_rule = r.has("time_step_rule") ? r.text("time_step_rule") : std::string();
-  s.time = r.number("time");
-  s.ms_per_step = r.number("ms_per_step");
-  s.wall_time = r.number("wall_time");
-  s.warnings = r.texts("warnings");
-  s.free_surface = s.scene == "dam_break" || s.scene == "slump" || s.scene == "column";
-  if (s.free_surface) {
-    s.volume_drift = r.number("volume_drift");
-    s.kinetic_energy_peak = r.number("kinetic_energy_peak");
-    s.energy_gain = r.number_or_null("energy_gain");
-    s.repeated_solves = r.count("repeated_solves");
-    if (s.scene != "column") {
-      s.final_spread = r.number("final_spread");
-      s.final_height = r.number("final_height");
-      s.yielded_fraction = r.number_or_null("yielded_fraction");
-      s.arrested = r.boolean("arrested");
-      if (s.scene == "dam_break" && s.yielded_fraction) {
-        const core::SummaryReader arrest(r.at("thin_film_arrest"), summary_json,
-                                         "every LDD dam break with a yield stress", std::string(summary_hint),
-                                         "thin_film_arrest");
-        s.thin_film_length = arrest.number("length");
-        s.thin_film_front = arrest.number("front");
-        s.thin_film_error = arrest.number_or_null("relative_error");
-      }
-    }
-  } else {
-    s.reynolds_number = r.number("reynolds_number");
-    s.final_residual = r.number("final_residual");
-    if (r.has("ghia")) {  // a square Newtonian cavity at a Reynolds number Ghia et al. tabulate
-      const core::SummaryReader ghia(r.at("ghia"), summary_json, "a cavity compared with Ghia et al. (1982)",
-                                     std::string(summary_hint), "ghia");
-      s.ghia_reynolds = ghia.number("reynolds");
-      s.ghia_max_error = ghia.number("max_error");
-    }
-  }
-  return s;
-}
-
 namespace {
 
 // What the run folder holds beside summary.json, which decides the figures and tables.
@@ -138,9 +82,9 @@ void write_free_surface_plots(const RunSummary& s, RunFolder& run, ReportFiles& 
           "'table1.csv' using 1:5 with points pt 6 ps 1.4 title 'seed LDD (same Δ, δt)'";
     if (run.martin_moyce)
       curves += ", 'martin_moyce.csv' using 1:2 with points pt 7 ps 1.4 title 'experiment (Martin and Moyce 1952)'";
-    if (s.thin_film_front)
+    if (s.thin_film_arrest)
       curves += fmt::format(", {:.6g} with lines dt 2 lw 2 title 'shallow yield-stress arrest (thin film)'",
-                            *s.thin_film_front);
+                            s.thin_film_arrest->front);
     plot("front", "Mass front position vs time", "set xlabel 't [s]'\nset ylabel 'front x [m]'\nplot " + curves + "\n");
     if (run.profile) {
       const core::CsvTable shape = core::read_csv(run.dir / "profile.csv");
@@ -200,19 +144,18 @@ std::string header_html(const RunSummary& s) {
       row("yielded fraction",
           s.yielded_fraction ? fmt::format("{:.3g}", *s.yielded_fraction) : std::string("— (no yield stress)"));
       row("arrested (yield criterion)", s.arrested ? "yes" : "no");
-      if (s.thin_film_length)
+      if (const auto& a = s.thin_film_arrest)
         row("shallow arrest (thin film)",
-            fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", *s.thin_film_length,
-                        *s.thin_film_front,
-                        s.thin_film_error ? fmt::format("{:+.1f} %", 100 * *s.thin_film_error) : std::string("—")));
+            fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", a->length, a->front,
+                        a->relative_error ? fmt::format("{:+.1f} %", 100 * *a->relative_error) : std::string("—")));
     }
   } else {
     row("Reynolds number", fmt::format("{:.4g}", s.reynolds_number));
     row("final steady residual", fmt::format("{:.3g}", s.final_residual));
-    if (s.ghia_reynolds)
+    if (s.ghia)
       row("centre lines against Ghia et al. (1982)",
-          fmt::format("Re = {:g}: max |error| {:.4f} U over their 34 points (ghia.csv)", *s.ghia_reynolds,
-                      *s.ghia_max_error));
+          fmt::format("Re = {}: max |error| {:.4f} U over their 34 points (ghia.csv)", s.ghia->reynolds,
+                      s.ghia->max_error));
   }
   html += "</table>\n";
   if (!s.warnings.empty()) {
@@ -235,7 +178,7 @@ std::string dam_break_html(const RunSummary& s, const RunFolder& run, const Repo
     caption +=
         "; points: the experiment and the seed's LDD column of LDD Table 1 where the case's Δ and δt have "
         "one (table1.csv)";
-  if (s.thin_film_front) caption += "; dashed: the shallow yield-stress arrest front (summary thin_film_arrest)";
+  if (s.thin_film_arrest) caption += "; dashed: the shallow yield-stress arrest front (summary thin_film_arrest)";
   html += figure_or_note(files, "front", caption + ".");
   if (run.martin_moyce) {
     const core::CsvTable t = core::read_csv(run.dir / "martin_moyce.csv");
@@ -266,7 +209,7 @@ std::string dam_break_html(const RunSummary& s, const RunFolder& run, const Repo
   if (run.profile) {
     html += "<h2>Final shape</h2>\n";
     html += figure_or_note(files, "profile",
-                           s.thin_film_length ? "Free surface at the end of the run, the top of the fluid nodes per "
+                           s.thin_film_arrest ? "Free surface at the end of the run, the top of the fluid nodes per "
                                                 "Δ column (profile.csv); dashed: the shallow yield-stress arrest "
                                                 "h = √(2τ₀(ℓ − s)/(ρg)) of the same reservoir."
                                               : "Free surface at the end of the run, the top of the fluid nodes "

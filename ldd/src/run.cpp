@@ -10,7 +10,6 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "checkpoint.hpp"
 #include "rheosim/core/error.hpp"
@@ -180,8 +179,8 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
 
 // The centre-line velocities at Ghia's points against their table (cavity_reference.hpp):
 // summary.json `ghia` and ghia.csv.
-nlohmann::ordered_json compare_with_ghia(const Solver& solver, const Cavity& cavity, int reynolds,
-                                         const std::filesystem::path& dir) {
+GhiaComparison compare_with_ghia(const Solver& solver, const Cavity& cavity, int reynolds,
+                                 const std::filesystem::path& dir) {
   const auto table = ghia_1982();
   std::vector<double> points;
   for (const auto& g : table) {
@@ -192,21 +191,19 @@ nlohmann::ordered_json compare_with_ghia(const Solver& solver, const Cavity& cav
   const double lid = cavity.lid_velocity();
   core::CsvTable csv({{"coordinate", ""}, {"computed", ""}, {"reference", ""}, {"error", ""}},
                      core::CsvTable::Column{"line", ""});
-  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
-  double max_error = 0;
+  GhiaComparison out;
+  out.reynolds = reynolds;
   for (std::size_t k = 0; k < table.size(); ++k) {
     const auto& g = table[k];
     const double computed = velocity[2 * k + (g.line == 'u' ? 0 : 1)] / lid;
     const double error = computed - g.at(reynolds);
-    max_error = std::max(max_error, std::isfinite(error) ? std::abs(error) : std::numeric_limits<double>::infinity());
+    out.max_error =
+        std::max(out.max_error, std::isfinite(error) ? std::abs(error) : std::numeric_limits<double>::infinity());
     csv.add_row({g.coordinate, computed, g.at(reynolds), error}, std::string(1, g.line));
-    rows.push_back({{"line", std::string(1, g.line)},
-                    {"coordinate", g.coordinate},
-                    {"computed", computed},
-                    {"reference", g.at(reynolds)}});
+    out.points.push_back({std::string(1, g.line), g.coordinate, computed, g.at(reynolds)});
   }
   core::write_csv(dir / "ghia.csv", csv);
-  return {{"reynolds", reynolds}, {"max_error", max_error}, {"points", rows}};
+  return out;
 }
 
 // The cavity's part of the run loop: the lattice Solver, its centre-line probes and steady
@@ -358,13 +355,9 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 
   const Centerlines final_lines = sample_centerlines(solver, cavity);
   core::CsvTable vertical({{"y", ""}, {"u", ""}}), horizontal({{"x", ""}, {"v", ""}});
-  nlohmann::ordered_json vertical_json = nlohmann::ordered_json::array(),
-                         horizontal_json = nlohmann::ordered_json::array();
   for (std::size_t k = 0; k < final_lines.y.size(); ++k) {
     vertical.add_row({final_lines.y[k], final_lines.u[k]});
     horizontal.add_row({final_lines.x[k], final_lines.v[k]});
-    vertical_json.push_back({{"y", final_lines.y[k]}, {"u", final_lines.u[k]}});
-    horizontal_json.push_back({{"x", final_lines.x[k]}, {"v", final_lines.v[k]}});
   }
   core::write_csv(out_dir / "centerline_vertical.csv", vertical);
   core::write_csv(out_dir / "centerline_horizontal.csv", horizontal);
@@ -373,28 +366,28 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 
   outcome.steps = solver.steps();
   outcome.ms_per_step = solver.steps() > 0 ? 1e3 * run.step_seconds() / static_cast<double>(solver.steps()) : 0.0;
-  nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
-  summary["reynolds_number"] = reynolds;
-  summary["final_residual"] = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
-  summary["wall_time"] = run.wall_time();
-  summary["resumed_at_steps"] = detail::as_counts(run.resumed_at_steps());
-  summary["centerlines"] = {{"vertical", vertical_json}, {"horizontal", horizontal_json}};
+  RunSummary summary = detail::summary_head(c, l, solver, outcome, threads);
+  summary.reynolds_number = reynolds;
+  summary.final_residual = history.row_count() > 0 ? history.row(history.row_count() - 1)[1] : 0.0;
+  summary.wall_time = run.wall_time();
+  summary.resumed_at_steps = detail::as_counts(run.resumed_at_steps());
+  for (std::size_t k = 0; k < final_lines.y.size(); ++k) {
+    summary.vertical_centerline.push_back({final_lines.y[k], final_lines.u[k]});
+    summary.horizontal_centerline.push_back({final_lines.x[k], final_lines.v[k]});
+  }
   if (const auto ghia_re = ghia_reynolds(*scene, l.fluid)) {
-    summary["ghia"] = compare_with_ghia(solver, cavity, *ghia_re, out_dir);
+    summary.ghia = compare_with_ghia(solver, cavity, *ghia_re, out_dir);
     log.info("centre lines against Ghia et al. (1982) at Re = {}: max |error| {:.4f} U over their 34 points", *ghia_re,
-             summary["ghia"]["max_error"].get<double>());
+             summary.ghia->max_error);
   }
-  {  // every rule the run bent
-    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    if (const auto w = run.accepted().warning(solver.steps())) warnings.push_back(*w);
-    if (solver.params().pressure_preconditioner != requested_preconditioner)
-      warnings.push_back(
-          "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi "
-          "preconditioning");
-    for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
-    summary["warnings"] = warnings;
-  }
-  core::write_json(out_dir / "summary.json", summary);
+  // every rule the run bent
+  if (const auto w = run.accepted().warning(solver.steps())) summary.warnings.push_back(*w);
+  if (solver.params().pressure_preconditioner != requested_preconditioner)
+    summary.warnings.push_back(
+        "the pressure matrix's sparse LU factorisation failed; the pressure solve fell back to Jacobi "
+        "preconditioning");
+  for (const auto& w : summary.warnings) log.warn("{}", w);
+  core::write_json(out_dir / "summary.json", to_json(summary));
   write_plots(out_dir, fmt::format("{} ({} nodes, t = {:.3g} s)", c.name, solver.node_count(), solver.time()), log);
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step; summary: {}", outcome.status, outcome.steps,

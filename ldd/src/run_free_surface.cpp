@@ -9,7 +9,6 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "checkpoint.hpp"
 #include "dam_break_references.hpp"
@@ -198,82 +197,68 @@ std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bo
 // summary.json of a finished (or stopped) run: the head every LDD run writes, the energy and
 // volume records, the rules the run bent, the probes, and a dam break's or slump's final shape
 // (a dam break also writes profile.csv and its references' files).
-nlohmann::ordered_json run_summary(const Case& c, const FreeSurfaceSolver& solver, const RunRecord& run,
-                                   double wall_time, const core::CsvTable& history, const RunOutcome& outcome,
-                                   int threads, const std::filesystem::path& out_dir, const core::Log& log) {
+RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const RunRecord& run, double wall_time,
+                       const core::CsvTable& history, const RunOutcome& outcome, int threads,
+                       const std::filesystem::path& out_dir, const core::Log& log) {
   const auto& l = c.settings;
   const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
   const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
-  nlohmann::ordered_json summary = detail::summary_head(c, l, solver, outcome, threads);
-  summary["volume_drift"] = run.max_drift;
-  summary["kinetic_energy_peak"] = run.peak_energy;
+  RunSummary summary = detail::summary_head(c, l, solver, outcome, threads);
+  summary.free_surface = true;
+  summary.volume_drift = run.max_drift;
+  summary.kinetic_energy_peak = run.peak_energy;
   // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only
-  // where a release drives the flow; a resting column releases nothing but noise (null).
+  // where a release drives the flow; a resting column releases nothing but noise (empty).
   const bool released_flow = (dam_break || slump) && run.max_released > 0;
   const double energy_gain = released_flow ? run.max_energy_excess / run.max_released : 0.0;
-  if (released_flow)
-    summary["energy_gain"] = energy_gain;
-  else
-    summary["energy_gain"] = nullptr;
-  summary["repeated_solves"] = static_cast<int>(run.repeated_solves);
-  {  // every rule the run bent
-    nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
-    if (const auto w = run.accepted.warning(solver.steps())) warnings.push_back(*w);
-    if (run.max_drift > volume_drift_tolerance)
-      warnings.push_back(fmt::format("the fluid volume drifted by up to {:.3g} % (more than {:.3g} %)",
-                                     1e2 * run.max_drift, 1e2 * volume_drift_tolerance));
-    if (energy_gain > energy_gain_tolerance)
-      warnings.push_back(fmt::format(
-          "the kinetic energy exceeded the potential energy released by {:.3g} % of the latter: the scheme created "
-          "energy",
-          1e2 * energy_gain));
-    if (run.repeated_solves > 0)
-      warnings.push_back(fmt::format("{} linear solves failed and were repeated ({} with the sparse LU)",
-                                     run.repeated_solves, run.repeated_with_lu));
-    for (const auto& w : warnings) log.warn("{}", w.get<std::string>());
-    summary["warnings"] = warnings;
-  }
-  summary["repeated_with_lu"] =
-      static_cast<int>(run.repeated_with_lu);  // of which; the rest with a fresh AMG hierarchy
+  if (released_flow) summary.energy_gain = energy_gain;
+  summary.repeated_solves = static_cast<std::size_t>(run.repeated_solves);
+  // every rule the run bent
+  if (const auto w = run.accepted.warning(solver.steps())) summary.warnings.push_back(*w);
+  if (run.max_drift > volume_drift_tolerance)
+    summary.warnings.push_back(fmt::format("the fluid volume drifted by up to {:.3g} % (more than {:.3g} %)",
+                                           1e2 * run.max_drift, 1e2 * volume_drift_tolerance));
+  if (energy_gain > energy_gain_tolerance)
+    summary.warnings.push_back(fmt::format(
+        "the kinetic energy exceeded the potential energy released by {:.3g} % of the latter: the scheme created "
+        "energy",
+        1e2 * energy_gain));
+  if (run.repeated_solves > 0)
+    summary.warnings.push_back(fmt::format("{} linear solves failed and were repeated ({} with the sparse LU)",
+                                           run.repeated_solves, run.repeated_with_lu));
+  for (const auto& w : summary.warnings) log.warn("{}", w);
+  summary.repeated_with_lu = static_cast<std::size_t>(run.repeated_with_lu);
   // Krylov iterations per step (velocity: all components), to compare preconditioners.
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
-  summary["iterations_per_step"] = {{"pressure", run.pressure_iterations / steps_done},
-                                    {"velocity", run.velocity_iterations / steps_done}};
+  summary.pressure_iterations_per_step = run.pressure_iterations / steps_done;
+  summary.velocity_iterations_per_step = run.velocity_iterations / steps_done;
   // Neighbour searches by this process (the other steps filtered the Verlet list).
-  summary["neighbour_searches"] = solver.neighbour_searches();
-  summary["wall_time"] = wall_time;
-  summary["resumed_at_steps"] = detail::as_counts(run.resumed_at_steps);
-  nlohmann::ordered_json probes = nlohmann::ordered_json::array();
+  summary.neighbour_searches = solver.neighbour_searches();
+  summary.wall_time = wall_time;
+  summary.resumed_at_steps = detail::as_counts(run.resumed_at_steps);
   for (std::size_t q = 0; q < history.row_count(); ++q) {
     const auto row = history.row(q);
-    if (dam_break) probes.push_back({{"t", row[0]}, {"x", row[1]}});
-    if (slump) probes.push_back({{"t", row[0]}, {"diameter", row[1]}, {"height", row[2]}});
+    if (dam_break) summary.front.push_back({row[0], row[1]});
+    if (slump) summary.spread.push_back({row[0], row[1], row[2]});
   }
-  if (dam_break) {
-    summary["front"] = probes;
-    detail::compare_dam_break_front(l, run.front_time, run.front, out_dir, summary, log);
-  }
-  if (slump) summary["spread"] = probes;
+  if (dam_break) detail::compare_dam_break_front(l, run.front_time, run.front, out_dir, summary, log);
   if (dam_break || slump) {
     // The final shape, and whether the material has stopped by the yield criterion.
     const double yield_stress = l.fluid.rheology->yield_stress();
     if (dam_break) {
-      summary["final_spread"] = mass_front(solver);
-      summary["final_height"] = top_height(solver);
+      summary.final_spread = mass_front(solver);
+      summary.final_height = top_height(solver);
       core::write_csv(out_dir / "profile.csv", final_profile(solver, l));
     } else {
       const auto [diameter, height] = spread(solver);
-      summary["final_spread"] = diameter;
-      summary["final_height"] = height;
+      summary.final_spread = diameter;
+      summary.final_height = height;
     }
     if (yield_stress > 0) {
       const double share = yielded_fraction(solver, yield_stress);
-      summary["yielded_fraction"] = share;
-      summary["arrested"] = outcome.status != "diverged" && share == 0.0;
-    } else {
-      summary["yielded_fraction"] = nullptr;
-      summary["arrested"] = false;  // no yield stress: a liquid does not arrest
-    }
+      summary.yielded_fraction = share;
+      summary.arrested = outcome.status != "diverged" && share == 0.0;
+    }  // else no yield stress: a liquid does not arrest
   }
   return summary;
 }
@@ -473,9 +458,9 @@ RunOutcome run_free_surface_case(const Case& c, const std::filesystem::path& out
   outcome.steps = solver.steps();
   const RunRecord& record = run.record_so_far();
   outcome.ms_per_step = solver.steps() > 0 ? 1e3 * record.step_seconds / static_cast<double>(solver.steps()) : 0.0;
-  const nlohmann::ordered_json summary =
+  const RunSummary summary =
       run_summary(c, solver, record, run.wall_time(), run.history(), outcome, threads, out_dir, log);
-  core::write_json(out_dir / "summary.json", summary);
+  core::write_json(out_dir / "summary.json", to_json(summary));
   outcome.summary = out_dir / "summary.json";
   log.info("LDD {} after {} steps (t = {:.6g} s), {:.3g} ms/step, volume drift {:.3g} %; summary: {}", outcome.status,
            outcome.steps, solver.time(), outcome.ms_per_step, 100 * record.max_drift, outcome.summary.string());

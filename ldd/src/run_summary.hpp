@@ -1,6 +1,6 @@
 #pragma once
 // What every LDD runner (cavity and free-surface scenes) shares: one timed step that turns a
-// divergence into the run's outcome, and the part of summary.json every run writes (the case,
+// divergence into the run's outcome, and the part of the RunSummary every run fills (the case,
 // the build, the outcome, the cloud, the step and where the time went), so both report the same
 // keys.
 #include <algorithm>
@@ -21,6 +21,7 @@
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/solver.hpp"
+#include "rheosim/ldd/summary.hpp"
 
 namespace rheosim::ldd::detail {
 
@@ -133,30 +134,33 @@ inline void set_step_params(const ldd::CaseSettings& l, StepParams& p) {
   p.max_courant = l.solver.max_courant;
 }
 
-// Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps, time,
-// phase_times).
+// The part of summary.json every LDD run writes: the head, the cloud, the step and where the
+// time went. Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps,
+// time, phase_times).
 template <class Solver>
-[[nodiscard]] nlohmann::ordered_json summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
-                                                  const RunOutcome& outcome, int threads) {
-  const PhaseTimes& t = solver.phase_times();
-  nlohmann::ordered_json summary = core::summary_head(c, "ldd");
-  summary["scene"] = l.scene_type;
-  summary["dimension"] = l.dimension;
-  summary["status"] = outcome.status;
-  if (!outcome.message.empty()) summary["message"] = outcome.message;
-  summary["nodes"] = solver.node_count();
-  summary["fluid_nodes"] = solver.fluid_node_count();
-  summary["spacing"] = l.spacing;
-  summary["time_step"] = l.time_step;
-  if (!l.time_step_rule.empty()) summary["time_step_rule"] = l.time_step_rule;
-  summary["steps"] = solver.steps();
-  summary["time"] = solver.time();
-  summary["threads"] = threads;
-  summary["ms_per_step"] = outcome.ms_per_step;
-  summary["phase_seconds"] = {{"neighbours", t.neighbours}, {"operators", t.operators}, {"rheology", t.rheology},
-                              {"pressure", t.pressure},     {"momentum", t.momentum},   {"advection", t.advection},
-                              {"reordering", t.reordering}};
-  return summary;
+[[nodiscard]] RunSummary summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
+                                      const RunOutcome& outcome, int threads) {
+  const core::SummaryHead head = core::summary_head_of(c, "ldd");
+  RunSummary s;
+  s.case_name = head.case_name;
+  s.rheosim_version = head.rheosim_version;
+  s.git_revision = head.git_revision;
+  s.input_sha256 = head.input_sha256;
+  s.scene = l.scene_type;
+  s.dimension = l.dimension;
+  s.status = outcome.status;
+  s.message = outcome.message;
+  s.nodes = solver.node_count();
+  s.fluid_nodes = solver.fluid_node_count();
+  s.spacing = l.spacing;
+  s.time_step = l.time_step;
+  s.time_step_rule = l.time_step_rule;
+  s.steps = solver.steps();
+  s.time = solver.time();
+  s.threads = threads;
+  s.ms_per_step = outcome.ms_per_step;
+  s.phase_seconds = solver.phase_times();
+  return s;
 }
 
 }  // namespace rheosim::ldd::detail

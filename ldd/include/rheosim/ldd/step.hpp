@@ -86,6 +86,7 @@ void check_step(const StepCheck& check, const StepParams& params, StepStats& sta
 // Wall-clock seconds per phase, accumulated over all steps (for the benchmark and summary.json).
 struct PhaseTimes {
   double neighbours = 0, operators = 0, rheology = 0, pressure = 0, momentum = 0, advection = 0, reordering = 0;
+  friend bool operator==(const PhaseTimes&, const PhaseTimes&) = default;
   [[nodiscard]] double total() const {
     return neighbours + operators + rheology + pressure + momentum + advection + reordering;
   }

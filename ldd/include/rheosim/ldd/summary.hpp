@@ -1,0 +1,123 @@
+#pragma once
+// summary.json of an LDD run as a type: the runners fill a RunSummary and write it with
+// to_json; read_run_summary reads the same keys back (a missing or mistyped key is a
+// core::ConfigError naming the file and the key's path, a summary of another kind one too).
+// Which keys a run has depends on its scene: every run the head, the cloud, the step, the cost
+// and the rules it bent; a cavity its residual, centre lines and, for a square Newtonian cavity at
+// a Reynolds number Ghia et al. (1982) tabulate, the comparison with them; a free-surface run its
+// volume and energy records, a dam break its front and references, a slump its spread.
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rheosim/ldd/step.hpp"
+
+namespace rheosim::ldd {
+
+using MaybeNumber = std::optional<double>;
+
+struct FrontSample {  // dam break: the mass front x [m] from the gate at time t [s]
+  double t = 0, x = 0;
+  friend bool operator==(const FrontSample&, const FrontSample&) = default;
+};
+
+struct SpreadSample {  // slump: diameter and height [m] at time t [s]
+  double t = 0, diameter = 0, height = 0;
+  friend bool operator==(const SpreadSample&, const SpreadSample&) = default;
+};
+
+struct Table1Row {  // LDD Table 1's experiment, this run's front and the seed's LDD column [m]
+  double t = 0, experiment = 0;
+  MaybeNumber front, error, ldd_seed;  // empty: not reached, or no seed column for this Δ, δt
+  friend bool operator==(const Table1Row&, const Table1Row&) = default;
+};
+
+struct Table1Comparison {
+  std::vector<Table1Row> rows;
+  MaybeNumber rms_error;  // [m] over the times reached
+  double max_error = 0;
+  friend bool operator==(const Table1Comparison&, const Table1Comparison&) = default;
+};
+
+struct MartinMoyceRow {  // Z = x/a against T = t√(2g/a)
+  double T = 0, Z_experiment = 0;
+  MaybeNumber Z, relative_error;  // empty: not reached
+  friend bool operator==(const MartinMoyceRow&, const MartinMoyceRow&) = default;
+};
+
+struct MartinMoyceComparison {
+  std::vector<MartinMoyceRow> rows;
+  MaybeNumber max_relative_error;  // empty when no time was reached
+  friend bool operator==(const MartinMoyceComparison&, const MartinMoyceComparison&) = default;
+};
+
+struct ThinFilmArrestComparison {                 // the shallow yield-stress arrest of the reservoir (run.hpp)
+  double length = 0, front = 0, wall_height = 0;  // [m]: from the back wall, from the gate
+  MaybeNumber relative_error;                     // of the final runout against length
+  friend bool operator==(const ThinFilmArrestComparison&, const ThinFilmArrestComparison&) = default;
+};
+
+struct CenterlineSample {  // normalised: position along the line, velocity across it
+  double position = 0, velocity = 0;
+  friend bool operator==(const CenterlineSample&, const CenterlineSample&) = default;
+};
+
+struct GhiaPointRecord {
+  std::string line;  // "u" (vertical centre line) or "v" (horizontal)
+  double coordinate = 0, computed = 0, reference = 0;
+  friend bool operator==(const GhiaPointRecord&, const GhiaPointRecord&) = default;
+};
+
+struct GhiaComparison {
+  int reynolds = 0;
+  double max_error = 0;  // largest |computed − reference| in units of the lid speed
+  std::vector<GhiaPointRecord> points;
+  friend bool operator==(const GhiaComparison&, const GhiaComparison&) = default;
+};
+
+struct RunSummary {
+  // The head every run writes (core/run_summary.hpp), kind "ldd".
+  std::string case_name, rheosim_version, git_revision, input_sha256;
+  // Every run.
+  std::string scene, status, message;  // message: why a run stopped early ("" if none)
+  int dimension = 2;
+  std::size_t nodes = 0, fluid_nodes = 0;
+  double spacing = 0, time_step = 0;
+  std::string time_step_rule;  // "" when the case gave the step
+  std::size_t steps = 0;
+  double time = 0;
+  int threads = 1;
+  double ms_per_step = 0;
+  PhaseTimes phase_seconds;
+  double wall_time = 0;
+  std::vector<std::size_t> resumed_at_steps;  // the steps a run went on from its checkpoint
+  std::vector<std::string> warnings;          // every rule the run bent
+  bool free_surface = false;                  // dam_break, slump, column
+  // Cavity runs.
+  double reynolds_number = 0, final_residual = 0;
+  std::vector<CenterlineSample> vertical_centerline, horizontal_centerline;  // (y, u) and (x, v)
+  std::optional<GhiaComparison> ghia;
+  // Free-surface runs.
+  double volume_drift = 0, kinetic_energy_peak = 0;
+  MaybeNumber energy_gain;  // empty for a resting column
+  std::size_t repeated_solves = 0, repeated_with_lu = 0;
+  double pressure_iterations_per_step = 0, velocity_iterations_per_step = 0;
+  std::size_t neighbour_searches = 0;
+  std::vector<FrontSample> front;                            // dam break
+  std::optional<ThinFilmArrestComparison> thin_film_arrest;  // dam break of a yield-stress law
+  std::optional<Table1Comparison> table1;                    // LDD §4.3's release
+  std::optional<MartinMoyceComparison> martin_moyce;         // a Newtonian column with H = 2L
+  std::vector<SpreadSample> spread;                          // slump
+  MaybeNumber final_spread, final_height, yielded_fraction;  // dam break and slump
+  bool arrested = false;
+  friend bool operator==(const RunSummary&, const RunSummary&) = default;
+};
+
+[[nodiscard]] nlohmann::ordered_json to_json(const RunSummary& summary);
+[[nodiscard]] RunSummary read_run_summary(const std::filesystem::path& summary_json);
+
+}  // namespace rheosim::ldd

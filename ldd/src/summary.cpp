@@ -1,0 +1,237 @@
+// summary.json of an LDD run written from and read into a RunSummary (rheosim/ldd/summary.hpp).
+#include "rheosim/ldd/summary.hpp"
+
+#include <string_view>
+
+#include "rheosim/core/output.hpp"
+#include "rheosim/core/report_page.hpp"
+#include "rheosim/core/run_summary.hpp"
+
+namespace rheosim::ldd {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using core::SummaryReader;
+
+constexpr std::string_view summary_hint = "pass the --out folder of a finished 'rheosim run' of a kind: ldd case";
+
+Json value_or_null(const MaybeNumber& x) { return x ? Json(*x) : Json(nullptr); }
+
+bool is_free_surface(std::string_view scene) { return scene == "dam_break" || scene == "slump" || scene == "column"; }
+
+Json centerline_json(const std::vector<CenterlineSample>& line, const char* position, const char* velocity) {
+  auto out = Json::array();
+  for (const auto& p : line) out.push_back({{position, p.position}, {velocity, p.velocity}});
+  return out;
+}
+
+void add_cavity_keys(const RunSummary& s, Json& j) {
+  j["reynolds_number"] = s.reynolds_number;
+  j["final_residual"] = s.final_residual;
+  j["wall_time"] = s.wall_time;
+  j["resumed_at_steps"] = s.resumed_at_steps;
+  j["centerlines"] = {{"vertical", centerline_json(s.vertical_centerline, "y", "u")},
+                      {"horizontal", centerline_json(s.horizontal_centerline, "x", "v")}};
+  if (const auto& g = s.ghia) {
+    auto points = Json::array();
+    for (const auto& p : g->points)
+      points.push_back(
+          {{"line", p.line}, {"coordinate", p.coordinate}, {"computed", p.computed}, {"reference", p.reference}});
+    j["ghia"] = {{"reynolds", g->reynolds}, {"max_error", g->max_error}, {"points", points}};
+  }
+  j["warnings"] = s.warnings;
+}
+
+void add_dam_break_references(const RunSummary& s, Json& j) {
+  if (const auto& a = s.thin_film_arrest)
+    j["thin_film_arrest"] = {{"length", a->length},
+                             {"front", a->front},
+                             {"wall_height", a->wall_height},
+                             {"relative_error", value_or_null(a->relative_error)}};
+  if (const auto& t = s.table1) {
+    auto rows = Json::array();
+    for (const auto& r : t->rows)
+      rows.push_back({{"t", r.t},
+                      {"experiment", r.experiment},
+                      {"front", value_or_null(r.front)},
+                      {"error", value_or_null(r.error)},
+                      {"ldd_seed", value_or_null(r.ldd_seed)}});
+    j["table1"] = {{"rows", rows}, {"rms_error", value_or_null(t->rms_error)}, {"max_error", t->max_error}};
+  }
+  if (const auto& m = s.martin_moyce) {
+    auto rows = Json::array();
+    for (const auto& r : m->rows)
+      rows.push_back({{"T", r.T},
+                      {"Z_experiment", r.Z_experiment},
+                      {"Z", value_or_null(r.Z)},
+                      {"relative_error", value_or_null(r.relative_error)}});
+    j["martin_moyce"] = {{"rows", rows}, {"max_relative_error", value_or_null(m->max_relative_error)}};
+  }
+}
+
+void add_free_surface_keys(const RunSummary& s, Json& j) {
+  j["volume_drift"] = s.volume_drift;
+  j["kinetic_energy_peak"] = s.kinetic_energy_peak;
+  j["energy_gain"] = value_or_null(s.energy_gain);
+  j["repeated_solves"] = s.repeated_solves;
+  j["warnings"] = s.warnings;
+  j["repeated_with_lu"] = s.repeated_with_lu;  // of which; the rest with a fresh AMG hierarchy
+  j["iterations_per_step"] = {{"pressure", s.pressure_iterations_per_step},
+                              {"velocity", s.velocity_iterations_per_step}};
+  j["neighbour_searches"] = s.neighbour_searches;
+  j["wall_time"] = s.wall_time;
+  j["resumed_at_steps"] = s.resumed_at_steps;
+  if (s.scene == "dam_break") {
+    auto front = Json::array();
+    for (const auto& p : s.front) front.push_back({{"t", p.t}, {"x", p.x}});
+    j["front"] = front;
+    add_dam_break_references(s, j);
+  }
+  if (s.scene == "slump") {
+    auto spread = Json::array();
+    for (const auto& p : s.spread) spread.push_back({{"t", p.t}, {"diameter", p.diameter}, {"height", p.height}});
+    j["spread"] = spread;
+  }
+  if (s.scene != "column") {
+    j["final_spread"] = value_or_null(s.final_spread);
+    j["final_height"] = value_or_null(s.final_height);
+    j["yielded_fraction"] = value_or_null(s.yielded_fraction);
+    j["arrested"] = s.arrested;
+  }
+}
+
+void read_cavity_keys(const SummaryReader& r, RunSummary& s) {
+  s.reynolds_number = r.number("reynolds_number");
+  s.final_residual = r.number("final_residual");
+  const SummaryReader lines = r.object("centerlines");
+  for (const auto& p : lines.objects("vertical")) s.vertical_centerline.push_back({p.number("y"), p.number("u")});
+  for (const auto& p : lines.objects("horizontal")) s.horizontal_centerline.push_back({p.number("x"), p.number("v")});
+  if (const auto g = r.optional_object("ghia")) {  // a square Newtonian cavity at a Reynolds number Ghia tabulates
+    GhiaComparison ghia;
+    ghia.reynolds = static_cast<int>(g->integer("reynolds"));
+    ghia.max_error = g->number("max_error");
+    for (const auto& p : g->objects("points"))
+      ghia.points.push_back({p.text("line"), p.number("coordinate"), p.number("computed"), p.number("reference")});
+    s.ghia = std::move(ghia);
+  }
+}
+
+void read_dam_break_references(const SummaryReader& r, RunSummary& s) {
+  if (s.yielded_fraction) {  // a yield-stress law: its shallow arrest
+    const SummaryReader a = r.object("thin_film_arrest");
+    s.thin_film_arrest = ThinFilmArrestComparison{a.number("length"), a.number("front"), a.number("wall_height"),
+                                                  a.number_or_null("relative_error")};
+  }
+  if (const auto t = r.optional_object("table1")) {
+    Table1Comparison table;
+    for (const auto& row : t->objects("rows"))
+      table.rows.push_back({row.number("t"), row.number("experiment"), row.number_or_null("front"),
+                            row.number_or_null("error"), row.number_or_null("ldd_seed")});
+    table.rms_error = t->number_or_null("rms_error");
+    table.max_error = t->number("max_error");
+    s.table1 = std::move(table);
+  }
+  if (const auto m = r.optional_object("martin_moyce")) {
+    MartinMoyceComparison mm;
+    for (const auto& row : m->objects("rows"))
+      mm.rows.push_back(
+          {row.number("T"), row.number("Z_experiment"), row.number_or_null("Z"), row.number_or_null("relative_error")});
+    mm.max_relative_error = m->number_or_null("max_relative_error");
+    s.martin_moyce = std::move(mm);
+  }
+}
+
+void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
+  s.volume_drift = r.number("volume_drift");
+  s.kinetic_energy_peak = r.number("kinetic_energy_peak");
+  s.energy_gain = r.number_or_null("energy_gain");
+  s.repeated_solves = r.count("repeated_solves");
+  s.repeated_with_lu = r.count("repeated_with_lu");
+  const SummaryReader iterations = r.object("iterations_per_step");
+  s.pressure_iterations_per_step = iterations.number("pressure");
+  s.velocity_iterations_per_step = iterations.number("velocity");
+  s.neighbour_searches = r.count("neighbour_searches");
+  if (s.scene == "column") return;
+  s.final_spread = r.number("final_spread");
+  s.final_height = r.number("final_height");
+  s.yielded_fraction = r.number_or_null("yielded_fraction");
+  s.arrested = r.boolean("arrested");
+  if (s.scene == "dam_break") {
+    for (const auto& p : r.objects("front")) s.front.push_back({p.number("t"), p.number("x")});
+    read_dam_break_references(r, s);
+  } else {
+    for (const auto& p : r.objects("spread"))
+      s.spread.push_back({p.number("t"), p.number("diameter"), p.number("height")});
+  }
+}
+
+}  // namespace
+
+nlohmann::ordered_json to_json(const RunSummary& s) {
+  Json j = core::to_json(core::SummaryHead{s.case_name, "ldd", s.rheosim_version, s.git_revision, s.input_sha256});
+  j["scene"] = s.scene;
+  j["dimension"] = s.dimension;
+  j["status"] = s.status;
+  if (!s.message.empty()) j["message"] = s.message;
+  j["nodes"] = s.nodes;
+  j["fluid_nodes"] = s.fluid_nodes;
+  j["spacing"] = s.spacing;
+  j["time_step"] = s.time_step;
+  if (!s.time_step_rule.empty()) j["time_step_rule"] = s.time_step_rule;
+  j["steps"] = s.steps;
+  j["time"] = s.time;
+  j["threads"] = s.threads;
+  j["ms_per_step"] = s.ms_per_step;
+  const PhaseTimes& t = s.phase_seconds;
+  j["phase_seconds"] = {{"neighbours", t.neighbours}, {"operators", t.operators}, {"rheology", t.rheology},
+                        {"pressure", t.pressure},     {"momentum", t.momentum},   {"advection", t.advection},
+                        {"reordering", t.reordering}};
+  if (s.free_surface)
+    add_free_surface_keys(s, j);
+  else
+    add_cavity_keys(s, j);
+  return j;
+}
+
+RunSummary read_run_summary(const std::filesystem::path& summary_json) {
+  const nlohmann::json json = core::read_json(summary_json);
+  const SummaryReader r(json, summary_json, "every LDD run", std::string(summary_hint));
+  if (const std::string kind = r.text("kind"); kind != "ldd")
+    core::refuse_summary_kind(
+        summary_json, kind, "the summary of a kind: ldd run",
+        "'rheosim report' writes the report of a rheometer or sweep run with the rheometer report");
+  RunSummary s;
+  s.case_name = r.text("case");
+  s.rheosim_version = r.text("rheosim_version");
+  s.git_revision = r.text("git_revision");
+  s.input_sha256 = r.text("input_sha256");
+  s.scene = r.text("scene");
+  s.dimension = static_cast<int>(r.count("dimension"));
+  s.status = r.text("status");
+  s.message = r.has("message") ? r.text("message") : std::string();
+  s.nodes = r.count("nodes");
+  s.fluid_nodes = r.count("fluid_nodes");
+  s.spacing = r.number("spacing");
+  s.time_step = r.number("time_step");
+  s.time_step_rule = r.has("time_step_rule") ? r.text("time_step_rule") : std::string();
+  s.steps = r.count("steps");
+  s.time = r.number("time");
+  s.threads = static_cast<int>(r.count("threads"));
+  s.ms_per_step = r.number("ms_per_step");
+  const SummaryReader phases = r.object("phase_seconds");
+  s.phase_seconds = {phases.number("neighbours"), phases.number("operators"), phases.number("rheology"),
+                     phases.number("pressure"),   phases.number("momentum"),  phases.number("advection"),
+                     phases.number("reordering")};
+  s.wall_time = r.number("wall_time");
+  for (double step : r.numbers("resumed_at_steps")) s.resumed_at_steps.push_back(static_cast<std::size_t>(step));
+  s.warnings = r.texts("warnings");
+  s.free_surface = is_free_surface(s.scene);
+  if (s.free_surface)
+    read_free_surface_keys(r, s);
+  else
+    read_cavity_keys(r, s);
+  return s;
+}
+
+}  // namespace rheosim::ldd
