@@ -309,9 +309,9 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
     s.cone_height = cone.number({"height", "cone height H₀", "m"}, Range::positive());
     s.cone_bottom_diameter = cone.number({"bottom_diameter", "cone bottom diameter D₀", "m"}, Range::positive());
     s.cone_top_diameter = cone.number({"top_diameter", "cone top diameter d₀", "m"}, Range::positive());
-    if (s.cone_top_diameter >= s.cone_bottom_diameter)
-      cone.fail("top_diameter", "the top diameter is not smaller than the bottom diameter",
-                fmt::format("a top diameter < {} m", s.cone_bottom_diameter));
+    if (s.cone_top_diameter > s.cone_bottom_diameter)  // equal: a cylinder (Pashias et al. 1996)
+      cone.fail("top_diameter", "the top diameter is larger than the bottom diameter",
+                fmt::format("a top diameter <= {} m", s.cone_bottom_diameter));
     s.lift_velocity = scene.number({"lift_velocity", "mould lift speed", "m/s"}, Range::positive());
     out.scene = s;
     if (scene.has("walls"))
@@ -367,6 +367,11 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
   out.steady_tolerance = time.number_or(
       {"steady_tolerance", "stop when the centre-line rate of change (units of U²/L) drops below this; 0: never", "-"},
       out.steady_tolerance, Range::closed(0.0, 1.0));
+  out.settle_energy_ratio = time.number_or(
+      {"settle_energy_ratio",
+       "slump: stop when the kinetic energy falls below this share of its peak after the mould has cleared; 0: never",
+       "-"},
+      out.settle_energy_ratio, Range::closed(0.0, 1.0));
   if (const auto s = root.optional_section({"solver", "LDD solver settings", "-"}))
     out.solver = read_solver_settings(*s, out.scene_type);
   if (const auto o = root.optional_section({"output", "LDD output settings", "-"}))

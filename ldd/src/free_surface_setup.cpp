@@ -57,9 +57,9 @@ ConeMouldBoundary::ConeMouldBoundary(double bottom_radius, double top_radius, do
       z0_(z0),
       lift_velocity_(lift_velocity),
       lift_height_(lift_height) {
-  if (!(top_radius > 0 && bottom_radius > top_radius && height > 0 && lift_velocity >= 0))
+  if (!(top_radius > 0 && bottom_radius >= top_radius && height > 0 && lift_velocity >= 0))
     throw std::invalid_argument(
-        "ConeMouldBoundary: needs 0 < top radius < bottom radius, height > 0, lift velocity >= 0");
+        "ConeMouldBoundary: needs 0 < top radius <= bottom radius, height > 0, lift velocity >= 0");
 }
 
 double ConeMouldBoundary::bottom(double t) const { return z0_ + std::min(lift_velocity_ * t, lift_height_); }

@@ -144,6 +144,15 @@ std::string header_html(const RunSummary& s) {
       row("yielded fraction",
           s.yielded_fraction ? fmt::format("{:.3g}", *s.yielded_fraction) : std::string("— (no yield stress)"));
       row("arrested (yield criterion)", s.arrested ? "yes" : "no");
+      if (const auto& p = s.pashias)
+        row("cylinder slump (Pashias et al. 1996)",
+            fmt::format("τ′ = τ₀/(ρgH) = {:.3g}: s/H {:.3f} at rest; this run {}", p->yield_stress_ratio, p->slump,
+                        p->measured_slump ? fmt::format("{:.3f} ({:+.3f})", *p->measured_slump, *p->difference)
+                                          : std::string("—")));
+      if (const auto& r = s.roussel_coussot)
+        row("yield-stress pancake (Roussel &amp; Coussot 2005)",
+            fmt::format("spread {:.4g} m; this run {}", r->diameter,
+                        r->relative_error ? fmt::format("{:+.1f} %", 100 * *r->relative_error) : std::string("—")));
       if (const auto& a = s.thin_film_arrest)
         row("shallow arrest (thin film)",
             fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", a->length, a->front,

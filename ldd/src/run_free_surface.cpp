@@ -20,6 +20,7 @@
 #include "rheosim/ldd/scenes.hpp"
 #include "run_loop.hpp"
 #include "run_summary.hpp"
+#include "slump_references.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -260,6 +261,7 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
       summary.arrested = outcome.status != "diverged" && share == 0.0;
     }  // else no yield stress: a liquid does not arrest
   }
+  if (slump) detail::compare_slump(l, summary, log);
   return summary;
 }
 
@@ -330,7 +332,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
     run_.peak_energy = std::max(run_.peak_energy, energy);
     progress.update(step,
                     fmt::format("t {:.3f} s, KE {:.3g}, {} surface", solver_.time(), energy, stats_.surface_nodes));
-    if (slump_ && solver_.time() > mould_clear_time_ && energy < slump_energy_decay * run_.peak_energy)
+    if (slump_ && solver_.time() > mould_clear_time_ && energy < l_.settle_energy_ratio * run_.peak_energy)
       return "settled";
     return std::nullopt;
   }

@@ -99,6 +99,13 @@ void add_free_surface_keys(const RunSummary& s, Json& j) {
     j["yielded_fraction"] = value_or_null(s.yielded_fraction);
     j["arrested"] = s.arrested;
   }
+  if (const auto& p = s.pashias)
+    j["pashias"] = {{"yield_stress_ratio", p->yield_stress_ratio},
+                    {"slump", p->slump},
+                    {"measured_slump", value_or_null(p->measured_slump)},
+                    {"difference", value_or_null(p->difference)}};
+  if (const auto& r = s.roussel_coussot)
+    j["roussel_coussot"] = {{"diameter", r->diameter}, {"relative_error", value_or_null(r->relative_error)}};
 }
 
 void read_cavity_keys(const SummaryReader& r, RunSummary& s) {
@@ -163,6 +170,11 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
   } else {
     for (const auto& p : r.objects("spread"))
       s.spread.push_back({p.number("t"), p.number("diameter"), p.number("height")});
+    if (const auto p = r.optional_object("pashias"))
+      s.pashias = CylinderSlumpComparison{p->number("yield_stress_ratio"), p->number("slump"),
+                                          p->number_or_null("measured_slump"), p->number_or_null("difference")};
+    if (const auto c = r.optional_object("roussel_coussot"))
+      s.roussel_coussot = ConeSpreadComparison{c->number("diameter"), c->number_or_null("relative_error")};
   }
 }
 

@@ -107,6 +107,24 @@ TEST(Case, LddGradientIsCheckedAgainstTheScene) {
   EXPECT_EQ(typo.details().key_path, "solver.gradient");
 }
 
+// A slump's mould is a cone or, with equal diameters, a cylinder (Pashias' slump test); a mould
+// wider at the top is refused at its key. time.settle_energy_ratio: 0 runs a slump to its end.
+TEST(Case, LddSlumpMouldIsAConeOrACylinder) {
+  const std::string slump =
+      "kind: ldd\ndimension: 3\nscene: {type: slump, cone: {height: 0.1, bottom_diameter: 0.1, top_diameter: 0.1}, "
+      "lift_velocity: 0.5}\nfluid: {density: 1000, rheology: {model: bingham, plastic_viscosity: 20.0, "
+      "yield_stress: 98.1, regularization: 1000}}\ngravity: [0, 0, -9.81]\nresolution: {spacing: 0.01}\n"
+      "time: {step: 1.0e-3, end: 1.0, settle_energy_ratio: 0}\n";
+  const CaseSettings cylinder = parse_case(slump, "cylinder.yaml").settings;
+  EXPECT_EQ(std::get<SlumpScene>(cylinder.scene).cone_top_diameter, 0.1);
+  EXPECT_EQ(cylinder.settle_energy_ratio, 0.0);
+  EXPECT_EQ(parse_case(replace(slump, ", settle_energy_ratio: 0", ""), "default.yaml").settings.settle_energy_ratio,
+            1e-3);
+  const auto e = parse_error(replace(slump, "top_diameter: 0.1}", "top_diameter: 0.12}"));
+  EXPECT_EQ(e.details().key_path, "scene.cone.top_diameter");
+  EXPECT_THAT(e.details().expected, HasSubstr("<= 0.1 m"));
+}
+
 TEST(Case, LddCavityRefusesTheDivergingDensityReordering) {
   EXPECT_EQ(parse_case(cavity_case + "solver: {reordering: lattice}\n", "c.yaml").settings.solver.reordering,
             Reordering::lattice);

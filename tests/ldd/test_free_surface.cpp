@@ -432,6 +432,38 @@ TEST(ThinFilmArrest, HoldsTheAreaAndBalancesTheYieldStress) {
   EXPECT_THROW((void)thin_film_arrest(area, 0.0, density, gravity), std::invalid_argument);
 }
 
+// Pashias et al.'s cylinder slump: the top 2τ₀/(ρg) of the cylinder stays unyielded, the rest
+// ends at the height where the weight above balances the yield stress, H_f = z₀(1 + ln(H/z₀)).
+TEST(SlumpReferences, PashiasSlumpIsTheHeightAtWhichTheYieldStressHolds) {
+  const double density = 1000, gravity = 9.81, height = 0.1;
+  for (const double ratio : {0.02, 0.05, 0.1, 0.2, 0.3, 0.45}) {
+    const double z0 = 2 * ratio * density * gravity * height / (density * gravity);
+    const double final_height = z0 * (1 + std::log(height / z0));
+    EXPECT_NEAR(pashias_slump(ratio), 1 - final_height / height, 1e-12) << ratio;
+  }
+  EXPECT_NEAR(pashias_slump(0.1), 0.478112, 1e-6);
+  EXPECT_NEAR(pashias_slump(0.5 - 1e-9), 0.0, 1e-8);  // continuous where the whole cylinder holds
+  EXPECT_EQ(pashias_slump(0.6), 0.0);
+  EXPECT_THROW((void)pashias_slump(0.0), std::invalid_argument);
+}
+
+// Roussel & Coussot's pancake h(r) = √(2τ₀(R − r)/(ρg)) holds the volume it was given.
+TEST(SlumpReferences, RousselCoussotPancakeHoldsTheVolume) {
+  const double density = 2200, gravity = 9.81, yield_stress = 32;
+  const double volume = std::numbers::pi * 0.3 * (0.1 * 0.1 + 0.1 * 0.05 + 0.05 * 0.05) / 3;  // the Abrams cone
+  const double radius = 0.5 * roussel_coussot_spread(volume, yield_stress, density, gravity);
+  double integral = 0;  // midpoint rule in u with r = R(1 − u²) (h ~ √(R − r) at the edge)
+  const int n = 20000;
+  for (int k = 0; k < n; ++k) {
+    const double u = (k + 0.5) / n, r = radius * (1 - u * u);
+    integral += 2 * std::numbers::pi * r * std::sqrt(2 * yield_stress * (radius - r) / (density * gravity)) * 2 *
+                radius * u / n;
+  }
+  EXPECT_NEAR(integral / volume, 1.0, 1e-6);
+  EXPECT_NEAR(2 * radius, 0.65, 0.005);  // docs/ldd.md: 0.65 m for LDD §4.4's concrete
+  EXPECT_THROW((void)roussel_coussot_spread(volume, 0.0, density, gravity), std::invalid_argument);
+}
+
 TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
   // τ₀ = 10 kPa against a weight of ρgH ≈ 940 Pa: no node reaches the yield stress, so the run
   // reports the material arrested by the yield criterion; a Newtonian liquid never is.

@@ -19,6 +19,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/summary.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -50,6 +51,42 @@ TEST(ArrestValidation, BinghamDamBreakStopsNearTheShallowYieldStressArrest) {
   EXPECT_LT(std::abs(speed), 5e-4);   // stopped: under 0.5 mm/s (it moved ~1 m/s at 0.2 s)
   EXPECT_LT(std::abs(error), 0.15);   // runout within 15 % of the shallow arrest length
   EXPECT_LT(summary["volume_drift"].get<double>(), 0.02);
+  std::filesystem::remove_all(dir);
+}
+
+// The cylinder slump of cases/ldd_slump_pashias.yaml (τ′ = τ₀/(ρgH) = 0.1) at Δ = 10 mm, one
+// thread, 2 s: the run must come to rest (under 0.3 mm of height over its last 0.3 s, measured
+// 0.23 mm; it collapses at ~0.3 m/s) with a slump within 0.03 of Pashias et al.'s s′ = 0.478
+// (measured −0.020 here, −0.027 at Δ = 5 mm; docs/ldd.md "Arrest", where larger τ′ are not within
+// it). A material without its yield stress would flatten to a film (s′ → 1); one that never
+// yielded would keep s′ = 0.
+TEST(ArrestValidation, CylinderSlumpStopsNearPashiasSlump) {
+  Case c = load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_slump_pashias.yaml");
+  c.settings.solver.threads = 1;
+  c.settings.spacing = 0.01;
+  c.settings.end_time = 2.0;
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_validate_cylinder_slump";
+  std::filesystem::remove_all(dir);
+  const RunOutcome outcome = run_case(c, dir, core::Log::null());
+  ASSERT_EQ(outcome.status, "end_time") << outcome.message;
+  const RunSummary summary = read_run_summary(dir / "summary.json");
+  ASSERT_TRUE(summary.pashias.has_value());
+  ASSERT_GT(summary.spread.size(), 20u);
+  const double end = summary.spread.back().t;
+  double earlier_height = 0;
+  for (const auto& row : summary.spread)
+    if (row.t <= end - 0.3) earlier_height = row.height;
+  const double settling = earlier_height - summary.spread.back().height;
+  const auto& p = *summary.pashias;
+  std::printf(
+      "[ measured ] cylinder slump: τ′ %.3g, s′ %.4f against Pashias %.4f (%+.4f), height change %.3g mm over the "
+      "last 0.3 s, volume drift %.3g %%, %.3g ms/step\n",
+      p.yield_stress_ratio, p.measured_slump.value_or(NAN), p.slump, p.difference.value_or(NAN), 1e3 * settling,
+      1e2 * summary.volume_drift, outcome.ms_per_step);
+  EXPECT_NEAR(p.yield_stress_ratio, 0.1, 1e-6);
+  EXPECT_LT(std::abs(settling), 3e-4);
+  EXPECT_LT(std::abs(p.difference.value_or(1.0)), 0.03);
+  EXPECT_LT(summary.volume_drift, 0.02);
   std::filesystem::remove_all(dir);
 }
 

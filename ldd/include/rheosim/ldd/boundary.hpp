@@ -40,7 +40,8 @@ class PlaneBoundary final : public Boundary {
 };
 
 // The inside of a truncated cone about the z axis (3D), bottom radius at z = z0 + v t, lifted at
-// speed v until the bottom reaches lift_height (then it stops): the Abrams mould (LDD §4.4).
+// speed v until the bottom reaches lift_height (then it stops): the Abrams mould (LDD §4.4), or
+// with equal radii the cylinder of a cylinder slump.
 // Free slip: with no slip the lifted mould carried the Bingham concrete up with it (the coarse
 // slump grew to 0.41 m high); an oiled mould lets it slide.
 class ConeMouldBoundary final : public Boundary {

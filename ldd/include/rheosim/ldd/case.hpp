@@ -75,6 +75,9 @@ struct CaseSettings {
   std::string time_step_rule;
   double end_time = 0;          // [s]
   double steady_tolerance = 0;  // stop when the centre-line residual drops below; 0: never
+  // Slump: stop ("settled") once the kinetic energy has fallen below this share of its peak
+  // after the mould has cleared; 0: never (run to end_time, e.g. to reach arrest).
+  double settle_energy_ratio = 1e-3;
   SolverSettings solver;
   OutputSettings output;
   std::vector<WallSettings> walls;  // scene.walls (slump only so far)

@@ -85,8 +85,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 // Mass front: largest x of a non-splash fluid node + Δ/2, from the gate (x = 0). Spread: twice the
 // largest distance of a non-splash fluid node from the axis + Δ; height: largest z + Δ/2. A slump
 // stops early when, after the mould has cleared the fluid, the kinetic energy has decayed to
-// slump_energy_decay × its peak.
-inline constexpr double slump_energy_decay = 1e-3;
+// time.settle_energy_ratio × its peak (CaseSettings::settle_energy_ratio).
 // Free-surface runs compare their kinetic energy with the potential energy released: an excess
 // above this fraction of the released energy (summary.json `energy_gain`) is a warning.
 inline constexpr double energy_gain_tolerance = 0.01;
@@ -119,6 +118,19 @@ struct ThinFilmArrest {
 };
 // Throws std::invalid_argument unless area, yield stress, density and gravity are > 0.
 [[nodiscard]] ThinFilmArrest thin_film_arrest(double area, double yield_stress, double density, double gravity);
+
+// The slump s′ = s/H of a cylinder of height H of a yield-stress material lifted off its mould,
+// at rest, against τ′ = τ₀/(ρgH): the material yields where the weight above exceeds the yield
+// stress, s′ = 1 − 2τ′(1 − ln 2τ′) for τ′ < 1/2, 0 above (Pashias, Boger, Summers & Glenister
+// 1996, J. Rheol. 40, 1179; the cylinder slump test). Throws std::invalid_argument
+// unless τ′ > 0.
+[[nodiscard]] double pashias_slump(double yield_stress_ratio);
+
+// The final spread diameter 2R of a yield-stress material of volume Ω spreading as a thin
+// axisymmetric pancake: τ₀ = 225ρgΩ²/(128π²R⁵) (Roussel & Coussot 2005, J. Rheol. 49, 705;
+// the m → ∞, spread ≫ height limit of a slump). Throws std::invalid_argument unless
+// every argument is > 0.
+[[nodiscard]] double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity);
 
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l);
 

@@ -21,7 +21,7 @@ struct DamBreakScene {
 struct SlumpScene {
   double cone_height = 0;           // H₀ [m]
   double cone_bottom_diameter = 0;  // D₀ [m]
-  double cone_top_diameter = 0;     // d₀ [m], < D₀
+  double cone_top_diameter = 0;     // d₀ [m], <= D₀ (equal: a cylinder)
   double lift_velocity = 0;         // mould lift speed [m/s]
 };
 struct ColumnScene {             // a resting column (hydrostatics), or a sloshing one

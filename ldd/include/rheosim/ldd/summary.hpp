@@ -61,6 +61,19 @@ struct ThinFilmArrestComparison {                 // the shallow yield-stress ar
   friend bool operator==(const ThinFilmArrestComparison&, const ThinFilmArrestComparison&) = default;
 };
 
+struct CylinderSlumpComparison {           // Pashias et al. (1996), pashias_slump (run.hpp)
+  double yield_stress_ratio = 0;           // τ′ = τ₀/(ρgH)
+  double slump = 0;                        // s′ = s/H at rest, theory
+  MaybeNumber measured_slump, difference;  // this run's 1 − final height/H, and − theory
+  friend bool operator==(const CylinderSlumpComparison&, const CylinderSlumpComparison&) = default;
+};
+
+struct ConeSpreadComparison {  // Roussel & Coussot (2005), roussel_coussot_spread (run.hpp)
+  double diameter = 0;         // the pancake's [m]
+  MaybeNumber relative_error;  // of the final spread
+  friend bool operator==(const ConeSpreadComparison&, const ConeSpreadComparison&) = default;
+};
+
 struct CenterlineSample {  // normalised: position along the line, velocity across it
   double position = 0, velocity = 0;
   friend bool operator==(const CenterlineSample&, const CenterlineSample&) = default;
@@ -114,6 +127,8 @@ struct RunSummary {
   std::vector<SpreadSample> spread;                          // slump
   MaybeNumber final_spread, final_height, yielded_fraction;  // dam break and slump
   bool arrested = false;
+  std::optional<CylinderSlumpComparison> pashias;       // slump of a yield-stress law, cylinder mould
+  std::optional<ConeSpreadComparison> roussel_coussot;  // slump of a yield-stress law, cone mould
   friend bool operator==(const RunSummary&, const RunSummary&) = default;
 };
 

@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# 3D slumps of a Bingham material run to rest, against the yield-stress theories of their mould
+# (docs/ldd.md, "Arrest"): a cylinder against Pashias et al. (1996), s′ = s/H = 1 − 2τ′(1 − ln 2τ′)
+# with τ′ = τ₀/(ρgH) (ldd::pashias_slump); a cone against Roussel & Coussot's (2005) pancake
+# spread, τ₀ = 225ρgΩ²/(128π²R⁵) (ldd::roussel_coussot_spread).
+#
+#   bench/ldd_slump_arrest.sh [BUILD_DIR] [OUT_DIR] [--case FILE] [--ratios "0.05 0.1 ..."]
+#                             [--yield-stresses "20 50 ..."] [--spacing M] [--step S] [--end S]
+#                             [--regularization S] [--viscosity PA_S] [--lift-velocity M_S]
+#
+# One run of the case (default cases/ldd_slump_pashias.yaml: H = D = 0.1 m, Δ = 5 mm, δt = 1e-3 s,
+# 2 s, m = 1000 s, μ_p 20 Pa·s, about 1.5 min on two threads) per yield stress, given as τ₀ [Pa]
+# or as τ′ (τ₀ = τ′ρgH with the case's ρ and H), through bench_ldd run (the code of `rheosim run`,
+# OpenMP's default threads). A finished run in OUT_DIR is reused. Prints per run the theory and
+# the run's slump or spread, the height's and diameter's change over the last tenth of the run, the yielded
+# fraction, the volume drift and the cost.
+set -euo pipefail
+build=${1:-build}
+out=${2:-results/ldd_slump_arrest}
+shift $(( $# > 2 ? 2 : $# )) || true
+here=$(cd "$(dirname "$0")/.." && pwd)
+case_file="$here/cases/ldd_slump_pashias.yaml" ratios="" stresses="" overrides=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --case) case_file=$2; shift 2 ;;
+    --ratios) ratios=$2; shift 2 ;;
+    --yield-stresses) stresses=$2; shift 2 ;;
+    --spacing) overrides+=("-e" "s/spacing: [0-9.e-]*/spacing: $2/"); shift 2 ;;
+    --step) overrides+=("-e" "s/step: [0-9.e-]*,/step: $2,/"); shift 2 ;;
+    --end) overrides+=("-e" "s/end: [0-9.e-]*/end: $2/"); shift 2 ;;
+    --regularization) overrides+=("-e" "s/regularization: [0-9.e-]*/regularization: $2/"); shift 2 ;;
+    --viscosity) overrides+=("-e" "s/plastic_viscosity: [0-9.e-]*/plastic_viscosity: $2/"); shift 2 ;;
+    --lift-velocity) overrides+=("-e" "s/lift_velocity: [0-9.e-]*/lift_velocity: $2/"); shift 2 ;;
+    *) echo "unknown option $1" >&2; exit 2 ;;
+  esac
+done
+# τ′ → τ₀ = τ′ρgH with the case's density and mould height.
+if [ -n "$ratios" ]; then
+  stresses=$(python3 - "$case_file" "$ratios" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+rho = float(re.search(r"density: ([0-9.e+-]+)", text).group(1))
+height = float(re.search(r"cone: \{height: ([0-9.e+-]+)", text).group(1))
+print(" ".join(repr(float(r) * rho * 9.81 * height) for r in sys.argv[2].split()))
+PY
+)
+fi
+if [ -z "$stresses" ]; then
+  stresses=$(sed -n 's/.*yield_stress: \([0-9.e-]*\).*/\1/p' "$case_file")
+fi
+mkdir -p "$out"
+runs=()
+base=$(basename "$case_file" .yaml)
+for stress in $stresses; do
+  name="${base}_tau${stress}$(printf '%s' "${overrides[*]:-}" | tr -c 'a-z0-9.' '_' | tr -s '_')"
+  name=${name:0:150}
+  sed "${overrides[@]}" -e "s/yield_stress: [0-9.e-]*/yield_stress: ${stress}/" "$case_file" > "$out/$name.yaml"
+  if [ ! -f "$out/$name/summary.json" ] || grep -q '"status": "interrupted"' "$out/$name/summary.json"; then
+    "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true
+  fi
+  runs+=("$out/$name")
+done
+python3 - "${runs[@]}" <<'PY'
+import csv, json, os, sys
+nan = float("nan")
+print(f"{'τ₀ Pa':>8} {'theory':>18} {'LDD':>8} {'diff':>8} {'last tenth: Δh, Δd':>20} {'yielded':>8} {'drift':>7} "
+      f"{'ms/step':>8}  status")
+for run in sys.argv[1:]:
+    s = json.load(open(os.path.join(run, "summary.json")))
+    rows = list(csv.reader(open(os.path.join(run, "spread.csv"))))
+    col = {h.split(" ")[0]: k for k, h in enumerate(rows[0])}
+    rows = [[float(v) for v in r] for r in rows[1:]]
+    last = [r for r in rows if r[0] >= 0.9 * rows[-1][0]]
+    dh = last[-1][col["height"]] - last[0][col["height"]]
+    dd = last[-1][col["diameter"]] - last[0][col["diameter"]]
+    yield_stress = float(open(run + ".yaml").read().split("yield_stress: ")[1].split(",")[0])
+    if "pashias" in s:
+        p = s["pashias"]
+        theory, value = f"s′ {p['slump']:.4f} (τ′ {p['yield_stress_ratio']:.3g})", p["measured_slump"]
+        diff = f"{p['difference']:+8.4f}"
+    elif "roussel_coussot" in s:
+        r = s["roussel_coussot"]
+        theory, value = f"spread {r['diameter']:.4f} m", s["final_spread"]
+        diff = f"{100 * r['relative_error']:+7.1f}%"
+    else:
+        theory, value, diff = "none", nan, ""
+    print(f"{yield_stress:8.4g} {theory:>18} {value:8.4f} {diff:>8} {1e3 * dh:+7.2f}, {1e3 * dd:+7.2f} mm "
+          f"{s['yielded_fraction'] or 0:8.3f} {100 * s['volume_drift']:6.2f}% {s['ms_per_step']:8.1f}  "
+          f"{s['status']} at {s['time']:.3g} s")
+PY

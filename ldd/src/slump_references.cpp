@@ -1,0 +1,54 @@
+#include "slump_references.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "rheosim/ldd/run.hpp"
+
+namespace rheosim::ldd {
+
+double pashias_slump(double yield_stress_ratio) {
+  if (!(yield_stress_ratio > 0)) throw std::invalid_argument("pashias_slump: τ′ must be > 0");
+  const double twice = 2.0 * yield_stress_ratio;  // the unyielded plug's share of the height
+  return twice < 1.0 ? 1.0 - twice * (1.0 - std::log(twice)) : 0.0;
+}
+
+double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity) {
+  if (!(volume > 0 && yield_stress > 0 && density > 0 && gravity > 0))
+    throw std::invalid_argument("roussel_coussot_spread: volume, yield stress, density and gravity must be > 0");
+  const double pi2 = std::numbers::pi * std::numbers::pi;
+  return 2.0 * std::pow(225.0 * density * gravity * volume * volume / (128.0 * pi2 * yield_stress), 0.2);
+}
+
+namespace detail {
+
+void compare_slump(const CaseSettings& l, RunSummary& summary, const core::Log& log) {
+  const double yield_stress = l.fluid.rheology->yield_stress();
+  if (!(yield_stress > 0) || !summary.final_height || !summary.final_spread) return;
+  const auto& scene = std::get<SlumpScene>(l.scene);
+  double g = 0;
+  for (double c : l.gravity) g += c * c;
+  g = std::sqrt(g);
+  const double height = scene.cone_height;
+  if (scene.cone_top_diameter == scene.cone_bottom_diameter) {
+    const double ratio = yield_stress / (l.fluid.density * g * height);
+    const double theory = pashias_slump(ratio);
+    const double measured = 1.0 - *summary.final_height / height;
+    summary.pashias = CylinderSlumpComparison{ratio, theory, measured, measured - theory};
+    log.info(
+        "cylinder slump (Pashias et al. 1996): τ′ = τ₀/(ρgH) = {:.4g}, slump s/H {:.4f}; this run {:.4f} ({:+.4f})",
+        ratio, theory, measured, measured - theory);
+    return;
+  }
+  const double big = 0.5 * scene.cone_bottom_diameter, small = 0.5 * scene.cone_top_diameter;
+  const double volume = std::numbers::pi * height * (big * big + big * small + small * small) / 3.0;
+  const double diameter = roussel_coussot_spread(volume, yield_stress, l.fluid.density, g);
+  const double error = *summary.final_spread / diameter - 1.0;
+  summary.roussel_coussot = ConeSpreadComparison{diameter, error};
+  log.info("yield-stress pancake (Roussel & Coussot 2005): spread {:.4g} m; this run {:.4g} m ({:+.1f} %)", diameter,
+           *summary.final_spread, 1e2 * error);
+}
+
+}  // namespace detail
+}  // namespace rheosim::ldd
