@@ -19,18 +19,22 @@ build=${1:-build}
 out=${2:-results/ldd_slump_arrest}
 shift $(( $# > 2 ? 2 : $# )) || true
 here=$(cd "$(dirname "$0")/.." && pwd)
-case_file="$here/cases/ldd_slump_pashias.yaml" ratios="" stresses="" overrides=()
+case_file="$here/cases/ldd_slump_pashias.yaml" ratios="" stresses="" overrides=() tag=""
+override() {  # override KEY VALUE: the deck's `KEY: number` becomes `KEY: VALUE`
+  overrides+=("-e" "s/\b$1: [0-9.e-]*/$1: $2/")
+  tag="${tag}_$1$2"
+}
 while [ $# -gt 0 ]; do
   case "$1" in
     --case) case_file=$2; shift 2 ;;
     --ratios) ratios=$2; shift 2 ;;
     --yield-stresses) stresses=$2; shift 2 ;;
-    --spacing) overrides+=("-e" "s/spacing: [0-9.e-]*/spacing: $2/"); shift 2 ;;
-    --step) overrides+=("-e" "s/step: [0-9.e-]*,/step: $2,/"); shift 2 ;;
-    --end) overrides+=("-e" "s/end: [0-9.e-]*/end: $2/"); shift 2 ;;
-    --regularization) overrides+=("-e" "s/regularization: [0-9.e-]*/regularization: $2/"); shift 2 ;;
-    --viscosity) overrides+=("-e" "s/plastic_viscosity: [0-9.e-]*/plastic_viscosity: $2/"); shift 2 ;;
-    --lift-velocity) overrides+=("-e" "s/lift_velocity: [0-9.e-]*/lift_velocity: $2/"); shift 2 ;;
+    --spacing) override spacing "$2"; shift 2 ;;
+    --step) override step "$2"; shift 2 ;;
+    --end) override end "$2"; shift 2 ;;
+    --regularization) override regularization "$2"; shift 2 ;;
+    --viscosity) override plastic_viscosity "$2"; shift 2 ;;
+    --lift-velocity) override lift_velocity "$2"; shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -52,8 +56,7 @@ mkdir -p "$out"
 runs=()
 base=$(basename "$case_file" .yaml)
 for stress in $stresses; do
-  name="${base}_tau${stress}$(printf '%s' "${overrides[*]:-}" | tr -c 'a-z0-9.' '_' | tr -s '_')"
-  name=${name:0:150}
+  name="${base}_tau${stress}${tag}"
   sed "${overrides[@]}" -e "s/yield_stress: [0-9.e-]*/yield_stress: ${stress}/" "$case_file" > "$out/$name.yaml"
   if [ ! -f "$out/$name/summary.json" ] || grep -q '"status": "interrupted"' "$out/$name/summary.json"; then
     "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true

@@ -129,4 +129,8 @@ std::vector<SummaryReader> SummaryReader::objects(std::string_view key) const {
   return out;
 }
 
+SummaryHead read_summary_head(const SummaryReader& r) {
+  return {r.text("case"), r.text("kind"), r.text("rheosim_version"), r.text("git_revision"), r.text("input_sha256")};
+}
+
 }  // namespace rheosim::core

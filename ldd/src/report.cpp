@@ -118,7 +118,7 @@ void write_free_surface_plots(const RunSummary& s, RunFolder& run, ReportFiles& 
 
 // The run at a glance: the head table and the rules the run bent.
 std::string header_html(const RunSummary& s) {
-  std::string html = fmt::format("<h1>rheosim LDD report: {}</h1>\n", esc(s.case_name));
+  std::string html = fmt::format("<h1>rheosim LDD report: {}</h1>\n", esc(s.head.case_name));
   if (s.status == "diverged")
     html += fmt::format("<div class=fail><b>The run diverged</b>: {}</div>\n", esc(s.message));
   html += "<table>\n";

@@ -140,12 +140,8 @@ inline void set_step_params(const ldd::CaseSettings& l, StepParams& p) {
 template <class Solver>
 [[nodiscard]] RunSummary summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
                                       const RunOutcome& outcome, int threads) {
-  const core::SummaryHead head = core::summary_head_of(c, "ldd");
   RunSummary s;
-  s.case_name = head.case_name;
-  s.rheosim_version = head.rheosim_version;
-  s.git_revision = head.git_revision;
-  s.input_sha256 = head.input_sha256;
+  s.head = core::summary_head_of(c, "ldd");
   s.scene = l.scene_type;
   s.dimension = l.dimension;
   s.status = outcome.status;

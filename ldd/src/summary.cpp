@@ -181,7 +181,7 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
 }  // namespace
 
 nlohmann::ordered_json to_json(const RunSummary& s) {
-  Json j = core::to_json(core::SummaryHead{s.case_name, "ldd", s.rheosim_version, s.git_revision, s.input_sha256});
+  Json j = core::to_json(s.head);
   j["scene"] = s.scene;
   j["dimension"] = s.dimension;
   j["status"] = s.status;
@@ -214,10 +214,7 @@ RunSummary read_run_summary(const std::filesystem::path& summary_json) {
         summary_json, kind, "the summary of a kind: ldd run",
         "'rheosim report' writes the report of a rheometer or sweep run with the rheometer report");
   RunSummary s;
-  s.case_name = r.text("case");
-  s.rheosim_version = r.text("rheosim_version");
-  s.git_revision = r.text("git_revision");
-  s.input_sha256 = r.text("input_sha256");
+  s.head = core::read_summary_head(r);
   s.scene = r.text("scene");
   s.dimension = static_cast<int>(r.count("dimension"));
   s.status = r.text("status");

@@ -36,7 +36,7 @@ std::string header_section(const ReportData& d, const ReportFiles& files, bool h
   const SweepSummary& summary = d.summary;
   const auto& points = summary.points;
   std::string html;
-  html += fmt::format("<h1>rheosim report: {}</h1>\n", esc(summary.case_name));
+  html += fmt::format("<h1>rheosim report: {}</h1>\n", esc(summary.head.case_name));
   const std::size_t failed = summary.points_failed;
   int converged = 0;
   for (const auto& p : points) converged += p.converged ? 1 : 0;
@@ -44,7 +44,7 @@ std::string header_section(const ReportData& d, const ReportFiles& files, bool h
   const auto row = [&](const std::string& key, const std::string& value) {
     html += fmt::format("<tr><th class=l>{}</th><td class=l>{}</td></tr>\n", key, value);
   };
-  row("kind", esc(summary.kind));
+  row("kind", esc(summary.head.kind));
   row("plates", fmt::format("radius R = {} m, gap H = {} m", g4(summary.radius), g4(summary.gap)));
   if (summary.grid)
     row("fluid grid",
@@ -56,8 +56,8 @@ std::string header_section(const ReportData& d, const ReportFiles& files, bool h
                                                                  *summary.points_resumed)
                                                    : std::string()));
   row("wall time", fmt::format("{} s", g4(summary.wall_time)));
-  row("rheosim", fmt::format("{} (git {})", esc(summary.rheosim_version), esc(summary.git_revision)));
-  row("input sha256", fmt::format("<code>{}</code>", esc(summary.input_sha256)));
+  row("rheosim", fmt::format("{} (git {})", esc(summary.head.rheosim_version), esc(summary.head.git_revision)));
+  row("input sha256", fmt::format("<code>{}</code>", esc(summary.head.input_sha256)));
   html += "</table>\n";
 
   if (!summary.warnings.empty()) {

@@ -654,12 +654,7 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
   }
 
   SweepSummary summary;
-  const core::SummaryHead head = core::summary_head_of(c, "sweep");  // a one-φ rheometer case runs as a sweep too
-  summary.case_name = head.case_name;
-  summary.kind = head.kind;
-  summary.rheosim_version = head.rheosim_version;
-  summary.git_revision = head.git_revision;
-  summary.input_sha256 = head.input_sha256;
+  summary.head = core::summary_head_of(c, "sweep");  // a one-φ rheometer case runs as a sweep too
   summary.radius = r.geometry.radius;
   summary.gap = r.geometry.gap;
   summary.grid = SweepGridRecord{

@@ -415,8 +415,7 @@ nlohmann::ordered_json to_json(const RelativeViscosityRecord& r) {
 }
 
 nlohmann::ordered_json to_json(const SweepSummary& s) {
-  nlohmann::ordered_json j =
-      core::to_json(core::SummaryHead{s.case_name, s.kind, s.rheosim_version, s.git_revision, s.input_sha256});
+  nlohmann::ordered_json j = core::to_json(s.head);
   j["radius"] = s.radius;
   j["gap"] = s.gap;
   if (const auto& g = s.grid) {
@@ -454,14 +453,10 @@ SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
   const SummaryReader r(json, path, "every rheometer and sweep run",
                         "pass the --out folder of a finished 'rheosim run' of a rheometer or sweep case");
   SweepSummary s;
-  s.kind = r.text("kind");
-  if (s.kind != "rheometer" && s.kind != "sweep")
-    core::refuse_summary_kind(path, s.kind, "the summary of a rheometer or sweep run",
+  s.head = core::read_summary_head(r);
+  if (s.head.kind != "rheometer" && s.head.kind != "sweep")
+    core::refuse_summary_kind(path, s.head.kind, "the summary of a rheometer or sweep run",
                               "'rheosim report' writes the report of an LDD run with the LDD report");
-  s.case_name = r.text("case");
-  s.rheosim_version = r.text("rheosim_version");
-  s.git_revision = r.text("git_revision");
-  s.input_sha256 = r.text("input_sha256");
   s.radius = r.number("radius");
   s.gap = r.number("gap");
   s.wall_time = r.number("wall_time");

@@ -143,7 +143,7 @@ class SweepSummaryTest : public ::testing::Test {
 
 TEST_F(SweepSummaryTest, ReadsRequiredValuesAndLeavesAbsentOrNullOnesEmpty) {
   const SweepSummary s = read(summary_with_analysis());
-  EXPECT_EQ(s.case_name, "typed");
+  EXPECT_EQ(s.head.case_name, "typed");
   EXPECT_EQ(s.points_failed, 1U);
   ASSERT_TRUE(s.points_resumed.has_value());
   EXPECT_FALSE(s.inertia);
@@ -341,11 +341,7 @@ TEST_F(SweepSummaryTest, ASummaryWrittenByToJsonReadsBackTheSame) {
   EXPECT_FALSE(points.back().apparent_stress.has_value());
 
   SweepSummary summary;
-  summary.case_name = "paste";
-  summary.kind = "sweep";
-  summary.rheosim_version = "0";
-  summary.git_revision = "test";
-  summary.input_sha256 = "0";
+  summary.head = {"paste", "sweep", "0", "test", "0"};
   summary.radius = plate.radius;
   summary.gap = plate.gap;
   summary.grid = SweepGridRecord{48, 12, 0.5, 1.5, true, "the φ = 0 points"};

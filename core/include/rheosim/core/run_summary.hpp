@@ -20,6 +20,7 @@ namespace rheosim::core {
 
 struct SummaryHead {
   std::string case_name, kind, rheosim_version, git_revision, input_sha256;
+  friend bool operator==(const SummaryHead&, const SummaryHead&) = default;
 };
 
 [[nodiscard]] inline SummaryHead summary_head_of(const CaseHeader& header, std::string_view kind) {
@@ -83,5 +84,8 @@ class SummaryReader {
   std::filesystem::path file_;
   std::string writer_, hint_, path_;
 };
+
+// The head of a summary.json (case, kind, rheosim_version, git_revision, input_sha256).
+[[nodiscard]] SummaryHead read_summary_head(const SummaryReader& summary);
 
 }  // namespace rheosim::core

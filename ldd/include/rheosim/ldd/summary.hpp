@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rheosim/core/run_summary.hpp"
 #include "rheosim/ldd/step.hpp"
 
 namespace rheosim::ldd {
@@ -93,8 +94,7 @@ struct GhiaComparison {
 };
 
 struct RunSummary {
-  // The head every run writes (core/run_summary.hpp), kind "ldd".
-  std::string case_name, rheosim_version, git_revision, input_sha256;
+  core::SummaryHead head;  // the head every run writes (core/run_summary.hpp), kind "ldd"
   // Every run.
   std::string scene, status, message;  // message: why a run stopped early ("" if none)
   int dimension = 2;

@@ -13,6 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "rheosim/core/run_summary.hpp"
+
 namespace rheosim::rheometer {
 
 using MaybeNumber = std::optional<double>;
@@ -182,7 +184,7 @@ struct RuleBent {  // a rule points bent, and how many
 };
 
 struct SweepSummary {
-  std::string case_name, kind, rheosim_version, git_revision, input_sha256;
+  core::SummaryHead head;      // kind "sweep" (or "rheometer", an older rheosim's)
   double radius = 0, gap = 0;  // [m]
   std::optional<SweepGridRecord> grid;
   bool inertia = true;
