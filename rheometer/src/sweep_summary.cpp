@@ -453,10 +453,10 @@ SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
   const SummaryReader r(json, path, "every rheometer and sweep run",
                         "pass the --out folder of a finished 'rheosim run' of a rheometer or sweep case");
   SweepSummary s;
-  s.head = core::read_summary_head(r);
-  if (s.head.kind != "rheometer" && s.head.kind != "sweep")
-    core::refuse_summary_kind(path, s.head.kind, "the summary of a rheometer or sweep run",
+  if (const std::string kind = r.text("kind"); kind != "rheometer" && kind != "sweep")  // before any other key
+    core::refuse_summary_kind(path, kind, "the summary of a rheometer or sweep run",
                               "'rheosim report' writes the report of an LDD run with the LDD report");
+  s.head = core::read_summary_head(r);
   s.radius = r.number("radius");
   s.gap = r.number("gap");
   s.wall_time = r.number("wall_time");
