@@ -105,9 +105,7 @@ LddSizeEstimate estimate_ldd_size(const CaseSettings& l) {
 // collapse of the fluid's height H (the shallow-water dam-break front, Ritter 1892), or a mould's
 // lift speed if faster. Rounded down to two significant digits.
 std::pair<double, std::string> automatic_ldd_time_step(const CaseSettings& l) {
-  double g = 0;
-  for (double c : l.gravity) g += c * c;
-  g = std::sqrt(g);
+  const double g = l.gravity_magnitude();
   double speed = 0;
   std::string scale;
   const auto collapse = [&](double height) {
@@ -380,6 +378,12 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
 }
 
 }  // namespace
+
+double CaseSettings::gravity_magnitude() const {
+  double sum = 0;
+  for (double c : gravity) sum += c * c;
+  return std::sqrt(sum);
+}
 
 Case read_case(const core::CaseFile& file) {
   file.require_kind({"ldd"}, "the LDD solver");

@@ -13,7 +13,7 @@ namespace rheosim::ldd::detail {
 
 namespace {
 
-MaybeNumber finite_or_empty(double x) { return std::isfinite(x) ? MaybeNumber(x) : std::nullopt; }
+using core::finite_or_empty;
 
 // The seed's LDD column for this Δ and δt, if it ran one (Table 1).
 const double* table1_column(double spacing, double dt) {
@@ -67,9 +67,7 @@ void compare_with_martin_moyce(const CaseSettings& l, const DamBreakScene& scene
                                const std::vector<double>& front, const std::filesystem::path& out_dir,
                                RunSummary& summary, const core::Log& log) {
   const double a = scene.reservoir[0];
-  double g = 0;
-  for (double c : l.gravity) g += c * c;
-  const double time_scale = std::sqrt(a / (2.0 * std::sqrt(g)));  // t = T·√(a/2g)
+  const double time_scale = std::sqrt(a / (2.0 * l.gravity_magnitude()));  // t = T·√(a/2g)
   core::CsvTable table({{"time", "s"},
                         {"experiment", "m"},
                         {"front", "m"},
@@ -143,9 +141,8 @@ std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l) 
   const double yield_stress = l.fluid.rheology->yield_stress();
   if (!(yield_stress > 0)) return std::nullopt;
   const auto& scene = std::get<DamBreakScene>(l.scene);
-  double g = 0;
-  for (double c : l.gravity) g += c * c;
-  return thin_film_arrest(scene.reservoir[0] * scene.reservoir[1], yield_stress, l.fluid.density, std::sqrt(g));
+  return thin_film_arrest(scene.reservoir[0] * scene.reservoir[1], yield_stress, l.fluid.density,
+                          l.gravity_magnitude());
 }
 
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,

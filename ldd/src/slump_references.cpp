@@ -27,9 +27,7 @@ void compare_slump(const CaseSettings& l, RunSummary& summary, const core::Log& 
   const double yield_stress = l.fluid.rheology->yield_stress();
   if (!(yield_stress > 0) || !summary.final_height || !summary.final_spread) return;
   const auto& scene = std::get<SlumpScene>(l.scene);
-  double g = 0;
-  for (double c : l.gravity) g += c * c;
-  g = std::sqrt(g);
+  const double g = l.gravity_magnitude();
   const double height = scene.cone_height;
   if (scene.cone_top_diameter == scene.cone_bottom_diameter) {
     const double ratio = yield_stress / (l.fluid.density * g * height);

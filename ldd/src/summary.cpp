@@ -16,7 +16,7 @@ using core::SummaryReader;
 
 constexpr std::string_view summary_hint = "pass the --out folder of a finished 'rheosim run' of a kind: ldd case";
 
-Json value_or_null(const MaybeNumber& x) { return x ? Json(*x) : Json(nullptr); }
+using core::value_or_null;
 
 bool is_free_surface(std::string_view scene) { return scene == "dam_break" || scene == "slump" || scene == "column"; }
 

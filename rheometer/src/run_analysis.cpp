@@ -17,8 +17,7 @@ namespace rheosim::rheometer {
 
 namespace {
 
-// NaN and infinities are written as null (core::write_json): keep them empty here.
-MaybeNumber finite_or_empty(double x) { return std::isfinite(x) ? MaybeNumber(x) : std::nullopt; }
+using core::finite_or_empty;
 
 Interval95 interval(const Interval& i) { return {finite_or_empty(i.lower), finite_or_empty(i.upper)}; }
 

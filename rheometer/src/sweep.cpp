@@ -598,7 +598,7 @@ void write_sweep_results(const Case& c, const std::vector<SweepPoint>& points,
       const double rel_error = (res.torque - res.torque_analytic) / res.torque_analytic;
       const double reynolds = plate.gap_reynolds_number(fluid.density, point.rim_shear_rate,
                                                         fluid.rheology->viscosity(point.rim_shear_rate));
-      const auto finite = [](double x) { return std::isfinite(x) ? MaybeNumber(x) : std::nullopt; };
+      const auto finite = core::finite_or_empty;
       record.angular_velocity = plate.angular_velocity(point.rim_shear_rate);
       record.torque = res.torque;
       record.torque_fluid = finite(res.torque_fluid);

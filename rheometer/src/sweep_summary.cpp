@@ -191,9 +191,7 @@ RelativeViscosityRecord relative_viscosity_of(const SummaryReader& r) {
   return out;
 }
 
-nlohmann::ordered_json value_or_null(const MaybeNumber& x) {
-  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
-}
+using core::value_or_null;
 
 nlohmann::ordered_json values_or_null(const std::vector<MaybeNumber>& xs) {
   auto out = nlohmann::ordered_json::array();

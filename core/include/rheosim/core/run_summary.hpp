@@ -6,6 +6,7 @@
 // drawing NaN.
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <optional>
@@ -35,6 +36,15 @@ struct SummaryHead {
   summary["git_revision"] = head.git_revision;
   summary["input_sha256"] = head.input_sha256;
   return summary;
+}
+
+// An optional number of a typed summary: empty where the computation gave NaN or infinity, and
+// written as null (summary.json has no NaN).
+[[nodiscard]] inline std::optional<double> finite_or_empty(double x) {
+  return std::isfinite(x) ? std::optional<double>(x) : std::nullopt;
+}
+[[nodiscard]] inline nlohmann::ordered_json value_or_null(const std::optional<double>& x) {
+  return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
 }
 
 [[nodiscard]] inline nlohmann::ordered_json summary_head(const CaseHeader& header, std::string_view kind) {

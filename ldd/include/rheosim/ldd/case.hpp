@@ -80,7 +80,8 @@ struct CaseSettings {
   double settle_energy_ratio = 1e-3;
   SolverSettings solver;
   OutputSettings output;
-  std::vector<WallSettings> walls;  // scene.walls (slump only so far)
+  std::vector<WallSettings> walls;                 // scene.walls (slump only so far)
+  [[nodiscard]] double gravity_magnitude() const;  // |g| [m/s²]
 };
 
 struct Case : core::CaseHeader {  // kind: ldd
