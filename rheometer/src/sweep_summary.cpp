@@ -451,9 +451,10 @@ SweepSummary read_sweep_summary(const std::filesystem::path& run_dir) {
   const SummaryReader r(json, path, "every rheometer and sweep run",
                         "pass the --out folder of a finished 'rheosim run' of a rheometer or sweep case");
   SweepSummary s;
-  if (const std::string kind = r.text("kind"); kind != "rheometer" && kind != "sweep")  // before any other key
-    core::refuse_summary_kind(path, kind, "the summary of a rheometer or sweep run",
-                              "'rheosim report' writes the report of an LDD run with the LDD report");
+  // Every rheometer case runs as a sweep and writes kind "sweep". Checked before any other key.
+  if (const std::string kind = r.text("kind"); kind != "sweep")
+    core::refuse_summary_kind(path, kind, "the summary of a rheometer or sweep run (kind \"sweep\")",
+                              "an LDD run gets the LDD report; a summary of another kind: run its case again");
   s.head = core::read_summary_head(r);
   s.radius = r.number("radius");
   s.gap = r.number("gap");

@@ -31,7 +31,7 @@ TEST(RheometerReport, RefusesTheSummaryOfAnLddRun) {
 // The smallest summary the report draws: one converged point, no fits.
 nlohmann::json minimal_summary() {
   return {{"case", "minimal"},
-          {"kind", "rheometer"},
+          {"kind", "sweep"},
           {"rheosim_version", "0"},
           {"git_revision", "test"},
           {"input_sha256", "0"},
@@ -66,6 +66,9 @@ TEST(RheometerReport, NamesAMissingOrMistypedKeyOfTheSummary) {
   EXPECT_EQ(refused_at(minimal_summary()), "");
   EXPECT_TRUE(std::filesystem::exists(folder / "report.html"));
   std::filesystem::remove(folder / "report.html");
+  nlohmann::json other_kind = minimal_summary();
+  other_kind["kind"] = "rheometer";  // every rheometer case runs as a sweep and writes kind "sweep"
+  EXPECT_EQ(refused_at(other_kind), "kind");
   for (const char* key : {"case", "gap", "points_failed", "inertia", "points", "series", "fits"}) {
     nlohmann::json summary = minimal_summary();
     summary.erase(key);
