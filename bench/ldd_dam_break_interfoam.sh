@@ -5,10 +5,11 @@
 # Moyce for the water column).
 #
 #   bench/ldd_dam_break_interfoam.sh [BUILD_DIR] [OUT_DIR] [--case FILE] [--spacing M] [--step S]
-#                                    [--max-courant C] [--ldd-run DIR]
+#                                    [--viscous-stress laplacian|full] [--max-courant C] [--ldd-run DIR]
 #
 # FILE defaults to cases/ldd_dam_break_bingham.yaml; --spacing and --step replace its
-# `resolution.spacing` and `time.step` (OUT/case.yaml is the deck both solvers run). The interFoam case is written by
+# `resolution.spacing` and `time.step`, --viscous-stress sets its `solver.viscous_stress` (the
+# LDD run's; interFoam always has the full stress) (OUT/case.yaml is the deck both solvers run). The interFoam case is written by
 # `rheosim export-openfoam FILE OUT/interfoam` and run there (one core; the 2 mm Bingham case,
 # 112 500 cells, about 15–25 min); a finished run is kept and not run again. The LDD run is
 # `rheosim run FILE --out OUT/ldd` on one thread unless --ldd-run names a finished run folder.
@@ -18,12 +19,13 @@ build=${1:-build}
 out=${2:-results/ldd_dam_break_interfoam}
 shift $(( $# > 2 ? 2 : $# )) || true
 here=$(cd "$(dirname "$0")/.." && pwd)
-case_file=$here/cases/ldd_dam_break_bingham.yaml courant=0.5 ldd_run= spacing= step=
+case_file=$here/cases/ldd_dam_break_bingham.yaml courant=0.5 ldd_run= spacing= step= viscous_stress=
 while [ $# -gt 0 ]; do
   case "$1" in
     --case) case_file=$2; shift 2 ;;
     --spacing) spacing=$2; shift 2 ;;
     --step) step=$2; shift 2 ;;
+    --viscous-stress) viscous_stress=$2; shift 2 ;;
     --max-courant) courant=$2; shift 2 ;;
     --ldd-run) ldd_run=$2; shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
@@ -32,7 +34,10 @@ done
 export WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}
 mkdir -p "$out"
 sed -E ${spacing:+-e "s/spacing: [0-9.eE+-]+/spacing: $spacing/"} ${step:+-e "s/step: [0-9.eE+-]+/step: $step/"} \
-    -e '' "$case_file" > "$out/case.yaml.new"
+    ${viscous_stress:+-e "s/^solver: \{/solver: {viscous_stress: $viscous_stress, /"} -e '' "$case_file" > "$out/case.yaml.new"
+if [ -n "$viscous_stress" ] && ! grep -q "viscous_stress: $viscous_stress" "$out/case.yaml.new"; then
+  echo "--viscous-stress needs a 'solver: {' line in $case_file" >&2; exit 2
+fi
 # A changed deck starts both runs afresh.
 if ! cmp -s "$out/case.yaml.new" "$out/case.yaml"; then rm -rf "$out/interfoam" "$out/ldd"; fi
 mv "$out/case.yaml.new" "$out/case.yaml"

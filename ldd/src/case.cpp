@@ -237,6 +237,9 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
                                      "gradients",
                                      "-"},
                                     "include", {"include", "exclude"}) == "exclude";
+  v.full_viscous_stress =
+      s.choice_or({"viscous_stress", "free surface: viscous force (laplacian: ∇·(μ∇u); full: ∇·(2μE))", "-"},
+                  "laplacian", {"laplacian", "full"}) == "full";
   const auto preconditioner = [&](const KeyInfo& key) -> std::optional<Preconditioner> {
     std::vector<std::string> names = names_in(preconditioner_names);
     names.insert(names.begin(), "auto");
@@ -249,8 +252,8 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
   v.pressure_amg_smoothed =
       s.choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed",
                   {"smoothed", "plain"}) == "smoothed";
-  for (const char* key :
-       {"pressure_amg", "pbd_sweeps", "pbd_velocity", "dry_walls", "moment_rcond", "surface_moment_rcond"})
+  for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "dry_walls", "moment_rcond",
+                          "surface_moment_rcond", "viscous_stress"})
     if (cavity && s.has(key))
       s.fail(
           key,

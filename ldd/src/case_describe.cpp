@@ -60,12 +60,13 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
   if (!cavity)
     out += fmt::format(
         "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "
-        "(surface), dry walls {}, {} gradient\n",
+        "(surface), dry walls {}, {} gradient, viscous force {}\n",
         s.pbd_sweeps, s.pbd_velocity_correction ? "taylor" : "none", s.moment_rcond, s.surface_moment_rcond,
         s.exclude_dry_walls ? "excluded from gradients" : "in gradients",
         s.gradient == GradientChoice::renormalised       ? "renormalised (eq. 14)"
         : s.gradient == GradientChoice::surface_anchored ? "centred, eq. 14 on free-surface nodes,"
-                                                         : "centred");
+                                                         : "centred",
+        s.full_viscous_stress ? "∇·(2μE)" : "∇·(μ∇u)");
   return out;
 }
 

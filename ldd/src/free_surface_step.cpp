@@ -100,7 +100,7 @@ void FreeSurfaceSolver::update_operators(FreeSurfaceStats& stats) {
   }
 }
 
-// 2. ∇u (eq. 14), γ̇ = √(2E:E) (eq. 5), μ(γ̇), explicit ∇·(μ(∇u)ᵀ).
+// 2. ∇u (eq. 14), γ̇ = √(2E:E) (eq. 5), μ(γ̇), and (viscous_stress: full) ∇·(μ(∇u)ᵀ).
 void FreeSurfaceSolver::update_viscosity() {
   const auto dim = static_cast<std::size_t>(dim_);
   const std::size_t n = kinds_.size(), dd = dim * dim;
@@ -119,22 +119,26 @@ void FreeSurfaceSolver::update_viscosity() {
     shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
-  // Optional (FreeSurfaceParams::transpose_stress): (∇·(μ(∇u)ᵀ))_a = Σ_b ∂_b(μ ∂u_b/∂x_a) explicit, on
-  // interior nodes. Off by default: explicit, it is unstable once δt μ_max/(ρΔ²) ≫ 1 (Bingham
-  // m = 1000 s: μ_max = 25 025 Pa·s, ratio ~10²–10³) — the dam break blew up within 0.35 s with
-  // it (docs/ldd.md). It vanishes for constant μ.
+  // solver.viscous_stress: full (FreeSurfaceParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
+  // nodes, making the viscous force ∇·(2μE). Explicit alone it is unstable once δt μ_max/(ρΔ²) ≫ 1
+  // (Bingham m = 1000 s: μ_max ≈ 25 000 Pa·s, a ratio of 10²–10³; the 2 mm dam break blew up within
+  // 0.35 s). So the momentum matrix carries the μ-Laplacian twice on those rows (solve_momentum)
+  // and the explicit side takes it off once at u_{n−1}: only T − L is explicit, and the implicit
+  // 2L bounds it (|T| ≤ L for the continuous operators). It vanishes for constant μ.
   transpose_stress_.assign(dim * n, 0.0);
-  stress_component_.resize(n);
-  stress_gradient_.resize(dim * n);
-  if (params_.transpose_stress) {
-    for (std::size_t b = 0; b < dim; ++b)
-      for (std::size_t a = 0; a < dim; ++a) {
-        for (std::size_t i = 0; i < n; ++i)
-          stress_component_[i] = viscosity_[i] * velocity_gradient_[dd * i + b * dim + a];
-        gradient(nb, ops, stress_component_, stress_gradient_);
-        for (std::size_t i = 0; i < n; ++i)
-          if (kinds_[i] == NodeKind::interior) transpose_stress_[dim * i + a] += stress_gradient_[dim * i + b];
-      }
+  if (!params_.transpose_stress) return;
+  transposed_viscous_force(nb, ops, viscosity_, velocity_gradient_, transpose_stress_);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (kinds_[i] != NodeKind::interior) {
+      for (std::size_t d = 0; d < dim; ++d) transpose_stress_[dim * i + d] = 0.0;
+      continue;
+    }
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      const double c = 0.5 * (viscosity_[i] + viscosity_[j]) * ops.laplacian[k];
+      for (std::size_t d = 0; d < dim; ++d)
+        transpose_stress_[dim * i + d] -= c * (velocity_[dim * j + d] - velocity_[dim * i + d]);
+    }
   }
 }
 
@@ -163,8 +167,10 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
     const NodeKind kind = kinds_[i];
     if (kind == NodeKind::interior || kind == NodeKind::surface) {
       double sum = 0;
+      // 2L on interior rows under solver.viscous_stress: full (update_viscosity).
+      const double implicit = params_.transpose_stress && kind == NodeKind::interior ? 2.0 : 1.0;
       for (std::size_t k = begin; k < end; ++k) {
-        const double c = dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
+        const double c = implicit * dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
         momentum_matrix_.off_diagonal[k] = -c;
         sum += c;
       }

@@ -232,6 +232,31 @@ void gradient(const numerics::NeighbourList& nb, const Operators& ops, std::span
   }
 }
 
+void transposed_viscous_force(const numerics::NeighbourList& nb, const Operators& ops,
+                              std::span<const double> viscosity, std::span<const double> velocity_gradient,
+                              std::span<double> out) {
+  const auto dim = static_cast<std::size_t>(ops.dimension);
+  const std::size_t dd = dim * dim;
+  check_sizes(nb, ops, viscosity.size(), 1, out.size(), dim, "transposed_viscous_force");
+  check_sizes(nb, ops, velocity_gradient.size(), dd, out.size(), dim, "transposed_viscous_force");
+  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    double force[3] = {0, 0, 0};
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      const double* grad_i = &velocity_gradient[dd * i];
+      const double* grad_j = &velocity_gradient[dd * j];
+      for (std::size_t a = 0; a < dim; ++a)
+        for (std::size_t b = 0; b < dim; ++b)  // ∂_b of μ ∂u_b/∂x_a
+          force[a] +=
+              ops.gradient[k * dim + b] * (viscosity[j] * grad_j[b * dim + a] - viscosity[i] * grad_i[b * dim + a]);
+    }
+    for (std::size_t a = 0; a < dim; ++a) out[i * dim + a] = force[a];
+  }
+}
+
 void divergence(const numerics::NeighbourList& nb, const Operators& ops, std::span<const double> v,
                 std::span<double> out) {
   const auto dim = static_cast<std::size_t>(ops.dimension);

@@ -137,6 +137,7 @@ TEST(Case, LddCavityRefusesTheFreeSurfaceSolverKeys) {
   expect_cavity_refuses("pbd_sweeps", "3", "leave it out");
   expect_cavity_refuses("moment_rcond", "0.01", "leave it out");
   expect_cavity_refuses("surface_moment_rcond", "0.01", "leave it out");
+  expect_cavity_refuses("viscous_stress", "full", "leave it out");
 }
 
 TEST(Case, LddChoicesArriveAsEnums) {
@@ -154,12 +155,14 @@ TEST(Case, LddChoicesArriveAsEnums) {
       "resolution: {spacing: 0.002}\ntime: {step: 1.0e-4, end: 0.3}\n";
   const CaseSettings d = parse_case(dam_break +
                                         "solver: {gradient: surface_anchored, pbd_velocity: none, dry_walls: exclude, "
-                                        "pressure_amg: plain, velocity_preconditioner: lu}\n",
+                                        "pressure_amg: plain, velocity_preconditioner: lu, viscous_stress: full}\n",
                                     "d.yaml")
                              .settings;
   EXPECT_EQ(d.solver.gradient, GradientChoice::surface_anchored);
   EXPECT_FALSE(d.solver.pbd_velocity_correction);
   EXPECT_TRUE(d.solver.exclude_dry_walls);
+  EXPECT_TRUE(d.solver.full_viscous_stress);
+  EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.full_viscous_stress);  // laplacian
   EXPECT_FALSE(d.solver.pressure_amg_smoothed);
   EXPECT_EQ(d.solver.velocity_preconditioner, Preconditioner::sparse_lu);
   EXPECT_FALSE(d.solver.pressure_preconditioner.has_value());  // auto: the scene's own

@@ -418,5 +418,43 @@ TEST(Poisson, JitteredCloudErrorIsMeasured) {
   EXPECT_LT(e64, 0.1);  // bounded; see the header comment for why it does not converge
 }
 
+// ∇·(μ(∇u)ᵀ) for u = (x², −2xy) (divergence-free) and μ = 1 + x + 2y: Σ_b ∂_b(μ ∂u_b/∂x_a) =
+// (2x − 4y, −4x). The products μ ∂u_b/∂x_a are quadratic, which eq. 14 differentiates exactly at
+// lattice nodes with a symmetric stencil. The Laplacian-form index order, Σ_b ∂_b(μ ∂u_a/∂x_b),
+// would give (2 + 4x + 4y, …): not this.
+TEST(TransposedViscousForce, MatchesTheAnalyticDivergenceOnALattice) {
+  const Cloud c = square_cloud(20, 0.0);
+  const double h = 1.6 * c.spacing;
+  const Built b = build(c.x, 2, h);
+  const std::size_t n = c.boundary.size();
+  std::vector<double> viscosity(n), gradient(4 * n), force(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = c.x[2 * i], y = c.x[2 * i + 1];
+    viscosity[i] = 1 + x + 2 * y;
+    gradient[4 * i + 0] = 2 * x;   // ∂u_x/∂x
+    gradient[4 * i + 1] = 0;       // ∂u_x/∂y
+    gradient[4 * i + 2] = -2 * y;  // ∂u_y/∂x
+    gradient[4 * i + 3] = -2 * x;  // ∂u_y/∂y
+  }
+  transposed_viscous_force(b.nb, b.ops, viscosity, gradient, force);
+  int checked = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = c.x[2 * i], y = c.x[2 * i + 1];
+    if (std::min({x, y, 1 - x, 1 - y}) < h) continue;  // a full, symmetric stencil
+    EXPECT_NEAR(force[2 * i], 2 * x - 4 * y, 1e-9) << "at (" << x << ", " << y << ")";
+    EXPECT_NEAR(force[2 * i + 1], -4 * x, 1e-9) << "at (" << x << ", " << y << ")";
+    ++checked;
+  }
+  EXPECT_GT(checked, 250);
+  // Constant viscosity and ∇·u = 0: ∇·(μ(∇u)ᵀ) = μ∇(∇·u) = 0.
+  std::fill(viscosity.begin(), viscosity.end(), 3.0);
+  transposed_viscous_force(b.nb, b.ops, viscosity, gradient, force);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!c.boundary[i]) {
+      EXPECT_NEAR(force[2 * i], 0.0, 1e-9);
+      EXPECT_NEAR(force[2 * i + 1], 0.0, 1e-9);
+    }
+}
+
 }  // namespace
 }  // namespace rheosim::ldd

@@ -38,6 +38,7 @@ struct SolverSettings {
   // Free-surface scenes: a PBD shift δx changes the velocity by ⟨∇u⟩·δx (pbd_velocity: taylor),
   // or leaves it (none).
   bool pbd_velocity_correction = true;
+  bool full_viscous_stress = false;  // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
   // Free-surface scenes: wall nodes above the surface (no interior fluid node within h) left out
   // of the fluid nodes' gradients (dry_walls: exclude) or kept (include).
   bool exclude_dry_walls = false;

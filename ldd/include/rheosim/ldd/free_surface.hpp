@@ -16,9 +16,9 @@
 //      inviscid projection alone (impose_boundary_pressure, docs/ldd.md):
 //        ρ u* − δt ∇·(μ∇u*) = ρ u_{n−1} + δt (−⟨∇p_{n−1}⟩ + ρ g)
 //      with the pair viscosity ½(μ_i + μ_j) on eq. 15's coefficients. Departure: eq. 18's
-//      explicit 2E∇μ (and the cavity solver's explicit ∇·(μ(∇u)ᵀ)) is left out by default (it is
-//      unstable for δt μ_max/(ρΔ²) ≫ 1, see transpose_stress); wall nodes Dirichlet (no slip at the wall's velocity;
-//      free-slip walls: the fluid's tangential velocity and the wall's normal one, or the fluid's
+//      explicit 2E∇μ (and the cavity solver's explicit ∇·(μ(∇u)ᵀ)) is left out by default; with
+//      transpose_stress it is added, stabilised by a second implicit μ-Laplacian; wall nodes Dirichlet (no slip at the
+//      wall's velocity; free-slip walls: the fluid's tangential velocity and the wall's normal one, or the fluid's
 //      whole velocity where it moves away from the wall — a wall pushes but never pulls), splash
 //      nodes ballistic (u* = u + δt g, no coupling);
 //   4. PPE (eq. 17) for the increment φ = p_n − p_{n−1}: interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, wall
@@ -120,7 +120,9 @@ struct FreeSurfaceParams : StepParams {
   // advection or the no-tension clip — and reports the growth per step in
   // FreeSurfaceStats::step_map_growth (≤ 1: perturbations do not grow). Costs ~3 solves each.
   int stability_probe_iterations = 0;
-  bool transpose_stress = false;  // explicit ∇·(μ(∇u)ᵀ) on interior nodes (unstable for μδt/ρΔ² ≫ 1)
+  // ∇·(2μE) rather than ∇·(μ∇u): ∇·(μ(∇u)ᵀ) on interior nodes, stabilised by a second implicit
+  // μ-Laplacian (update_viscosity). Case key solver.viscous_stress: full.
+  bool transpose_stress = false;
 
   void check() const;  // throws std::invalid_argument naming the field and its range
 };
@@ -225,7 +227,7 @@ class FreeSurfaceSolver : public NodeState {
   std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
   std::vector<double> increment_gradient_;
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
-  std::vector<double> transpose_stress_, stress_component_, stress_gradient_;
+  std::vector<double> transpose_stress_;  // ∇·(μ(∇u)ᵀ) − ∇·(μ∇u_{n−1}) on interior nodes (viscous_stress: full)
   std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
   std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (regradient_for_boundary_values)
 };

@@ -102,5 +102,11 @@ void divergence(const numerics::NeighbourList& neighbours, const Operators& ops,
 // ⟨∇²f⟩ for every node (eq. 15).
 void laplacian(const numerics::NeighbourList& neighbours, const Operators& ops, std::span<const double> f,
                std::span<double> out);
+// ⟨∇·(μ(∇u)ᵀ)⟩, the part of the viscous force ∇·(2μE) that ∇·(μ∇u) leaves out:
+// out[d·i + a] = Σ_b ∂_b(μ ∂u_b/∂x_a), eq. 14 on each product μ ∂u_b/∂x_a. velocity_gradient
+// holds d² values per node, [d²·i + a·d + b] = ∂u_a/∂x_b; viscosity one per node.
+void transposed_viscous_force(const numerics::NeighbourList& neighbours, const Operators& ops,
+                              std::span<const double> viscosity, std::span<const double> velocity_gradient,
+                              std::span<double> out);
 
 }  // namespace rheosim::ldd
