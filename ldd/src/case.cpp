@@ -67,8 +67,6 @@ Value choice_or(const Section& s, const KeyInfo& key, Value fallback, const std:
   return *value_named(table, s.choice_or(key, std::string(name_in(table, fallback)), names_in(table)));
 }
 
-bool is_cavity(std::string_view scene_type) { return scene_type == "cavity" || scene_type == "skewed_cavity"; }
-
 constexpr double ldd_bytes_per_node = 8192.0;
 constexpr double ldd_seconds_per_node_step = 2e-6;
 // time.step: auto keeps max|u|δt/Δ at this for the scene's velocity scale (automatic_ldd_time_step).
@@ -381,6 +379,8 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
 }
 
 }  // namespace
+
+bool is_cavity(std::string_view scene_type) { return scene_type == "cavity" || scene_type == "skewed_cavity"; }
 
 double CaseSettings::gravity_magnitude() const {
   double sum = 0;

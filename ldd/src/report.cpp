@@ -134,7 +134,7 @@ std::string header_html(const RunSummary& s) {
   row("steps, simulated time", fmt::format("{}, {:.6g} s", s.steps, s.time));
   row("cost",
       fmt::format("{:.3g} ms per step on {} thread(s), {:.3g} s wall time", s.ms_per_step, s.threads, s.wall_time));
-  if (s.free_surface) {
+  if (s.free_surface()) {
     row("volume drift (largest)", fmt::format("{:.3g} %", 100 * s.volume_drift));
     row("energy gain", s.energy_gain ? fmt::format("{:.3g} % of the potential energy released", 100 * *s.energy_gain)
                                      : std::string("— (nothing released: a resting column)"));
@@ -269,11 +269,11 @@ ReportFiles write_report(const fs::path& run_dir) {
   run.table1 = s.scene == "dam_break" && fs::exists(run_dir / "table1.csv");
   run.martin_moyce = s.scene == "dam_break" && fs::exists(run_dir / "martin_moyce.csv");
   run.profile = s.scene == "dam_break" && fs::exists(run_dir / "profile.csv");
-  if (s.free_surface) write_free_surface_plots(s, run, files);
+  if (s.free_surface()) write_free_surface_plots(s, run, files);
 
   std::string html = core::html_page_head("rheosim LDD report");
   html += header_html(s);
-  html += s.free_surface ? free_surface_html(s, run, files) : cavity_html(run);
+  html += s.free_surface() ? free_surface_html(s, run, files) : cavity_html(run);
   html +=
       "<p class=small>Every number above is in summary.json or the CSV files of this folder; the node "
       "clouds are in frames/ (nodes.pvd for ParaView).</p>\n";

@@ -205,7 +205,6 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
   const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
   const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
   RunSummary summary = detail::summary_head(c, l, solver, outcome, threads);
-  summary.free_surface = true;
   summary.volume_drift = run.max_drift;
   summary.kinetic_energy_peak = run.peak_energy;
   // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only

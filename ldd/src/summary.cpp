@@ -18,8 +18,6 @@ constexpr std::string_view summary_hint = "pass the --out folder of a finished '
 
 using core::value_or_null;
 
-bool is_free_surface(std::string_view scene) { return scene == "dam_break" || scene == "slump" || scene == "column"; }
-
 Json centerline_json(const std::vector<CenterlineSample>& line, const char* position, const char* velocity) {
   auto out = Json::array();
   for (const auto& p : line) out.push_back({{position, p.position}, {velocity, p.velocity}});
@@ -199,7 +197,7 @@ nlohmann::ordered_json to_json(const RunSummary& s) {
   j["phase_seconds"] = {{"neighbours", t.neighbours}, {"operators", t.operators}, {"rheology", t.rheology},
                         {"pressure", t.pressure},     {"momentum", t.momentum},   {"advection", t.advection},
                         {"reordering", t.reordering}};
-  if (s.free_surface)
+  if (s.free_surface())
     add_free_surface_keys(s, j);
   else
     add_cavity_keys(s, j);
@@ -235,8 +233,7 @@ RunSummary read_run_summary(const std::filesystem::path& summary_json) {
   s.wall_time = r.number("wall_time");
   for (double step : r.numbers("resumed_at_steps")) s.resumed_at_steps.push_back(static_cast<std::size_t>(step));
   s.warnings = r.texts("warnings");
-  s.free_surface = is_free_surface(s.scene);
-  if (s.free_surface)
+  if (s.free_surface())
     read_free_surface_keys(r, s);
   else
     read_cavity_keys(r, s);

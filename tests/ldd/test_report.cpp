@@ -55,7 +55,7 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   const RunSummary s = read_run_summary(dir() / "summary.json");
   const auto json = core::read_json(dir() / "summary.json");
   EXPECT_EQ(s.scene, "dam_break");
-  EXPECT_TRUE(s.free_surface);
+  EXPECT_TRUE(s.free_surface());
   EXPECT_EQ(s.nodes, json["nodes"].get<std::size_t>());
   EXPECT_EQ(s.steps, 50u);
   ASSERT_TRUE(s.final_spread.has_value());

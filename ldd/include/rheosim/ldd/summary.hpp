@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rheosim/core/run_summary.hpp"
+#include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/step.hpp"
 
 namespace rheosim::ldd {
@@ -107,9 +108,9 @@ struct RunSummary {
   double ms_per_step = 0;
   PhaseTimes phase_seconds;
   double wall_time = 0;
-  std::vector<std::size_t> resumed_at_steps;  // the steps a run went on from its checkpoint
-  std::vector<std::string> warnings;          // every rule the run bent
-  bool free_surface = false;                  // dam_break, slump, column
+  std::vector<std::size_t> resumed_at_steps;                             // the steps a run went on from its checkpoint
+  std::vector<std::string> warnings;                                     // every rule the run bent
+  [[nodiscard]] bool free_surface() const { return !is_cavity(scene); }  // dam_break, slump, column
   // Cavity runs.
   double reynolds_number = 0, final_residual = 0;
   std::vector<CenterlineSample> vertical_centerline, horizontal_centerline;  // (y, u) and (x, v)
