@@ -120,11 +120,11 @@ void FreeSurfaceSolver::update_viscosity() {
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
   // solver.viscous_stress: full (FreeSurfaceParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
-  // nodes, making the viscous force ∇·(2μE). Explicit alone it is unstable once δt μ_max/(ρΔ²) ≫ 1
-  // (Bingham m = 1000 s: μ_max ≈ 25 000 Pa·s, a ratio of 10²–10³; the 2 mm dam break blew up within
-  // 0.35 s). So the momentum matrix carries the μ-Laplacian twice on those rows (solve_momentum)
-  // and the explicit side takes it off once at u_{n−1}: only T − L is explicit, and the implicit
-  // 2L bounds it (|T| ≤ L for the continuous operators). It vanishes for constant μ.
+  // nodes, making the viscous force ∇·(2μE). Explicit alone it is a viscous term far past an
+  // explicit limit, δt μ_max/(ρΔ²) up to ~5·10³ (Bingham m = 1000 s at Δ = 2 mm). So the momentum
+  // matrix carries the μ-Laplacian twice on those rows (solve_momentum) and the explicit side takes
+  // it off once at u_{n−1}: only T − L is explicit, and the implicit 2L bounds it (T ≤ L in energy
+  // for the continuous operators). It vanishes for constant μ.
   transpose_stress_.assign(dim * n, 0.0);
   if (!params_.transpose_stress) return;
   transposed_viscous_force(nb, ops, viscosity_, velocity_gradient_, transpose_stress_);
