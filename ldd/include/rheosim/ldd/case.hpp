@@ -89,10 +89,11 @@ struct Case : core::CaseHeader {  // kind: ldd
   CaseSettings settings;
 };
 
-// Reads the LDD part of a case file; throws core::ConfigError naming file:line:col, key,
-// expectation and fix (also for a kind other than ldd).
 // A cavity scene (cavity, skewed_cavity: the cavity solver); every other scene has a free surface.
 [[nodiscard]] bool is_cavity(std::string_view scene_type);
+
+// Reads the LDD part of a case file; throws core::ConfigError naming file:line:col, key,
+// expectation and fix (also for a kind other than ldd).
 [[nodiscard]] Case read_case(const core::CaseFile& file);
 [[nodiscard]] Case load_case(const std::string& path);
 [[nodiscard]] Case parse_case(std::string_view text, const std::string& name);

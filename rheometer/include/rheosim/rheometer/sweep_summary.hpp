@@ -184,7 +184,7 @@ struct RuleBent {  // a rule points bent, and how many
 };
 
 struct SweepSummary {
-  core::SummaryHead head;      // kind "sweep" (or "rheometer", an older rheosim's)
+  core::SummaryHead head;      // kind "sweep" (every rheometer case runs as a sweep)
   double radius = 0, gap = 0;  // [m]
   std::optional<SweepGridRecord> grid;
   bool inertia = true;
