@@ -56,16 +56,18 @@ FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing) {
   const int crest_rows = static_cast<int>(std::ceil(amplitude / spacing));
   FreeSurfaceScene s = box_2d(0.0, nx, ny + crest_rows + 4, 0, nx, amplitude > 0 ? 0 : ny, spacing);
   if (amplitude > 0) {
-    // Each column of cells up to the surface H + A cos(πx/W) over its centre (cells whose centre
-    // lies below it), W and H the width and height of the flat column's cells.
+    // Each column of cells (centre x) holds round(η/Δ) nodes spaced evenly from the floor to its
+    // surface η = H + A cos(πx/W), the top one half a spacing below it (spacing within Δ(1 ± 1/(2·rows))).
+    // Cells cut at the lattice's rows instead leave a staircase of Δ-high steps whose corner nodes,
+    // unsupported, fell and seeded grid-scale ripples that grew (docs/ldd.md, sloshing).
     const double width = nx * spacing, height = ny * spacing;
     const std::vector<double> none{0.0, 0.0};
-    for (int j = 0; j < ny + crest_rows; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const double x = (i + 0.5) * spacing, y = (j + 0.5) * spacing;
-        if (y < height + amplitude * std::cos(std::numbers::pi * x / width))
-          s.cloud.add(std::vector<double>{x, y}, NodeKind::interior, none, -1);
-      }
+    for (int i = 0; i < nx; ++i) {
+      const double x = (i + 0.5) * spacing, surface = height + amplitude * std::cos(std::numbers::pi * x / width);
+      const int rows = static_cast<int>(std::lround(surface / spacing));
+      for (int j = 0; j < rows; ++j)
+        s.cloud.add(std::vector<double>{x, (j + 0.5) * surface / rows}, NodeKind::interior, none, -1);
+    }
   }
   return s;
 }

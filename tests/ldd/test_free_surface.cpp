@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <numbers>
 #include <random>
 #include <string>
@@ -329,7 +330,8 @@ TEST(SlumpScene, FillsTheConeVolume) {
 }
 
 // The sloshing column: surface H + A cos(πx/W), so the left wall stands A above H, the right A
-// below, and the volume is the flat column's (the cosine integrates to zero over the width).
+// below, and the volume is the flat column's (the cosine integrates to zero over the width). No
+// staircase: every column's top node lies half its row spacing below the curve.
 TEST(ColumnScene, WaveAmplitudeShapesTheFirstSloshingMode) {
   ldd::ColumnScene scene;
   scene.size = {0.1, 0.05};
@@ -348,6 +350,20 @@ TEST(ColumnScene, WaveAmplitudeShapesTheFirstSloshingMode) {
   EXPECT_NEAR(static_cast<double>(fluid) * dx * dx / (0.1 * 0.05), 1.0, 0.01);
   EXPECT_NEAR(left, 0.05 + 0.005, dx);
   EXPECT_NEAR(right, 0.05 - 0.005, dx);
+  std::map<long, std::vector<double>> columns;  // heights of the fluid nodes per column of cells
+  for (std::size_t i = 0; i < s.cloud.size(); ++i)
+    if (!s.cloud.is_wall(i))
+      columns[std::lround(s.cloud.positions[2 * i] / dx - 0.5)].push_back(s.cloud.positions[2 * i + 1]);
+  ASSERT_EQ(columns.size(), 100u);
+  for (auto& [column, heights] : columns) {
+    std::sort(heights.begin(), heights.end());
+    const double x = (static_cast<double>(column) + 0.5) * dx;
+    const double surface = 0.05 + 0.005 * std::cos(std::numbers::pi * x / 0.1);
+    const double row = surface / static_cast<double>(heights.size());
+    EXPECT_NEAR(heights.back() + 0.5 * row, surface, 1e-12) << "column at x = " << x;
+    EXPECT_NEAR(row / dx, 1.0, 0.011) << "column at x = " << x;
+    for (std::size_t j = 1; j < heights.size(); ++j) EXPECT_NEAR(heights[j] - heights[j - 1], row, 1e-12);
+  }
   double wall_top = 0;  // the side walls rise above the crest
   for (std::size_t i = 0; i < s.cloud.size(); ++i)
     if (s.cloud.is_wall(i)) wall_top = std::max(wall_top, s.cloud.positions[2 * i + 1]);
