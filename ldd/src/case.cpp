@@ -230,11 +230,16 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       s.choice_or(
           {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
           "taylor", {"taylor", "none"}) == "taylor";
-  v.exclude_dry_walls = s.choice_or({"dry_walls",
-                                     "free surface: wall nodes above the surface (no interior fluid within h) in fluid "
-                                     "gradients",
-                                     "-"},
-                                    "include", {"include", "exclude"}) == "exclude";
+  {
+    const std::string dry = s.choice_or({"dry_walls",
+                                         "free surface: pressure of the wall nodes above the surface (no interior "
+                                         "fluid within h) and whether fluid gradients use it",
+                                         "-"},
+                                        "include", {"include", "exclude", "extrapolate"});
+    v.dry_walls = dry == "exclude"       ? DryWalls::exclude
+                  : dry == "extrapolate" ? DryWalls::extrapolate
+                                         : DryWalls::include;
+  }
   v.full_viscous_stress =
       s.choice_or({"viscous_stress", "free surface: viscous force (laplacian: ∇·(μ∇u); full: ∇·(2μE))", "-"},
                   "laplacian", {"laplacian", "full"}) == "full";

@@ -62,7 +62,9 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
         "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "
         "(surface), dry walls {}, {} gradient, viscous force {}\n",
         s.pbd_sweeps, s.pbd_velocity_correction ? "taylor" : "none", s.moment_rcond, s.surface_moment_rcond,
-        s.exclude_dry_walls ? "excluded from gradients" : "in gradients",
+        s.dry_walls == DryWalls::exclude       ? "at p = 0, excluded from gradients"
+        : s.dry_walls == DryWalls::extrapolate ? "at the fluid's extrapolated pressure (walls unclipped)"
+                                               : "at p = 0, in gradients",
         s.gradient == GradientChoice::renormalised       ? "renormalised (eq. 14)"
         : s.gradient == GradientChoice::surface_anchored ? "centred, eq. 14 on free-surface nodes,"
                                                          : "centred",

@@ -50,7 +50,7 @@ void FreeSurfaceSolver::keep_laplacian_positive() {
 //
 // Gradients that must see the boundary values as they are: free-surface nodes their own p = 0
 // (anchored_surface_gradient), and fluid nodes beside a dry wall node not that wall node
-// (exclude_dry_walls): its p = 0 is not the hydrostatic field's extension there, and a
+// (DryWalls::exclude): its p = 0 is not the hydrostatic field's extension there, and a
 // contact-line node that counts it loses part of the support that balances gravity.
 void FreeSurfaceSolver::regradient_for_boundary_values() {
   const std::size_t n = kinds_.size();
@@ -64,8 +64,9 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
       wet = kinds_[nb.indices[k]] == NodeKind::interior && ops.weights[k] > 0;
     dry_wall_[i] = wet ? 0 : 1;
   }
-  const std::span<const std::uint8_t> skip =
-      params_.exclude_dry_walls ? std::span<const std::uint8_t>(dry_wall_) : std::span<const std::uint8_t>();
+  const std::span<const std::uint8_t> skip = params_.dry_walls == DryWalls::exclude
+                                                 ? std::span<const std::uint8_t>(dry_wall_)
+                                                 : std::span<const std::uint8_t>();
   const auto beside_dry_wall = [&](std::size_t i) {
     if (skip.empty()) return false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k)
@@ -115,9 +116,9 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (kinds_[i] == NodeKind::surface || kinds_[i] == NodeKind::splash || kinds_[i] == NodeKind::idle_wall) p[i] = 0.0;
   const bool history = last_kinds_.size() == kinds_.size();
-  // Shepard average of p_j + ρ g·(x_i − x_j) over the neighbours j that pass `use`; p = 0 (no
-  // tension) when there are none.
-  const auto extrapolate = [&](std::size_t i, const auto& use) {
+  // Shepard average of p_j + ρ g·(x_i − x_j) over the neighbours j that pass `use`, at least 0
+  // (no tension) when `clip`; p = 0 when there are none.
+  const auto extrapolate = [&](std::size_t i, const auto& use, bool clip) {
     double wsum = 0, source = 0;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
@@ -128,7 +129,8 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
       wsum += ops.weights[k];
       source += ops.weights[k] * (p[j] + hydrostatic);
     }
-    return wsum > 0 ? std::max(source / wsum, 0.0) : 0.0;
+    if (!(wsum > 0)) return 0.0;
+    return clip ? std::max(source / wsum, 0.0) : source / wsum;
   };
   const auto known = [&](std::size_t j) {
     return kinds_[j] == NodeKind::surface || (kinds_[j] == NodeKind::interior && last_kinds_[j] == NodeKind::interior);
@@ -141,19 +143,20 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    if (newly_interior(i)) estimate[i] = extrapolate(i, known);
+    if (newly_interior(i)) estimate[i] = extrapolate(i, known, true);
   }
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (newly_interior(i)) p[i] = estimate[i];
 
-      // Walls as the PPE's wall rows: over interior and surface neighbours, p = 0 on dry walls.
+  // Walls as the PPE's wall rows: over interior and surface neighbours; p = 0 on dry walls unless
+  // DryWalls::extrapolate, which extrapolates to every wall node without the clip.
+  const bool extrapolated = params_.dry_walls == DryWalls::extrapolate;
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
-    p[i] = dry_wall_[i] ? 0.0 : extrapolate(i, [&](std::size_t j) {
-      return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface;
-    });
+    const auto fluid = [&](std::size_t j) { return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface; };
+    p[i] = dry_wall_[i] && !extrapolated ? 0.0 : extrapolate(i, fluid, !extrapolated);
   }
 }
 

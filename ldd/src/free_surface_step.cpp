@@ -297,13 +297,14 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
         // row through the wall node's own gradient, has only positive couplings. As a row for φ:
         //   φ_w − Σ w_j φ_j = Σ w_j (p_j + ρ g·(x_w − x_j)) − p_w.
         // A wall node that sees only surface nodes stands above the fluid: p = p_atm there (the
-        // hydrostatic extrapolation would give suction that pulls the fluid up the wall).
+        // hydrostatic extrapolation would give suction that pulls the fluid up the wall), unless
+        // DryWalls::extrapolate keeps the extrapolation as the hydrostatic field's extension.
         double wsum = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const NodeKind kj = kinds_[nb.indices[k]];
           if (kj == NodeKind::interior || kj == NodeKind::surface) wsum += ops.weights[k];
         }
-        if (dry_wall_[i]) wsum = 0;
+        if (dry_wall_[i] && params_.dry_walls != DryWalls::extrapolate) wsum = 0;
         double source = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
@@ -372,10 +373,15 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
   const Operators& ops = operators_;
   // No tension: p_n = max(p_{n−1} + φ, p_atm). A free-surface fluid cannot pull on the void, and
   // without the clip the suction at a stretching toe (ρ/δt ∇·u* > 0 on a torn cloud) grew without
-  // bound; the velocity is corrected with the increment actually applied.
+  // bound; the velocity is corrected with the increment actually applied. Under
+  // DryWalls::extrapolate wall pressures are not clipped: they only extend the fluid's field
+  // into its gradients (−ρg·height above the surface).
   new_pressure_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    new_pressure_[i] = std::max(previous_pressure_[i] + increment_[i], 0.0);
+    const bool wall = kinds_[i] == NodeKind::wall || kinds_[i] == NodeKind::corner;
+    new_pressure_[i] = wall && params_.dry_walls == DryWalls::extrapolate
+                           ? previous_pressure_[i] + increment_[i]
+                           : std::max(previous_pressure_[i] + increment_[i], 0.0);
     increment_[i] = new_pressure_[i] - previous_pressure_[i];
   }
   increment_gradient_.resize(dim * n);

@@ -417,7 +417,7 @@ FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l) {
   p.centred_gradient = l.solver.gradient != GradientChoice::renormalised;
   p.anchored_surface_gradient = l.solver.gradient == GradientChoice::surface_anchored;
   p.pbd_velocity_correction = l.solver.pbd_velocity_correction;
-  p.exclude_dry_walls = l.solver.exclude_dry_walls;
+  p.dry_walls = l.solver.dry_walls;
   p.transpose_stress = l.solver.full_viscous_stress;
   // auto: AMG (docs/performance.md: 3.4× faster than the per-step LU in the 2 mm dam break, 1.7×
   // faster than Jacobi in the slump). Measured choices: in 2D both hierarchies kept for 50 steps

@@ -160,9 +160,12 @@ TEST(Case, LddChoicesArriveAsEnums) {
                              .settings;
   EXPECT_EQ(d.solver.gradient, GradientChoice::surface_anchored);
   EXPECT_FALSE(d.solver.pbd_velocity_correction);
-  EXPECT_TRUE(d.solver.exclude_dry_walls);
+  EXPECT_EQ(d.solver.dry_walls, DryWalls::exclude);
   EXPECT_TRUE(d.solver.full_viscous_stress);
   EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.full_viscous_stress);  // laplacian
+  EXPECT_EQ(parse_case(dam_break, "d.yaml").settings.solver.dry_walls, DryWalls::include);
+  EXPECT_EQ(parse_case(dam_break + "solver: {dry_walls: extrapolate}\n", "e.yaml").settings.solver.dry_walls,
+            DryWalls::extrapolate);
   EXPECT_FALSE(d.solver.pressure_amg_smoothed);
   EXPECT_EQ(d.solver.velocity_preconditioner, Preconditioner::sparse_lu);
   EXPECT_FALSE(d.solver.pressure_preconditioner.has_value());  // auto: the scene's own

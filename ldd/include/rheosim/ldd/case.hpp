@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rheosim/core/case.hpp"
+#include "rheosim/ldd/dry_walls.hpp"
 #include "rheosim/ldd/node_reordering.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
 #include "rheosim/ldd/scene.hpp"
@@ -38,10 +39,8 @@ struct SolverSettings {
   // Free-surface scenes: a PBD shift δx changes the velocity by ⟨∇u⟩·δx (pbd_velocity: taylor),
   // or leaves it (none).
   bool pbd_velocity_correction = true;
-  bool full_viscous_stress = false;  // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
-  // Free-surface scenes: wall nodes above the surface (no interior fluid node within h) left out
-  // of the fluid nodes' gradients (dry_walls: exclude) or kept (include).
-  bool exclude_dry_walls = false;
+  bool full_viscous_stress = false;        // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
+  DryWalls dry_walls = DryWalls::include;  // free-surface scenes: wall nodes above the surface (dry_walls.hpp)
   // Empty: auto, the scene's default (lu: free-surface scenes only).
   std::optional<Preconditioner> pressure_preconditioner, velocity_preconditioner;
   // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain

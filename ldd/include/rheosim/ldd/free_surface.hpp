@@ -61,6 +61,7 @@
 
 #include "rheosim/core/rheology.hpp"
 #include "rheosim/ldd/boundary.hpp"
+#include "rheosim/ldd/dry_walls.hpp"
 #include "rheosim/ldd/node_cloud.hpp"
 #include "rheosim/ldd/node_state.hpp"
 #include "rheosim/ldd/operators.hpp"
@@ -98,9 +99,10 @@ struct FreeSurfaceParams : StepParams {
   // Free-surface nodes use eq. 14 about the node (their own value, p = p_atm, enters) instead of
   // the centred gradient; interior nodes keep centred_gradient. Case key gradient: surface_anchored.
   bool anchored_surface_gradient = false;
-  // Fluid nodes leave dry wall nodes (no interior fluid node within h: they stand above the
-  // surface, p = p_atm) out of their gradients. Case key solver.dry_walls: exclude.
-  bool exclude_dry_walls = false;
+  // Wall nodes above the surface (no interior fluid within h): p = p_atm in the gradients (include),
+  // p = p_atm left out of them (exclude), or the fluid's extrapolated pressure with every wall
+  // pressure unclipped (extrapolate). Case key solver.dry_walls (dry_walls.hpp).
+  DryWalls dry_walls = DryWalls::include;
   double surface_fluid_weight = 0.1;  // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
   // this, and each step keeps those now within the search radius (the same list a fresh search
@@ -201,7 +203,7 @@ class FreeSurfaceSolver : public NodeState {
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
   void impose_boundary_pressure();        // previous_pressure_ from pressure_
-  void regradient_for_boundary_values();  // dry walls; anchored_surface_gradient, exclude_dry_walls
+  void regradient_for_boundary_values();  // dry walls; anchored_surface_gradient, DryWalls::exclude
   void reorder(std::span<const double> velocity_gradient);
   // Power iteration of the linearised step map on this step's matrices: growth per step and the
   // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
