@@ -7,7 +7,7 @@
 #   bench/ldd_slump_arrest.sh [BUILD_DIR] [OUT_DIR] [--case FILE] [--ratios "0.05 0.1 ..."]
 #                             [--yield-stresses "20 50 ..."] [--spacing M] [--step S] [--end S]
 #                             [--regularization S] [--viscosity PA_S] [--lift-velocity M_S]
-#                             [--viscous-stress laplacian|full]
+#                             [--viscous-stress laplacian|full] [--solver "KEY: VALUE, ..."]
 #
 # One run of the case (default cases/ldd_slump_pashias.yaml: H = D = 0.1 m, Δ = 5 mm, δt = 1e-3 s,
 # 2 s, m = 1000 s, μ_p 20 Pa·s, about 1.5 min on two threads) per yield stress, given as τ₀ [Pa]
@@ -39,6 +39,10 @@ while [ $# -gt 0 ]; do
     --viscous-stress)  # solver.viscous_stress (a word, not a number)
       overrides+=("-e" "s/^solver: {/solver: {viscous_stress: $2, /")
       tag="${tag}_viscous_stress_$2"
+      shift 2 ;;
+    --solver)  # more solver keys, "KEY: VALUE, ..."
+      overrides+=("-e" "s/^solver: {/solver: {$2, /")
+      tag="${tag}_$(echo "$2" | tr -c 'A-Za-z0-9.\n' '_')"
       shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
