@@ -101,10 +101,12 @@ void write_free_surface_plots(const RunSummary& s, RunFolder& run, ReportFiles& 
                      probes, col("diameter"), col("height")));
   } else if (column_of(table, "left_wall_height") > 0) {
     run.wall_height = true;
+    const std::string theory =
+        s.sloshing ? ", 'sloshing.csv' using 1:3 with lines lw 2 dt 2 title 'linear theory (first mode)'" : "";
     plot("wall_height", "Free-surface height at the left wall vs time",
          fmt::format("set xlabel 't [s]'\nset ylabel 'height [m]'\nplot '{}' using 1:{} with lines lw 2 title "
-                     "'LDD'\n",
-                     probes, col("left_wall_height")));
+                     "'LDD'{}\n",
+                     probes, col("left_wall_height"), theory));
   }
   plot("energy", "Kinetic energy and released potential energy vs time",
        fmt::format("set xlabel 't [s]'\nset ylabel 'energy [{0}]'\nplot '{1}' using 1:{2} with lines lw 2 title "
@@ -237,7 +239,22 @@ std::string free_surface_html(const RunSummary& s, const RunFolder& run, const R
     html += figure_or_note(files, "spread", "Spread (diameter) and height of the slump against time (spread.csv).");
   } else if (run.wall_height) {
     html += "<h2>Free surface at the left wall</h2>\n";
-    html += figure_or_note(files, "wall_height", "Free-surface height at the left wall (column.csv).");
+    html += figure_or_note(files, "wall_height",
+                           s.sloshing ? "Free-surface height at the left wall (column.csv); dashed: the first "
+                                        "sloshing mode in linear theory, H + A cos ωt (sloshing.csv)."
+                                      : "Free-surface height at the left wall (column.csv).");
+    if (const auto& w = s.sloshing) {
+      const auto number = [](const MaybeNumber& v, const char* format) {
+        return v ? fmt::format(fmt::runtime(format), *v) : std::string("—");
+      };
+      html += fmt::format(
+          "<table>\n<tr><th>period, linear theory [s]</th><th>period, this run [s]</th><th>difference</th>"
+          "<th>zero crossings (up to t [s])</th><th>first crossing [s] (theory)</th></tr>\n"
+          "<tr><td>{:.4f}</td><td>{}</td><td>{}</td><td>{} ({:.3g})</td><td>{} ({:.4f})</td></tr>\n</table>\n",
+          w->period, number(w->measured_period, "{:.4f}"),
+          w->relative_error ? fmt::format("{:+.2f} %", 100 * *w->relative_error) : std::string("—"), w->crossings,
+          w->compared_until, number(w->first_crossing, "{:.4f}"), w->period / 4);
+    }
   }
   html += "<h2>Energy and volume</h2>\n";
   html += figure_or_note(files, "energy",

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "checkpoint.hpp"
+#include "column_references.hpp"
 #include "dam_break_references.hpp"
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/output.hpp"
@@ -261,6 +262,8 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
     }  // else no yield stress: a liquid does not arrest
   }
   if (slump) detail::compare_slump(l, summary, log);
+  if (const auto* column = std::get_if<ColumnScene>(&l.scene); column && column->wave_amplitude > 0)
+    detail::compare_with_linear_sloshing(l, history, out_dir, summary, log);
   return summary;
 }
 

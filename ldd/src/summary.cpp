@@ -104,6 +104,14 @@ void add_free_surface_keys(const RunSummary& s, Json& j) {
                     {"difference", value_or_null(p->difference)}};
   if (const auto& r = s.roussel_coussot)
     j["roussel_coussot"] = {{"diameter", r->diameter}, {"relative_error", value_or_null(r->relative_error)}};
+  if (const auto& w = s.sloshing)
+    j["sloshing"] = {{"period", w->period},
+                     {"wave_energy", w->wave_energy},
+                     {"compared_until", w->compared_until},
+                     {"crossings", w->crossings},
+                     {"measured_period", value_or_null(w->measured_period)},
+                     {"relative_error", value_or_null(w->relative_error)},
+                     {"first_crossing", value_or_null(w->first_crossing)}};
 }
 
 void read_cavity_keys(const SummaryReader& r, RunSummary& s) {
@@ -157,6 +165,14 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
   s.pressure_iterations_per_step = iterations.number("pressure");
   s.velocity_iterations_per_step = iterations.number("velocity");
   s.neighbour_searches = r.count("neighbour_searches");
+  if (const auto w = r.optional_object("sloshing"))
+    s.sloshing = SloshingComparison{w->number("period"),
+                                    w->number("wave_energy"),
+                                    w->number("compared_until"),
+                                    w->count("crossings"),
+                                    w->number_or_null("measured_period"),
+                                    w->number_or_null("relative_error"),
+                                    w->number_or_null("first_crossing")};
   if (s.scene == "column") return;
   s.final_spread = r.number("final_spread");
   s.final_height = r.number("final_height");

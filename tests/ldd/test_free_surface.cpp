@@ -464,6 +464,38 @@ TEST(SlumpReferences, PashiasSlumpIsTheHeightAtWhichTheYieldStressHolds) {
 }
 
 // Roussel & Coussot's pancake h(r) = √(2τ₀(R − r)/(ρg)) holds the volume it was given.
+// The first sloshing mode's period between its limits: deep water (tanh kH → 1) 2π/√(gk), shallow
+// water (kH → 0) 2W/√(gH), the long wave crossing the tank and back.
+TEST(SloshingReference, LinearPeriodReachesItsDeepAndShallowLimits) {
+  const double g = 9.81, width = 0.1, k = std::numbers::pi / width;
+  EXPECT_NEAR(linear_sloshing(width, 10 * width, 0.001, 1000, g).period, 2 * std::numbers::pi / std::sqrt(g * k),
+              1e-12);
+  const double depth = 1e-4 * width;
+  EXPECT_NEAR(linear_sloshing(width, depth, 0.0, 1000, g).period * std::sqrt(g * depth) / (2 * width), 1.0, 1e-6);
+  EXPECT_DOUBLE_EQ(linear_sloshing(width, 0.05, 0.002, 1000, g).wave_energy, 1000 * g * 0.002 * 0.002 * width / 4);
+  EXPECT_THROW((void)linear_sloshing(width, 0.0, 0.001, 1000, g), std::invalid_argument);
+  EXPECT_THROW((void)linear_sloshing(width, 0.05, -0.001, 1000, g), std::invalid_argument);
+}
+
+// Crossings of a sampled cosine fall on its zeros (here samples, each counted once) and stop at
+// `until`; sampled off its zeros, to the chord's error.
+TEST(SloshingReference, LevelCrossingsInterpolateBetweenSamples) {
+  std::vector<double> t, h;
+  for (int i = 0; i <= 1000; ++i) {
+    t.push_back(1e-3 * i);
+    h.push_back(2.0 + std::cos(2 * std::numbers::pi * t.back() / 0.4));
+  }
+  const std::vector<double> all = level_crossings(t, h, 2.0, t.size());
+  ASSERT_EQ(all.size(), 5u);  // 0.1, 0.3, 0.5, 0.7, 0.9
+  for (std::size_t q = 0; q < all.size(); ++q) EXPECT_NEAR(all[q], 0.1 + 0.2 * static_cast<double>(q), 1e-6);
+  EXPECT_EQ(level_crossings(t, h, 2.0, 400).size(), 2u);  // samples before t = 0.4 s
+  for (double& v : t) v += 3e-4;                          // h sampled off its zeros
+  for (std::size_t i = 0; i < t.size(); ++i) h[i] = 2.0 + std::cos(2 * std::numbers::pi * t[i] / 0.4);
+  const std::vector<double> off = level_crossings(t, h, 2.0, t.size());
+  ASSERT_EQ(off.size(), 5u);
+  for (std::size_t q = 0; q < off.size(); ++q) EXPECT_NEAR(off[q], 0.1 + 0.2 * static_cast<double>(q), 1e-6);
+}
+
 TEST(SlumpReferences, RousselCoussotPancakeHoldsTheVolume) {
   const double density = 2200, gravity = 9.81, yield_stress = 32;
   const double volume = std::numbers::pi * 0.3 * (0.1 * 0.1 + 0.1 * 0.05 + 0.05 * 0.05) / 3;  // the Abrams cone

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -191,6 +192,47 @@ TEST(LddReportReferences, ASquareNewtonianCavityIsComparedWithGhia) {
   EXPECT_FALSE(core::read_json(dir / "summary.json").contains("ghia"));
   EXPECT_FALSE(std::filesystem::exists(dir / "ghia.csv"));
   EXPECT_FALSE(read_run_summary(dir / "summary.json").ghia.has_value());
+  std::filesystem::remove_all(dir);
+}
+
+// A sloshing column (coarse: Δ = 5 mm, to 0.3 s, past the first zero crossing) compares itself with
+// the first mode's linear theory: summary.json `sloshing`, sloshing.csv beside column.csv, and the
+// report's table and dashed curve; a resting column (no wave_amplitude) does not.
+TEST(LddReportReferences, ASloshingColumnIsComparedWithLinearTheory) {
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_report_sloshing";
+  std::filesystem::remove_all(dir);
+  const auto deck = [](const char* amplitude) {
+    return std::string("kind: ldd\ndimension: 2\nscene: {type: column, size: [0.1, 0.05], wave_amplitude: ") +
+           amplitude +
+           "}\nfluid: {density: 1000, rheology: {model: newtonian, viscosity: 0.1}}\ngravity: [0, -9.81]\n"
+           "resolution: {spacing: 0.005}\ntime: {step: 2.0e-3, end: 0.3}\n"
+           "solver: {threads: 1, velocity_tolerance: 1.0e-6, gradient: surface_anchored, dry_walls: extrapolate}\n";
+  };
+  ASSERT_EQ(run_case(ldd::parse_case(deck("0.002"), "sloshing.yaml"), dir, core::Log::null()).status, "end_time");
+  const auto json = core::read_json(dir / "summary.json");
+  ASSERT_TRUE(json.contains("sloshing"));
+  const LinearSloshing theory = linear_sloshing(0.1, 0.05, 0.002, 1000, 9.81);
+  EXPECT_DOUBLE_EQ(json["sloshing"]["period"].get<double>(), theory.period);
+  EXPECT_DOUBLE_EQ(json["sloshing"]["wave_energy"].get<double>(), theory.wave_energy);
+  const core::CsvTable column = core::read_csv(dir / "column.csv");
+  const auto t = column.column("time"), h = column.column("left_wall_height");
+  const std::vector<double> crossings = level_crossings(t, h, 0.05, t.size());
+  ASSERT_FALSE(crossings.empty());
+  EXPECT_EQ(json["sloshing"]["first_crossing"].get<double>(), crossings.front());
+  const core::CsvTable sloshing = core::read_csv(dir / "sloshing.csv");
+  ASSERT_EQ(sloshing.row_count(), column.row_count());
+  EXPECT_DOUBLE_EQ(sloshing.column("linear_theory").front(), 0.052);  // H + A at t = 0
+  const RunSummary s = read_run_summary(dir / "summary.json");
+  ASSERT_TRUE(s.sloshing.has_value());
+  EXPECT_EQ(nlohmann::json::parse(to_json(s).dump()), json);
+  const std::string html = read_text(write_report(dir).html);
+  EXPECT_NE(html.find("period, linear theory [s]"), std::string::npos);
+  EXPECT_NE(read_text(dir / "wall_height.gp").find("sloshing.csv"), std::string::npos);
+
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(run_case(ldd::parse_case(deck("0"), "resting.yaml"), dir, core::Log::null()).status, "end_time");
+  EXPECT_FALSE(core::read_json(dir / "summary.json").contains("sloshing"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "sloshing.csv"));
   std::filesystem::remove_all(dir);
 }
 

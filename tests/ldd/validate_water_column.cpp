@@ -118,6 +118,11 @@ TEST(Sloshing, FirstModeKeepsItsLinearPeriodForOneAndAHalfPeriods) {
     if ((h[i - 1] - depth) * (h[i] - depth) < 0)
       crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * (depth - h[i - 1]) / (h[i] - h[i - 1]));
   ASSERT_EQ(crossings.size(), 3u);
+  // The run's own comparison (summary "sloshing") says the same.
+  ASSERT_TRUE(summary.contains("sloshing"));
+  EXPECT_EQ(summary["sloshing"]["crossings"].get<std::size_t>(), 3u);
+  EXPECT_NEAR(summary["sloshing"]["measured_period"].get<double>(), crossings[2] - crossings[0], 1e-12);
+  EXPECT_NEAR(summary["sloshing"]["period"].get<double>(), period, 1e-12);
   EXPECT_NEAR((crossings[2] - crossings[0]) / period, 1.0, 0.02);
   EXPECT_NEAR(crossings[0] / (period / 4), 1.0, 0.05);
   // Each half period's kinetic-energy peak (measured 1.06, 1.00, 0.94 of the wave's energy).

@@ -26,7 +26,9 @@
 // The steady-state residual is max over the centre-line probes of |Δu|/U per unit of L/U time
 // between two samples. On divergence (NaN, Courant number, failed solves, residual > 1e3) the
 // run stops, the last good state is written as a frame and summary.json says "diverged".
+#include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -131,6 +133,23 @@ struct ThinFilmArrest {
 // the m → ∞, spread ≫ height limit of a slump). Throws std::invalid_argument unless
 // every argument is > 0.
 [[nodiscard]] double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity);
+
+// The first sloshing mode of a tank W wide and H deep in linear theory (Lamb 1932, §227):
+// ω² = g k tanh(kH), k = π/W, the surface H + A cos(πx/W) cos ωt, and the wave's energy
+// E = ρ g A² W / 4 per unit depth (it moves between potential and kinetic). Throws
+// std::invalid_argument unless W, H, ρ and g are > 0 and A ≥ 0.
+struct LinearSloshing {
+  double period = 0;       // 2π/ω [s]
+  double wave_energy = 0;  // E [J/m]
+};
+[[nodiscard]] LinearSloshing linear_sloshing(double width, double depth, double amplitude, double density,
+                                             double gravity);
+
+// The times where h(t) crosses `level`, linearly interpolated between the samples on either
+// side (a sample on the level itself counts once), over the samples before index `until` (t
+// increasing).
+[[nodiscard]] std::vector<double> level_crossings(std::span<const double> t, std::span<const double> h, double level,
+                                                  std::size_t until);
 
 FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l);
 

@@ -76,6 +76,17 @@ struct ConeSpreadComparison {  // Roussel & Coussot (2005), roussel_coussot_spre
   friend bool operator==(const ConeSpreadComparison&, const ConeSpreadComparison&) = default;
 };
 
+struct SloshingComparison {     // a column's first mode against linear theory (run.hpp, linear_sloshing)
+  double period = 0;            // linear theory [s]
+  double wave_energy = 0;       // E = ρgA²W/4 [J/m]
+  double compared_until = 0;    // [s]: the last sample before the kinetic energy exceeds 1.5 E (or the end)
+  std::size_t crossings = 0;    // of the left-wall elevation about H, up to compared_until
+  MaybeNumber measured_period;  // from the first and last crossing; empty below three crossings
+  MaybeNumber relative_error;   // of the measured period
+  MaybeNumber first_crossing;   // [s], theory a quarter period
+  friend bool operator==(const SloshingComparison&, const SloshingComparison&) = default;
+};
+
 struct CenterlineSample {  // normalised: position along the line, velocity across it
   double position = 0, velocity = 0;
   friend bool operator==(const CenterlineSample&, const CenterlineSample&) = default;
@@ -130,6 +141,7 @@ struct RunSummary {
   bool arrested = false;
   std::optional<CylinderSlumpComparison> pashias;       // slump of a yield-stress law, cylinder mould
   std::optional<ConeSpreadComparison> roussel_coussot;  // slump of a yield-stress law, cone mould
+  std::optional<SloshingComparison> sloshing;           // column with a wave_amplitude
   friend bool operator==(const RunSummary&, const RunSummary&) = default;
 };
 
