@@ -105,33 +105,12 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
 //     a Neumann source over the whole mould that the PPE can drain only through the small top
 //     surface: φ ≈ −10 kPa in the 50 000-node slump at δt = 1e-2, clipped to p = 0 everywhere.
 void FreeSurfaceSolver::impose_boundary_pressure() {
-  const auto dim = static_cast<std::size_t>(dim_);
-  const numerics::NeighbourList& nb = neighbours_;
-  const Operators& ops = operators_;
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
-  const double rho = params_.density;
-  const std::vector<double>& g = params_.gravity;
   std::vector<double>& p = previous_pressure_;
   p = pressure_;
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (kinds_[i] == NodeKind::surface || kinds_[i] == NodeKind::splash || kinds_[i] == NodeKind::idle_wall) p[i] = 0.0;
   const bool history = last_kinds_.size() == kinds_.size();
-  // Shepard average of p_j + ρ g·(x_i − x_j) over the neighbours j that pass `use`, at least 0
-  // (no tension) when `clip`; p = 0 when there are none.
-  const auto extrapolate = [&](std::size_t i, const auto& use, bool clip) {
-    double wsum = 0, source = 0;
-    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-      const std::size_t j = nb.indices[k];
-      if (!use(j)) continue;
-      double hydrostatic = 0;
-      for (std::size_t d = 0; d < dim; ++d)
-        hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
-      wsum += ops.weights[k];
-      source += ops.weights[k] * (p[j] + hydrostatic);
-    }
-    if (!(wsum > 0)) return 0.0;
-    return clip ? std::max(source / wsum, 0.0) : source / wsum;
-  };
   const auto known = [&](std::size_t j) {
     return kinds_[j] == NodeKind::surface || (kinds_[j] == NodeKind::interior && last_kinds_[j] == NodeKind::interior);
   };
@@ -143,7 +122,7 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    if (newly_interior(i)) estimate[i] = extrapolate(i, known, true);
+    if (newly_interior(i)) estimate[i] = extrapolated_pressure(i, p, known, true);
   }
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (newly_interior(i)) p[i] = estimate[i];
@@ -156,7 +135,7 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
     const auto i = static_cast<std::size_t>(s);
     if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
     const auto fluid = [&](std::size_t j) { return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface; };
-    p[i] = dry_wall_[i] && !extrapolated ? 0.0 : extrapolate(i, fluid, !extrapolated);
+    p[i] = dry_wall_[i] && !extrapolated ? 0.0 : extrapolated_pressure(i, p, fluid, !extrapolated);
   }
 }
 

@@ -381,21 +381,10 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
     // only extend the fluid's field into its gradients (−ρg·height above the surface). Taken from
     // the unclipped fluid values they would carry the suction the clip removes: the water dam
     // break's back wall then runs away to −1.8·10⁴ Pa within 0.024 s.
-    const std::vector<double>& g = params_.gravity;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
-      double wsum = 0, source = 0;
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-        const std::size_t j = nb.indices[k];
-        if (kinds_[j] != NodeKind::interior && kinds_[j] != NodeKind::surface) continue;
-        double hydrostatic = 0;
-        for (std::size_t d = 0; d < dim; ++d)
-          hydrostatic += rho * g[d] * (positions_[dim * i + d] - positions_[dim * j + d]);
-        wsum += ops.weights[k];
-        source += ops.weights[k] * (new_pressure_[j] + hydrostatic);
-      }
-      new_pressure_[i] = wsum > 0 ? source / wsum : 0.0;
-    }
+    const auto fluid = [&](std::size_t j) { return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface; };
+    for (std::size_t i = 0; i < n; ++i)
+      if (kinds_[i] == NodeKind::wall || kinds_[i] == NodeKind::corner)
+        new_pressure_[i] = extrapolated_pressure(i, new_pressure_, fluid, false);
   }
   for (std::size_t i = 0; i < n; ++i) increment_[i] = new_pressure_[i] - previous_pressure_[i];
   increment_gradient_.resize(dim * n);

@@ -210,6 +210,12 @@ class FreeSurfaceSolver : public NodeState {
   void probe_step_map(const numerics::KrylovSettings& velocity_settings,
                       const numerics::KrylovSettings& pressure_settings, FreeSurfaceStats& stats);
   [[nodiscard]] double kernel_density(std::size_t node) const;
+  // Shepard average (eq. 12) of pressure_j + ρ g·(x_node − x_j) over the neighbours j that pass
+  // `use`: a wall's (or a newly interior node's) pressure from the fluid with the hydrostatic
+  // offset; at least 0 when `clip`; 0 without such neighbours (free_surface_internal.hpp).
+  template <class Use>
+  [[nodiscard]] double extrapolated_pressure(std::size_t node, std::span<const double> pressure, const Use& use,
+                                             bool clip) const;
   // classify()'s parts (free_surface_classify.cpp).
   void survey(std::size_t node, double search_radius_squared, double support_radius_squared,
               detail::Surroundings& surroundings) const;
