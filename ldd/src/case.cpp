@@ -42,6 +42,8 @@ constexpr std::array<Named<GradientChoice>, 4> gradient_names{{{"auto", Gradient
                                                                {"centred", GradientChoice::centred},
                                                                {"renormalised", GradientChoice::renormalised},
                                                                {"surface_anchored", GradientChoice::surface_anchored}}};
+constexpr std::array<Named<DryWalls>, 3> dry_walls_names{
+    {{"include", DryWalls::include}, {"exclude", DryWalls::exclude}, {"extrapolate", DryWalls::extrapolate}}};
 
 template <class Value, std::size_t N>
 std::optional<Value> value_named(const std::array<Named<Value>, N>& table, std::string_view name) {
@@ -230,16 +232,12 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       s.choice_or(
           {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
           "taylor", {"taylor", "none"}) == "taylor";
-  {
-    const std::string dry = s.choice_or({"dry_walls",
-                                         "free surface: pressure of the wall nodes above the surface (no interior "
-                                         "fluid within h) and whether fluid gradients use it",
-                                         "-"},
-                                        "include", {"include", "exclude", "extrapolate"});
-    v.dry_walls = dry == "exclude"       ? DryWalls::exclude
-                  : dry == "extrapolate" ? DryWalls::extrapolate
-                                         : DryWalls::include;
-  }
+  v.dry_walls = choice_or(s,
+                          {"dry_walls",
+                           "free surface: pressure of the wall nodes above the surface (no interior fluid within h) "
+                           "and whether fluid gradients use it",
+                           "-"},
+                          v.dry_walls, dry_walls_names);
   v.full_viscous_stress =
       s.choice_or({"viscous_stress", "free surface: viscous force (laplacian: ∇·(μ∇u); full: ∇·(2μE))", "-"},
                   "laplacian", {"laplacian", "full"}) == "full";
