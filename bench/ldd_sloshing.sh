@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # First sloshing mode in a 2D tank against linear theory, ω² = g k tanh(kH), k = π/W: the surface
-# height at the left wall over time, its period from the zero crossings while the run is still
-# the linear wave, the run's status, energy and volume drift (docs/ldd.md, "Water column").
+# height at the left wall over time, the run's status, volume drift and its own comparison with the
+# theory (summary.json "sloshing": the period from the zero crossings about H while the run is
+# still the linear wave) (docs/ldd.md, "Water at rest and sloshing").
 #
 #   bench/ldd_sloshing.sh [BUILD_DIR] [OUT_DIR] [--viscosity PA_S] [--amplitude M] [--step S]
 #                         [--stability-probe N] [--solver "KEY: VALUE, ..."]
@@ -35,16 +36,14 @@ sed -e "s/viscosity: 1.0e-3/viscosity: ${viscosity}/" -e "s/wave_amplitude: [0-9
 rm -rf "${out:?}/$name"
 "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" "${probe[@]}" > "$out/$name.log" 2>&1 || true
 python3 - "$out/$name" <<'PY'
-import csv, json, math, os, sys
+import csv, json, os, sys
 run = sys.argv[1]
-W, H, g = 0.1, 0.05, 9.81
+H = 0.05
 rows = list(csv.reader(open(os.path.join(run, "column.csv"))))
 col = {h.split(" ")[0]: k for k, h in enumerate(rows[0])}
 rows = [[float(v) for v in r] for r in rows[1:]]
 t = [r[col["time"]] for r in rows]
 h = [r[col["left_wall_height"]] for r in rows]
-k = math.pi / W
-period = 2 * math.pi / math.sqrt(g * k * math.tanh(k * H))
 s = json.load(open(os.path.join(run, "summary.json")))
 print(f"{run}: status {s['status']} at t = {t[-1]:.4g} s; max volume drift {100 * s['volume_drift']:.2f} %; "
       f"{s['ms_per_step']:.1f} ms/step")
@@ -56,25 +55,21 @@ for i in range(0, len(t), max(1, len(t) // 16)):
     if growth is not None and rows[i][growth] > 0:
         line += f"  step-map growth {rows[i][growth]:.4f} at ({rows[i][col['step_map_node_x']]:.4f}, {rows[i][col['step_map_node_y']]:.4f})"
     print(line)
-# Zero crossings of the left-wall elevation about its mean, up to the first time the kinetic
-# energy exceeds 1.5 E, E = ρgA²W/4 the linear wave's energy (past that the run is no longer the
-# linear wave: a diverging run's last crossings are noise).
-case = open(run + ".yaml").read()
-amplitude = float(case.split("wave_amplitude: ")[1].split("}")[0].split(",")[0])
-density = float(case.split("density: ")[1].split("\n")[0])
-wave_energy = density * g * amplitude ** 2 * W / 4
+# The period is the run's own comparison (summary.json "sloshing", ldd/src/column_references.cpp):
+# zero crossings of the left-wall elevation about H up to the first time the kinetic energy
+# exceeds 1.5 E, E = rho g A^2 W / 4 the linear wave's energy.
 kinetic = [r[col["kinetic_energy"]] for r in rows]
-valid = next((q for q, e in enumerate(kinetic) if amplitude > 0 and e > 1.5 * wave_energy), len(t))
-mean = sum(h[valid // 2:valid]) / max(1, valid - valid // 2) if s["status"] == "end_time" else H
-cross = [t[i - 1] + (t[i] - t[i - 1]) * (mean - h[i - 1]) / (h[i] - h[i - 1])
-         for i in range(1, valid) if (h[i - 1] - mean) * (h[i] - mean) < 0]
-span = f"up to t = {t[valid - 1]:.3f} s" + (" (kinetic energy above 1.5 E after)" if valid < len(t) else "")
-if amplitude == 0:
+c = s.get("sloshing")
+if c is None:
     print(f"resting column: kinetic energy {kinetic[-1]:.3g} J/m at the end, {max(kinetic):.3g} J/m at most")
-elif len(cross) >= 3:
-    measured = 2 * (cross[-1] - cross[0]) / (len(cross) - 1)
-    print(f"period {measured:.4f} s from {len(cross)} zero crossings {span}; linear theory {period:.4f} s "
-          f"({100 * (measured / period - 1):+.1f} %); first crossing {cross[0]:.4f} s (theory {period / 4:.4f} s)")
 else:
-    print(f"no period measured ({len(cross)} zero crossings {span}); linear theory {period:.4f} s")
+    span = f"up to t = {c['compared_until']:.3f} s" + (" (kinetic energy above 1.5 E after)"
+                                                      if c["compared_until"] < t[-1] else "")
+    if c["measured_period"] is not None:
+        print(f"period {c['measured_period']:.4f} s from {c['crossings']} zero crossings {span}; linear theory "
+              f"{c['period']:.4f} s ({100 * c['relative_error']:+.1f} %); first crossing {c['first_crossing']:.4f} s "
+              f"(theory {c['period'] / 4:.4f} s)")
+    else:
+        first = f", first {c['first_crossing']:.4f} s" if c["first_crossing"] is not None else ""
+        print(f"no period measured ({c['crossings']} zero crossings {span}{first}); linear theory {c['period']:.4f} s")
 PY

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rheosim/ldd/run.hpp"
+#include "rheosim/ldd/scenes.hpp"
 
 namespace rheosim::ldd {
 
@@ -41,9 +42,7 @@ namespace rheosim::ldd::detail {
 void compare_with_linear_sloshing(const CaseSettings& l, const core::CsvTable& history,
                                   const std::filesystem::path& out_dir, RunSummary& summary, const core::Log& log) {
   const auto& scene = std::get<ColumnScene>(l.scene);
-  // The scene's column: whole cells of the given size (scenes.cpp).
-  const double width = std::round(scene.size[0] / l.spacing) * l.spacing;
-  const double depth = std::round(scene.size[1] / l.spacing) * l.spacing;
+  const auto [width, depth] = column_extent(scene, l.spacing);
   const LinearSloshing theory =
       linear_sloshing(width, depth, scene.wave_amplitude, l.fluid.density, l.gravity_magnitude());
   const std::vector<double> t = history.column("time"), h = history.column("left_wall_height"),

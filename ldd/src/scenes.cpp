@@ -49,6 +49,11 @@ FreeSurfaceScene box_2d(double x0, int cells_x, int wall_rows, int fluid_begin, 
 
 }  // namespace
 
+std::array<double, 2> column_extent(const ldd::ColumnScene& scene, double spacing) {
+  return {cells_along(scene.size[0], spacing, "column width") * spacing,
+          cells_along(scene.size[1], spacing, "column height") * spacing};
+}
+
 FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing) {
   const int nx = cells_along(scene.size[0], spacing, "column width");
   const int ny = cells_along(scene.size[1], spacing, "column height");

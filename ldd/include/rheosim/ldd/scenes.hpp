@@ -13,6 +13,7 @@
 //   slump      3D: the Abrams cone (bottom diameter D₀ on the floor z = 0, top d₀ at H₀) filled,
 //              the mould lifted at lift_velocity from t = 0; floor disc radius D₀/2 + 1.2 H₀;
 //              optional extra walls (a cylindrical container, an STL surface; walls.hpp).
+#include <array>
 #include <memory>
 #include <span>
 #include <vector>
@@ -27,6 +28,9 @@ struct FreeSurfaceScene {
   std::vector<std::shared_ptr<const Boundary>> boundaries;
 };
 
+// The column's fluid region as built: whole cells of the spacing, width round(W/Δ)·Δ and mean
+// depth round(H/Δ)·Δ [m]. Throws std::invalid_argument when fewer than 4 cells fit either way.
+[[nodiscard]] std::array<double, 2> column_extent(const ldd::ColumnScene& scene, double spacing);
 // Throws std::invalid_argument when the spacing leaves fewer than 4 cells across the fluid.
 [[nodiscard]] FreeSurfaceScene column_scene(const ldd::ColumnScene& scene, double spacing);
 [[nodiscard]] FreeSurfaceScene dam_break_scene(const ldd::DamBreakScene& scene, double spacing);
