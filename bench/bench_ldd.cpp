@@ -14,8 +14,11 @@
 //                                       # velocities to DIR (compare_ldd_dumps.py compares two DIRs)
 //   build-ldd/bin/bench_ldd bandwidth   # memory bandwidth: triad and the stencil product, 1 and 2
 //                                       # threads (the floor of the free-surface step)
-//   build-ldd/bin/bench_ldd floor       # the linear solves' floor of the dam-break and slump steps:
-//                                       # product, V-cycle and AMG set-up times on the runs' initial clouds
+//   build-ldd/bin/bench_ldd floor RUN_DIR...  # the linear solves' floor of measured free-surface runs
+//                                       # (bench_ldd run folders, two threads): product, V-cycle and
+//                                       # AMG set-up times on their initial clouds, the floor per step
+//                                       # at their iteration counts, and measured / floor
+//                                       # (bench/ldd_floor.sh runs the three the docs tabulate)
 //   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR [--stability-probe N]
 //                                       # one LDD case through ldd::run_case (the same code path as
 //                                       # `rheosim run`, without the other modules); with N > 0 the
@@ -291,44 +294,47 @@ void bandwidth() {
   std::printf("(check: a[7] = %g, out[7] = %g)\n", a[7], out[7]);
 }
 
-// The Krylov floor of a free-surface step (docs/performance.md, "Eleventh session"): what the
-// linear solves alone cost at this machine's speed, whatever else the step does. On the initial
-// clouds of the Δ = 2 mm dam break, the 50 000-node slump and the Δ = 1 mm dam break (their case
-// files' scenes, the solver's neighbour radius h + skin = 1.9 Δ, wall nodes included): one
-// StencilMatrix product and one AMG V-cycle (the solver's settings: unit-diagonal rows for the 3D
-// PPE) of a PPE-like matrix and of a momentum-like one, and their AMG set-ups. PPE-like: fluid rows
-// W-weighted Laplacians, Dirichlet where the support is not full (Σ W below 0.85 of the median
-// fluid node's: the free surface), wall rows the Shepard extrapolation from their fluid neighbours; momentum-like:
-// ρ + δt μ L with δt μ / (ρ Δ²) = 5 (the slump's ratio at μ = 255 Pa·s) on fluid rows, identity
-// on wall rows (their entries stored as zeros, as the solver's pattern keeps them). BiCGStab costs
-// 2 products and 2 V-cycles per iteration; the iteration counts are those the runs measured
-// (summary.json of the tenth session's last build, two threads; the 1 mm run's first 50 steps).
-void krylov_floor() {
-  struct Scene {
-    const char* name;
-    const char* case_file;  // under the source tree
-    double spacing;         // Δ [m]
-    double pressure_iterations, velocity_iterations, measured_ms, seed_ms;
-    int velocity_setups_per_step;  // 2D rebuilds the velocity hierarchy every step, 3D keeps it
-  };
-  const Scene scenes[] = {
-      {"dam break 2 mm (2D)", "cases/ldd_dam_break_bingham.yaml", 0.002, 7.50, 8.80, 108.9, 35.0, 1},
-      {"slump (3D)", "cases/ldd_slump_abrams.yaml", 0.0048, 8.80, 7.05, 336.9, 55.0, 0},
-      {"dam break 1 mm, dt 1e-4 (2D)", "cases/ldd_dam_break_bingham.yaml", 0.001, 16.22, 8.04, 611.2, 200.0, 1}};
+// The Krylov floor of a free-surface step (docs/performance.md, "The floor of the linear
+// solves"): what the linear solves alone cost at this machine's speed, whatever else the step
+// does. For each measured run (a `bench_ldd run` folder of the Δ = 2 mm dam break, the 50 000-node
+// slump or the Δ = 1 mm dam break; bench/ldd_floor.sh makes them), on its scene's initial cloud
+// (the solver's neighbour radius h + skin = 1.9 Δ, wall nodes included): one StencilMatrix product
+// and one AMG V-cycle (the solver's settings: unit-diagonal rows for the 3D PPE) of a PPE-like
+// matrix and of a momentum-like one, and their AMG set-ups. PPE-like: fluid rows W-weighted
+// Laplacians, Dirichlet where the support is not full (Σ W below 0.85 of the median fluid node's:
+// the free surface), wall rows the Shepard extrapolation from their fluid neighbours;
+// momentum-like: ρ + δt μ L with δt μ / (ρ Δ²) = 5 (the slump's ratio at μ = 255 Pa·s) on fluid
+// rows, identity on wall rows (their entries stored as zeros, as the solver's pattern keeps them).
+// BiCGStab costs 2 products and 2 V-cycles per iteration; the iterations per step and the
+// measured ms per step are the run's (summary.json), which must have run on two threads.
+void krylov_floor(const std::vector<std::filesystem::path>& runs) {
   std::printf(
       "| scene | nodes | pairs/node | threads | product ms | PPE V-cycle ms | velocity V-cycle ms | "
-      "PPE set-up ms | velocity set-up ms | Krylov floor ms/step | measured step ms | seed GPU ms |\n");
-  std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
-  for (const Scene& scene : scenes) {
-    const ldd::Case c = ldd::load_case(std::string(RHEOSIM_SOURCE_DIR) + "/" + scene.case_file);
+      "PPE set-up ms | velocity set-up ms | PPE / velocity iterations | Krylov floor ms/step | measured step ms | "
+      "measured / floor |\n");
+  std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  std::vector<std::string> notes;
+  for (const auto& run : runs) {
+    const nlohmann::json summary = core::read_json(run / "summary.json");
+    const ldd::Case c = ldd::load_case(run / "case.yaml");
     const auto& l = c.settings;
-    const ldd::FreeSurfaceScene built =
-        l.dimension == 3 ? ldd::slump_scene(std::get<ldd::SlumpScene>(l.scene), scene.spacing, l.walls)
-                         : ldd::dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), scene.spacing);
+    if (summary.at("threads").get<int>() != 2 || summary.at("steps").get<int>() < 1)
+      throw std::invalid_argument(run.string() + ": the floor compares with a run of at least one step on two threads");
+    const double spacing = l.spacing;
+    const double pressure_iterations = summary.at("iterations_per_step").at("pressure").get<double>();
+    const double velocity_iterations = summary.at("iterations_per_step").at("velocity").get<double>();
+    const double measured_ms = summary.at("ms_per_step").get<double>();
+    // 2D rebuilds the velocity hierarchy every step, 3D keeps it (run_free_surface.cpp).
+    const int velocity_setups_per_step = l.dimension == 2 ? 1 : 0;
+    const std::string name = fmt::format("{} {}D, Δ = {:g} mm, δt = {:g} s, {} steps", l.scene_type, l.dimension,
+                                         1e3 * spacing, l.time_step, summary.at("steps").get<int>());
+    const ldd::FreeSurfaceScene built = l.dimension == 3
+                                            ? ldd::slump_scene(std::get<ldd::SlumpScene>(l.scene), spacing, l.walls)
+                                            : ldd::dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), spacing);
     const ldd::NodeCloud& cloud = built.cloud;
-    const numerics::NeighbourList nb = numerics::find_neighbours(cloud.positions, l.dimension, 1.9 * scene.spacing);
+    const numerics::NeighbourList nb = numerics::find_neighbours(cloud.positions, l.dimension, 1.9 * spacing);
     const std::size_t n = nb.node_count();
-    const double support = 1.6 * scene.spacing;
+    const double support = 1.6 * spacing;
     std::vector<double> weights(nb.pair_count()), kernel_sum(n, 0.0);  // W of each pair, Σ W of each node
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
@@ -375,15 +381,15 @@ void krylov_floor() {
       const double velocity_setup = best_seconds(3, [&] { velocity_amg.setup(velocity); });
       const double pressure_cycle = best_seconds(20, [&] { pressure_amg.apply(r, z); });
       const double velocity_cycle = best_seconds(20, [&] { velocity_amg.apply(r, z); });
-      const double floor_seconds = scene.pressure_iterations * 2.0 * (product + pressure_cycle) +
-                                   scene.velocity_iterations * 2.0 * (product + velocity_cycle) +
-                                   scene.velocity_setups_per_step * velocity_setup;
-      char measured[32] = "";
-      if (threads == 2) std::snprintf(measured, sizeof measured, "%.1f", scene.measured_ms);
-      std::printf("| %s | %zu | %.1f | %d | %.3f | %.3f | %.3f | %.1f | %.1f | %.1f | %s | %.0f |\n", scene.name, n,
-                  static_cast<double>(nb.pair_count()) / static_cast<double>(n), threads, 1e3 * product,
-                  1e3 * pressure_cycle, 1e3 * velocity_cycle, 1e3 * pressure_setup, 1e3 * velocity_setup,
-                  1e3 * floor_seconds, measured, scene.seed_ms);
+      const double floor_seconds = pressure_iterations * 2.0 * (product + pressure_cycle) +
+                                   velocity_iterations * 2.0 * (product + velocity_cycle) +
+                                   velocity_setups_per_step * velocity_setup;
+      const std::string measured = threads == 2 ? fmt::format("{:.1f}", measured_ms) : "";
+      const std::string ratio = threads == 2 ? fmt::format("{:.2f}", measured_ms / (1e3 * floor_seconds)) : "";
+      std::printf("| %s | %zu | %.1f | %d | %.3f | %.3f | %.3f | %.1f | %.1f | %.2f / %.2f | %.1f | %s | %s |\n",
+                  name.c_str(), n, static_cast<double>(nb.pair_count()) / static_cast<double>(n), threads,
+                  1e3 * product, 1e3 * pressure_cycle, 1e3 * velocity_cycle, 1e3 * pressure_setup, 1e3 * velocity_setup,
+                  pressure_iterations, velocity_iterations, 1e3 * floor_seconds, measured.c_str(), ratio.c_str());
     }
     const auto sizes = [](const numerics::AmgPreconditioner& amg) {
       std::string text;
@@ -393,15 +399,16 @@ void krylov_floor() {
     };
     const auto walls = static_cast<std::size_t>(std::count_if(
         cloud.kinds.begin(), cloud.kinds.end(), [](ldd::NodeKind k) { return k != ldd::NodeKind::interior; }));
-    std::printf(
-        "(%s: %zu wall nodes; PPE rows %s, operator complexity %.2f; velocity rows %s, %.2f; check z[7] = %g)\n",
-        scene.name, walls, sizes(pressure_amg).c_str(), pressure_amg.operator_complexity(), sizes(velocity_amg).c_str(),
-        velocity_amg.operator_complexity(), z[7]);
+    notes.push_back(
+        fmt::format("({}: {} wall nodes; PPE rows {}, operator complexity {:.2f}; velocity rows {}, {:.2f}; "
+                    "check z[7] = {:g})",
+                    name, walls, sizes(pressure_amg), pressure_amg.operator_complexity(), sizes(velocity_amg),
+                    velocity_amg.operator_complexity(), z[7]));
   }
+  for (const auto& note : notes) std::printf("%s\n", note.c_str());
   std::printf(
-      "Krylov floor = PPE iterations × 2 (product + V-cycle) + velocity iterations × 2 (product + "
-      "V-cycle) + the velocity set-ups per step; iterations per step as measured (2D 7.50 / 8.80, "
-      "3D 8.80 / 7.05, 2D at 1 mm 16.22 / 8.04).\n");
+      "Krylov floor = PPE iterations × 2 (product + V-cycle) + velocity iterations × 2 (product + V-cycle) + the "
+      "velocity set-ups per step (2D: one), the iterations per step as the run measured them.\n");
 }
 
 }  // namespace
@@ -411,8 +418,13 @@ int main(int argc, char** argv) {
     bandwidth();
     return 0;
   }
-  if (argc == 2 && std::string(argv[1]) == "floor") {
-    krylov_floor();
+  if (argc >= 2 && std::string(argv[1]) == "floor") {
+    if (argc < 3) {
+      std::fprintf(stderr,
+                   "usage: bench_ldd floor RUN_DIR... (bench_ldd run folders on two threads; bench/ldd_floor.sh)\n");
+      return 2;
+    }
+    krylov_floor(std::vector<std::filesystem::path>(argv + 2, argv + argc));
     return 0;
   }
   if ((argc == 4 || (argc == 6 && std::string(argv[4]) == "--stability-probe")) && std::string(argv[1]) == "run") {
