@@ -9,9 +9,11 @@
 #
 # FILE defaults to cases/ldd_dam_break_bingham.yaml; --spacing and --step replace its
 # `resolution.spacing` and `time.step`, --viscous-stress sets its `solver.viscous_stress` (the
-# LDD run's; interFoam always has the full stress) (OUT/case.yaml is the deck both solvers run). The interFoam case is written by
+# LDD run's, `full` in the shipped Bingham case; interFoam always has the full stress)
+# (OUT/case.yaml is the deck both solvers run). The interFoam case is written by
 # `rheosim export-openfoam FILE OUT/interfoam` and run there (one core; the 2 mm Bingham case,
-# 112 500 cells, about 15–25 min); a finished run is kept and not run again. The LDD run is
+# 112 500 cells, about 15–25 min); a finished run is kept and not run again while the export
+# it was made from is unchanged. The LDD run is
 # `rheosim run FILE --out OUT/ldd` on one thread unless --ldd-run names a finished run folder.
 # Needs OpenFOAM v1912 (Debian's openfoam package, WM_PROJECT_DIR=/usr/share/openfoam).
 set -euo pipefail
@@ -34,21 +36,35 @@ done
 export WM_PROJECT_DIR=${WM_PROJECT_DIR:-/usr/share/openfoam}
 mkdir -p "$out"
 sed -E ${spacing:+-e "s/spacing: [0-9.eE+-]+/spacing: $spacing/"} ${step:+-e "s/step: [0-9.eE+-]+/step: $step/"} \
-    ${viscous_stress:+-e "s/^solver: \{/solver: {viscous_stress: $viscous_stress, /"} -e '' "$case_file" > "$out/case.yaml.new"
-if [ -n "$viscous_stress" ] && ! grep -q "viscous_stress: $viscous_stress" "$out/case.yaml.new"; then
-  echo "--viscous-stress needs a 'solver: {' line in $case_file" >&2; exit 2
+    -e '' "$case_file" > "$out/case.yaml.new"
+if [ -n "$viscous_stress" ]; then  # replace the deck's choice, or add one to its solver: line
+  if grep -q "^solver:.*viscous_stress: " "$out/case.yaml.new"; then
+    sed -i -E "/^solver:/ s/viscous_stress: [a-z]+/viscous_stress: $viscous_stress/" "$out/case.yaml.new"
+  else
+    sed -i -E "s/^solver: \{/solver: {viscous_stress: $viscous_stress, /" "$out/case.yaml.new"
+  fi
+  if ! grep -q "^solver:.*viscous_stress: $viscous_stress" "$out/case.yaml.new"; then
+    echo "--viscous-stress needs a 'solver: {' line in $case_file" >&2; exit 2
+  fi
 fi
-# A changed deck starts both runs afresh.
-if ! cmp -s "$out/case.yaml.new" "$out/case.yaml"; then rm -rf "$out/interfoam" "$out/ldd"; fi
+# A changed deck starts the LDD run afresh; the interFoam run only when its exported case changes
+# (solver keys of the LDD deck do not reach it; its mesh, fields and dictionaries are compared, not
+# rheosim.json, README and the header line, which name the deck and the revision).
+# OUT/interfoam.export keeps the export as written.
+if ! cmp -s "$out/case.yaml.new" "$out/case.yaml"; then rm -rf "$out/ldd"; fi
 mv "$out/case.yaml.new" "$out/case.yaml"
 case_file=$out/case.yaml
 foam=$out/interfoam
-if ! grep -q '^End' "$foam/log.interFoam" 2>/dev/null; then
-  rm -rf "$foam"
-  "$build/bin/rheosim" export-openfoam "$case_file" "$foam" --max-courant "$courant" --quiet
+rm -rf "$out/interfoam.new"
+"$build/bin/rheosim" export-openfoam "$case_file" "$out/interfoam.new" --max-courant "$courant" --quiet
+if ! grep -q '^End' "$foam/log.interFoam" 2>/dev/null || ! diff -rq -I "Written by rheosim" -x rheosim.json -x README "$out/interfoam.new" "$out/interfoam.export" > /dev/null 2>&1; then
+  rm -rf "$foam" "$out/interfoam.export"
+  cp -r "$out/interfoam.new" "$out/interfoam.export"
+  mv "$out/interfoam.new" "$foam"
   (cd "$foam" && blockMesh > log.blockMesh && setFields > log.setFields &&
      { time interFoam > log.interFoam; } 2> time.log)
 fi
+rm -rf "$out/interfoam.new"
 if [ -z "$ldd_run" ]; then
   ldd_run=$out/ldd
   if ! grep -qE '"status": "(end_time|diverged|settled)"' "$ldd_run/summary.json" 2>/dev/null; then

@@ -142,20 +142,30 @@ TEST(InterFoamComparison, WaterColumnFrontsAgreeWithLdd) {
   if (!::testing::Test::HasFailure()) fs::remove_all(fronts.work);
 }
 
-// The Bingham dam break of LDD §4.3 (cases/ldd_dam_break_bingham.yaml) at Δ = 4 mm to 0.74 s:
-// the LDD front within 7 % of interFoam's from 0.38 s on (measured −2.5 / −4.6 / −4.0 %); both
-// far below Table 1's experiment (docs/ldd.md).
+// The Bingham dam break of LDD §4.3 (cases/ldd_dam_break_bingham.yaml, the whole viscous stress)
+// at Δ = 4 mm to 0.74 s, both solvers run here: the LDD front within 10 % of interFoam's from
+// 0.38 s on (measured −4.2 / −6.4 / −8.5 %): interFoam's own front moves by −6 to −12 % from 4 to
+// 2 mm at these times, so the two 4 mm runs cannot agree more closely. The LDD front at 4 mm is
+// also within 5 % of interFoam's 2 mm front (measured +1.6 / +2.9 / +3.8 %; with the seed's
+// ∇·(μ∇u) it is +3.5 / +4.9 / +8.9 %). interFoam's 2 mm fronts (19 min on one core) are from
+// `bench/ldd_dam_break_interfoam.sh build OUT` (docs/ldd.md). Both far below Table 1's experiment.
 TEST(InterFoamComparison, BinghamDamBreakFrontsAgreeWithLdd) {
   if (!have_openfoam()) GTEST_SKIP() << "OpenFOAM (/usr/bin/interFoam) is not installed";
   const auto fronts = run_both(
       deck("ldd_dam_break_bingham.yaml", {{"spacing: 0.002", "spacing: 0.004"}, {"end: 1.2", "end: 0.75"}}), "bingham");
   ASSERT_FALSE(::testing::Test::HasFailure());
-  constexpr std::pair<double, double> table1[] = {{0.38, 0.297}, {0.56, 0.399}, {0.74, 0.499}};
-  for (const auto& [t, experiment] : table1) {
+  struct Reference {
+    double time, experiment, interfoam_2mm;  // [s], Table 1's front [m], interFoam's at Δ = 2 mm [m]
+  };
+  constexpr Reference references[] = {{0.38, 0.297, 0.098}, {0.56, 0.399, 0.120}, {0.74, 0.499, 0.134}};
+  for (const auto& [t, experiment, interfoam_2mm] : references) {
     const double x_foam = front_at(fronts.interfoam, t), x_ldd = front_at(fronts.ldd, t);
-    std::printf("t %.2f s: front Table 1 experiment %.3f m, interFoam %.3f m, LDD %.3f m (%+.1f %%)\n", t, experiment,
-                x_foam, x_ldd, 100 * (x_ldd / x_foam - 1));
-    EXPECT_NEAR(x_ldd / x_foam, 1.0, 0.07) << "t = " << t;
+    std::printf(
+        "t %.2f s: front Table 1 experiment %.3f m, interFoam %.3f m (2 mm: %.3f m), LDD %.3f m (%+.1f %%, %+.1f %% of "
+        "interFoam at 2 mm)\n",
+        t, experiment, x_foam, interfoam_2mm, x_ldd, 100 * (x_ldd / x_foam - 1), 100 * (x_ldd / interfoam_2mm - 1));
+    EXPECT_NEAR(x_ldd / x_foam, 1.0, 0.10) << "t = " << t;
+    EXPECT_NEAR(x_ldd / interfoam_2mm, 1.0, 0.05) << "t = " << t;
     EXPECT_LT(x_foam, 0.5 * experiment);  // the stated material cannot reach the measured front
   }
   if (!::testing::Test::HasFailure()) fs::remove_all(fronts.work);
