@@ -11,7 +11,7 @@
 #
 #   bench/ldd_floor.sh [BUILD_DIR] [OUT_DIR] [--repeat N] [--only dam2|slump|dam1]
 #
-# About 6 min on the 2-core machine; run it with the machine otherwise idle.
+# About 7 min on the 2-core machine; run it with the machine otherwise idle.
 set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_floor}
