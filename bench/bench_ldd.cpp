@@ -318,6 +318,9 @@ void krylov_floor(const std::vector<std::filesystem::path>& runs) {
     const nlohmann::json summary = core::read_json(run / "summary.json");
     const ldd::Case c = ldd::load_case(run / "case.yaml");
     const auto& l = c.settings;
+    if (l.scene_type != "dam_break" && l.scene_type != "slump")
+      throw std::invalid_argument(run.string() + ": the floor is built for dam_break and slump runs, not " +
+                                  l.scene_type);
     if (summary.at("threads").get<int>() != 2 || summary.at("steps").get<int>() < 1)
       throw std::invalid_argument(run.string() + ": the floor compares with a run of at least one step on two threads");
     const double spacing = l.spacing;
@@ -424,7 +427,12 @@ int main(int argc, char** argv) {
                    "usage: bench_ldd floor RUN_DIR... (bench_ldd run folders on two threads; bench/ldd_floor.sh)\n");
       return 2;
     }
-    krylov_floor(std::vector<std::filesystem::path>(argv + 2, argv + argc));
+    try {
+      krylov_floor(std::vector<std::filesystem::path>(argv + 2, argv + argc));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_ldd floor: %s\n", e.what());
+      return 2;
+    }
     return 0;
   }
   if ((argc == 4 || (argc == 6 && std::string(argv[4]) == "--stability-probe")) && std::string(argv[1]) == "run") {
