@@ -123,7 +123,7 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
         return s;
       };
       for (std::size_t i = 0; i < n; ++i)
-        if (kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface) top = std::max(top, height(i));
+        if (is_continuum(i)) top = std::max(top, height(i));
       for (std::size_t i = 0; i < n; ++i)
         if (kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::wall || kinds_[i] == NodeKind::corner)
           pressure_[i] = params_.density * g * std::max(0.0, top - height(i));

@@ -77,7 +77,7 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
   for (std::size_t i = 0; i < n; ++i) {
     if (kinds_[i] == NodeKind::surface && params_.anchored_surface_gradient)
       anchored.push_back(i);
-    else if ((kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface) && beside_dry_wall(i))
+    else if (is_continuum(i) && beside_dry_wall(i))
       centred.push_back(i);
   }
   rebuild_gradients(positions_, nb,
@@ -134,7 +134,7 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
     if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
-    const auto fluid = [&](std::size_t j) { return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface; };
+    const auto fluid = [&](std::size_t j) { return is_continuum(j); };
     p[i] = dry_wall_[i] && !extrapolated ? 0.0 : extrapolated_pressure(i, p, fluid, !extrapolated);
   }
 }

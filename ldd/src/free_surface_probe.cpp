@@ -27,7 +27,6 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
   const Operators& ops = operators_;
   const double dt = params_.time_step, rho = params_.density;
   const double pressure_scale = dt / (rho * params_.spacing);
-  const auto moving = [&](std::size_t i) { return kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface; };
   std::vector<double> u(dim * n, 0.0), p(n, 0.0), predicted(dim * n), rhs(n), component(n), phi(n), grad(dim * n),
       div(n);
   std::uint64_t state = 0x9E3779B97F4A7C15ULL;
@@ -36,7 +35,7 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
     return static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5;
   };
   for (std::size_t i = 0; i < n; ++i) {
-    if (!moving(i)) continue;
+    if (!is_continuum(i)) continue;
     for (std::size_t d = 0; d < dim; ++d) u[dim * i + d] = random();
     if (kinds_[i] == NodeKind::interior) p[i] = random() / pressure_scale;
   }
@@ -60,11 +59,11 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
     gradient(nb, ops, p, grad);
     for (std::size_t d = 0; d < dim; ++d) {
       for (std::size_t i = 0; i < n; ++i) {
-        rhs[i] = moving(i) ? rho * u[dim * i + d] - dt * grad[dim * i + d] : 0.0;
+        rhs[i] = is_continuum(i) ? rho * u[dim * i + d] - dt * grad[dim * i + d] : 0.0;
         component[i] = u[dim * i + d];
       }
       numerics::bicgstab(momentum_matrix_, rhs, component, velocity, krylov_);
-      for (std::size_t i = 0; i < n; ++i) predicted[dim * i + d] = moving(i) ? component[i] : 0.0;
+      for (std::size_t i = 0; i < n; ++i) predicted[dim * i + d] = is_continuum(i) ? component[i] : 0.0;
     }
     divergence(nb, ops, predicted, div);
     for (std::size_t i = 0; i < n; ++i) {
@@ -84,7 +83,7 @@ void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_
     gradient(nb, ops, phi, grad);
     for (std::size_t i = 0; i < n; ++i) {
       for (std::size_t d = 0; d < dim; ++d)
-        u[dim * i + d] = moving(i) ? predicted[dim * i + d] - dt / rho * grad[dim * i + d] : 0.0;
+        u[dim * i + d] = is_continuum(i) ? predicted[dim * i + d] - dt / rho * grad[dim * i + d] : 0.0;
       p[i] += phi[i];
     }
     const double growth = normalise();

@@ -25,7 +25,6 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
   const numerics::NeighbourList& nb = neighbours_;
   const double h = support_radius_, rho0 = rest_density_;
   const double max_shift = params_.pbd_max_shift * params_.spacing;
-  const auto movable = [&](std::size_t i) { return kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface; };
   const double h2 = h * h;
   std::vector<double> lambda(n, 0.0), step(dim * n, 0.0);
   pair_dw_.resize(nb.pair_count());
@@ -35,7 +34,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
       lambda[i] = 0.0;
-      if (!movable(i)) continue;
+      if (!is_continuum(i)) continue;
       double density = weight(0.0, h), grad_i[3] = {0, 0, 0}, squares = 0;
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
         const std::size_t j = nb.indices[k];
@@ -48,7 +47,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
         const double dw = weight_derivative(r, h) / r / rho0;  // ∇_i W_ij / ρ₀ = dw (x_i − x_j)
         pair_dw[k] = dw;
         for (std::size_t d = 0; d < dim; ++d) grad_i[d] += dw * (positions_[dim * i + d] - positions_[dim * j + d]);
-        if (movable(j)) squares += dw * dw * r * r;  // |∇_j C_i|² (fixed nodes cannot help)
+        if (is_continuum(j)) squares += dw * dw * r * r;  // |∇_j C_i|² (fixed nodes cannot help)
       }
       double constraint = density / rho0 - 1.0;
       // The surface's kernel sum is truncated by the void: only compression is corrected there.
@@ -61,7 +60,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
       for (std::size_t d = 0; d < dim; ++d) step[dim * i + d] = 0.0;
-      if (!movable(i)) continue;
+      if (!is_continuum(i)) continue;
       double shift[3] = {0, 0, 0};
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
         const double dw = pair_dw[k];  // the positions have not moved since λ
@@ -79,7 +78,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
-      if (!movable(i)) continue;
+      if (!is_continuum(i)) continue;
       double before[3] = {0, 0, 0};
       for (std::size_t d = 0; d < dim; ++d) {
         before[d] = positions_[dim * i + d];
@@ -95,7 +94,7 @@ void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
-    if (!movable(i)) continue;
+    if (!is_continuum(i)) continue;
     for (std::size_t a = 0; a < dim; ++a) {
       double du = 0;
       for (std::size_t b = 0; b < dim; ++b) du += grad_u[dd * i + a * dim + b] * shift_[dim * i + b];

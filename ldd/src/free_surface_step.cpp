@@ -197,7 +197,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
         double mean[3] = {0, 0, 0}, wsum = 0;
         for (std::size_t k = begin; k < end; ++k) {
           const std::size_t j = nb.indices[k];
-          if (kinds_[j] != NodeKind::interior && kinds_[j] != NodeKind::surface) continue;
+          if (!is_continuum(j)) continue;
           wsum += ops.weights[k];
           for (std::size_t d = 0; d < dim; ++d) mean[d] += ops.weights[k] * velocity_[dim * j + d];
         }
@@ -381,7 +381,7 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
     // only extend the fluid's field into its gradients (−ρg·height above the surface). Taken from
     // the unclipped fluid values they would carry the suction the clip removes: the water dam
     // break's back wall then runs away to −1.8·10⁴ Pa within 0.024 s.
-    const auto fluid = [&](std::size_t j) { return kinds_[j] == NodeKind::interior || kinds_[j] == NodeKind::surface; };
+    const auto fluid = [&](std::size_t j) { return is_continuum(j); };
     // Each wall node reads fluid values only, so the nodes are independent.
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::ptrdiff_t s = 0; s < static_cast<std::ptrdiff_t>(n); ++s) {
@@ -396,7 +396,7 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
   Correction c;
   double max_speed_squared = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface)
+    if (is_continuum(i))
       for (std::size_t d = 0; d < dim; ++d) new_velocity_[dim * i + d] -= dt / rho * increment_gradient_[dim * i + d];
     double speed2 = 0;
     for (std::size_t d = 0; d < dim; ++d) {
@@ -405,7 +405,7 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
     }
     if (!std::isfinite(new_pressure_[i])) c.finite = false;
     // Splash nodes fall ballistically (no operators): they do not limit the Courant number.
-    if ((kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface) && speed2 > max_speed_squared) {
+    if (is_continuum(i) && speed2 > max_speed_squared) {
       max_speed_squared = speed2;
       c.fastest = i;
     }

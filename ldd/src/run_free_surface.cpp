@@ -31,8 +31,7 @@ double mass_front(const FreeSurfaceSolver& s) {
   const auto dim = static_cast<std::size_t>(s.dimension());
   double front = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface)
-      front = std::max(front, s.positions()[dim * i]);
+    if (s.is_continuum(i)) front = std::max(front, s.positions()[dim * i]);
   return front + 0.5 * s.params().spacing;
 }
 
@@ -42,7 +41,7 @@ core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) 
   const double dx = s.params().spacing;
   std::map<long, double> top;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface) {
+    if (s.is_continuum(i)) {
       const auto column = static_cast<long>(std::floor(s.positions()[2 * i] / dx));
       const double y = s.positions()[2 * i + 1] + 0.5 * dx;
       const auto [it, fresh] = top.emplace(column, y);
@@ -67,7 +66,7 @@ core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) 
 std::pair<double, double> spread(const FreeSurfaceSolver& s) {
   double radius = 0, top = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface) {
+    if (s.is_continuum(i)) {
       const double* x = &s.positions()[3 * i];
       radius = std::max(radius, std::hypot(x[0], x[1]));
       top = std::max(top, x[2]);
@@ -81,7 +80,7 @@ std::pair<double, double> spread(const FreeSurfaceSolver& s) {
 double yielded_fraction(const FreeSurfaceSolver& s, double yield_stress) {
   std::size_t fluid = 0, yielded = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface) {
+    if (s.is_continuum(i)) {
       ++fluid;
       if (s.viscosity()[i] * s.shear_rate()[i] >= yield_stress) ++yielded;
     }
@@ -103,8 +102,7 @@ double top_height(const FreeSurfaceSolver& s) {
   const auto dim = static_cast<std::size_t>(s.dimension());
   double top = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
-    if (s.kinds()[i] == NodeKind::interior || s.kinds()[i] == NodeKind::surface)
-      top = std::max(top, s.positions()[dim * i + dim - 1]);
+    if (s.is_continuum(i)) top = std::max(top, s.positions()[dim * i + dim - 1]);
   return top + 0.5 * s.params().spacing;
 }
 

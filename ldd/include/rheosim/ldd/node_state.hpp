@@ -37,6 +37,10 @@ class NodeState {
   [[nodiscard]] std::size_t node_count() const { return kinds_.size(); }
   [[nodiscard]] std::span<const NodeKind> kinds() const { return kinds_; }
   [[nodiscard]] bool is_fluid(std::size_t i) const { return kinds_[i] <= NodeKind::splash; }
+  // Interior or surface: a fluid node with its operators, in the solves (splash nodes fly ballistically).
+  [[nodiscard]] bool is_continuum(std::size_t i) const {
+    return kinds_[i] == NodeKind::interior || kinds_[i] == NodeKind::surface;
+  }
   [[nodiscard]] std::size_t fluid_node_count() const;
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
