@@ -2,6 +2,7 @@
 // Portable random numbers for the scene (private to dem/): std::mt19937_64 is specified bit for
 // bit, the std distributions are not, so the conversions to doubles are our own. A seed then
 // gives the same particles with any standard library and on every MPI rank.
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -28,6 +29,17 @@ class PortableRandom {
     const double u1 = 1.0 - uniform();  // (0, 1]
     const double u2 = uniform();
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * 3.14159265358979323846 * u2);
+  }
+  // A unit vector of uniformly distributed direction (three normal deviates, normalised).
+  std::array<double, 3> direction() {
+    std::array<double, 3> v{};
+    double norm = 0.0;
+    do {
+      for (auto& c : v) c = normal();
+      norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    } while (norm < 1e-12);
+    for (auto& c : v) c /= norm;
+    return v;
   }
 
  private:

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <ostream>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -18,6 +17,7 @@
 
 #include "disk_mesh.hpp"
 #include "liggghts_setup.hpp"
+#include "portable_random.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/dem/size_distribution.hpp"
@@ -298,46 +298,31 @@ void RheometerScene::Impl::write_files(const std::vector<double>& centres, const
     const auto& g = params.geometry;
     const auto& q = params.particles;
     const std::size_t n = centres.size() / 3;
-    // Velocities: isotropic directions (normal deviates normalised), from the seed.
+    // Velocities: isotropic directions from the seed, no spin.
     std::vector<double> velocities;
     if (params.initial_speed > 0.0) {
-      std::mt19937_64 rng(params.seed ^ 0x9e3779b97f4a7c15ULL);
-      const auto gaussian = [&] {  // Box–Muller on portable uniforms
-        const double u1 = (static_cast<double>(rng() >> 11U) + 1.0) * 0x1.0p-53;
-        const double u2 = static_cast<double>(rng() >> 11U) * 0x1.0p-53;
-        return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * pi * u2);
-      };
-      velocities.reserve(3 * n);
+      detail::PortableRandom random(params.seed ^ 0x9e3779b97f4a7c15ULL);
+      velocities.reserve(6 * n);
       for (std::size_t i = 0; i < n; ++i) {
-        std::array<double, 3> v{};
-        double norm = 0.0;
-        do {
-          for (auto& c : v) c = gaussian();
-          norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        } while (norm < 1e-12);
-        for (const double c : v) velocities.push_back(params.initial_speed * c / norm);
+        for (const double c : random.direction()) velocities.push_back(params.initial_speed * c);
+        velocities.insert(velocities.end(), 3, 0.0);
       }
     }
     // The box holds the whole mesh (LIGGGHTS warns about mesh nodes outside it) with a margin.
     const double margin = largest_diameter(q);
     const double half_width = mesh.outer_radius + margin;
-    core::write_atomically(params.run_directory / "particles.data", [&](std::ostream& out) {
-      fmt::print(out, "LIGGGHTS data file written by rheosim: parallel-plate gap R = {} m, H = {} m\n\n", g.radius,
-                 g.gap);
-      fmt::print(out, "{} atoms\n{} atom types\n\n", n, material_types);
-      fmt::print(out, "{:.17g} {:.17g} xlo xhi\n{:.17g} {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n", -half_width,
-                 half_width, -half_width, half_width, -margin, g.gap + margin);
-      if (n == 0) return;
-      fmt::print(out, "\nAtoms\n\n");  // atom-ID atom-type diameter density x y z (atom_style granular)
-      for (std::size_t i = 0; i < n; ++i)
-        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, diameters[i],
-                   q.density, centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
-      if (velocities.empty()) return;
-      fmt::print(out, "\nVelocities\n\n");  // atom-ID vx vy vz ωx ωy ωz
-      for (std::size_t i = 0; i < n; ++i)
-        fmt::print(out, "{} {:.17g} {:.17g} {:.17g} 0 0 0\n", i + 1, velocities[3 * i], velocities[3 * i + 1],
-                   velocities[3 * i + 2]);
-    });
+    detail::write_particle_data(
+        params.run_directory / "particles.data",
+        {.title = fmt::format("LIGGGHTS data file written by rheosim: parallel-plate gap R = {} m, H = {} m", g.radius,
+                              g.gap),
+         .atom_types = material_types,
+         .particle_type = particle_type,
+         .box_low = {-half_width, -half_width, -margin},
+         .box_high = {half_width, half_width, g.gap + margin},
+         .centres = centres,
+         .diameters = diameters,
+         .density = q.density,
+         .velocities = velocities});
   }
   MPI_Barrier(comm);
 }
@@ -389,16 +374,9 @@ void RheometerScene::Impl::set_shear_rate(double rate) {
 
 void RheometerScene::Impl::advance(std::int64_t steps) {
   if (steps < 0) throw std::invalid_argument(fmt::format("RheometerScene::advance: steps = {}, expected >= 0", steps));
-  const std::int64_t block = params.torque_sample_interval;
-  while (steps > 0) {
-    const std::int64_t now = engine.step();
-    const std::int64_t block_end = (now / block + 1) * block;
-    const std::int64_t chunk = std::min(steps, block_end - now);
-    engine.run(chunk);
-    steps -= chunk;
-    if (engine.step() == block_end)
-      series.push_back({.step = block_end, .time = engine.time(), .torque = -engine.fix_scalar(torque_average_id)});
-  }
+  detail::advance_in_blocks(engine, steps, params.torque_sample_interval, [&](std::int64_t block_end) {
+    series.push_back({.step = block_end, .time = engine.time(), .torque = -engine.fix_scalar(torque_average_id)});
+  });
 }
 
 // ---------------------------------------------------------------------------------------------

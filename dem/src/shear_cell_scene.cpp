@@ -317,34 +317,32 @@ void ShearCellScene::Impl::write_files() {
     const auto& q = params.particles;
     const std::size_t n = centres.size() / 3;
     detail::PortableRandom random(params.seed ^ 0x9e3779b97f4a7c15ULL);
-    core::write_atomically(params.run_directory / "particles.data", [&](std::ostream& out) {
-      fmt::print(out, "LIGGGHTS data file written by rheosim: periodic shear cell L_x = {} m, L_y = {} m, H = {} m\n\n",
-                 params.cell_length, params.cell_width, params.gap);
-      fmt::print(out, "{} atoms\n{} atom types\n\n", n, material_types);
-      fmt::print(out, "0 {:.17g} xlo xhi\n0 {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n", params.cell_length,
-                 params.cell_width, -margin(), params.gap + margin());
-      if (n == 0) return;
-      fmt::print(out, "\nAtoms\n\n");  // atom-ID atom-type diameter density x y z (atom_style granular)
-      for (std::size_t i = 0; i < n; ++i)
-        fmt::print(out, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, particle_type, q.diameter, q.density,
-                   centres[3 * i], centres[3 * i + 1], centres[3 * i + 2]);
-      fmt::print(out, "\nVelocities\n\n");  // atom-ID vx vy vz ωx ωy ωz
-      for (std::size_t i = 0; i < n; ++i) {
-        std::array<double, 3> v{params.start_in_shear_profile ? params.shear_rate * centres[3 * i + 2] : 0.0, 0.0, 0.0};
-        if (params.initial_speed > 0.0) {
-          std::array<double, 3> dir{};
-          double norm = 0.0;
-          do {
-            for (auto& c : dir) c = random.normal();
-            norm = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-          } while (norm < 1e-12);
-          for (int k = 0; k < 3; ++k) v[k] += params.initial_speed * dir[k] / norm;
-        }
-        // Spin of the undisturbed shear flow, ω_y = γ̇/2, when starting in the profile.
-        const double spin = params.start_in_shear_profile ? 0.5 * params.shear_rate : 0.0;
-        fmt::print(out, "{} {:.17g} {:.17g} {:.17g} 0 {:.17g} 0\n", i + 1, v[0], v[1], v[2], spin);
+    std::vector<double> velocities;
+    velocities.reserve(6 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::array<double, 3> v{params.start_in_shear_profile ? params.shear_rate * centres[3 * i + 2] : 0.0, 0.0, 0.0};
+      if (params.initial_speed > 0.0) {
+        const std::array<double, 3> direction = random.direction();
+        for (int k = 0; k < 3; ++k) v[k] += params.initial_speed * direction[k];
       }
-    });
+      // Spin of the undisturbed shear flow, ω_y = γ̇/2, when starting in the profile.
+      const double spin = params.start_in_shear_profile ? 0.5 * params.shear_rate : 0.0;
+      velocities.insert(velocities.end(), {v[0], v[1], v[2], 0.0, spin, 0.0});
+    }
+    const std::vector<double> diameters(n, q.diameter);
+    detail::write_particle_data(
+        params.run_directory / "particles.data",
+        {.title =
+             fmt::format("LIGGGHTS data file written by rheosim: periodic shear cell L_x = {} m, L_y = {} m, H = {} m",
+                         params.cell_length, params.cell_width, params.gap),
+         .atom_types = material_types,
+         .particle_type = particle_type,
+         .box_low = {0.0, 0.0, -margin()},
+         .box_high = {params.cell_length, params.cell_width, params.gap + margin()},
+         .centres = centres,
+         .diameters = diameters,
+         .density = q.density,
+         .velocities = velocities});
   }
   MPI_Barrier(comm);
 }
@@ -374,22 +372,15 @@ void ShearCellScene::Impl::set_up_liggghts() {
 
 void ShearCellScene::Impl::advance(std::int64_t steps) {
   if (steps < 0) throw std::invalid_argument(fmt::format("ShearCellScene::advance: steps = {}, expected >= 0", steps));
-  const std::int64_t block = params.stress_sample_interval;
   const double a = area();
-  while (steps > 0) {
-    const std::int64_t now = engine.step();
-    const std::int64_t block_end = (now / block + 1) * block;
-    const std::int64_t chunk = std::min(steps, block_end - now);
-    engine.run(chunk);
-    steps -= chunk;
-    if (engine.step() == block_end)
-      series.push_back({.step = block_end,
-                        .time = engine.time(),
-                        .top_shear = -engine.fix_vector(stress_average_id, 0) / a,
-                        .top_normal = engine.fix_vector(stress_average_id, 1) / a,
-                        .bottom_shear = engine.fix_vector(stress_average_id, 2) / a,
-                        .bottom_normal = -engine.fix_vector(stress_average_id, 3) / a});
-  }
+  detail::advance_in_blocks(engine, steps, params.stress_sample_interval, [&](std::int64_t block_end) {
+    series.push_back({.step = block_end,
+                      .time = engine.time(),
+                      .top_shear = -engine.fix_vector(stress_average_id, 0) / a,
+                      .top_normal = engine.fix_vector(stress_average_id, 1) / a,
+                      .bottom_shear = engine.fix_vector(stress_average_id, 2) / a,
+                      .bottom_normal = -engine.fix_vector(stress_average_id, 3) / a});
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
