@@ -36,8 +36,6 @@ constexpr std::array<Named<LatticeInterpolation>, 3> interpolation_names{
     {{"quadratic", LatticeInterpolation::quadratic},
      {"shepard", LatticeInterpolation::shepard},
      {"gradient_corrected", LatticeInterpolation::gradient_corrected}}};
-constexpr std::array<Named<Reordering>, 2> reordering_names{
-    {{"lattice", Reordering::lattice}, {"density", Reordering::density}}};
 constexpr std::array<Named<GradientChoice>, 4> gradient_names{{{"auto", GradientChoice::automatic},
                                                                {"centred", GradientChoice::centred},
                                                                {"renormalised", GradientChoice::renormalised},
@@ -198,13 +196,6 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
   v.velocity_tolerance = s.number_or({"velocity_tolerance", "relative residual of the velocity solve", "-"},
                                      v.velocity_tolerance, Range::open(0.0, 0.1));
   v.max_iterations = s.integer_or({"max_iterations", "iterations per linear solve", "-"}, v.max_iterations, 1, 1000000);
-  v.reordering = choice_or(s, {"reordering", "node reordering after advection", "-"}, v.reordering, reordering_names);
-  if (cavity && v.reordering == Reordering::density)
-    s.fail("reordering",
-           "the density-constraint PBD reordering opens a void at one lid corner and piles nodes up at the other "
-           "within ~0.2 L/U, and the cavity diverges (docs/ldd.md)",
-           "lattice",
-           "free-surface scenes always use the volume-keeping PBD; a cavity returns its nodes to the lattice");
   v.interpolation = choice_or(s, {"interpolation", "lattice reordering: how the velocity returns to the lattice", "-"},
                               v.interpolation, interpolation_names);
   v.max_courant = s.number_or({"max_courant", "Courant number max|u|δt/Δ treated as divergence", "-"}, v.max_courant,
@@ -414,7 +405,6 @@ std::optional<LatticeInterpolation> lattice_interpolation_named(std::string_view
 }
 std::string_view name_of(Preconditioner p) { return name_in(preconditioner_names, p); }
 std::string_view name_of(LatticeInterpolation i) { return name_in(interpolation_names, i); }
-std::string_view name_of(Reordering r) { return name_in(reordering_names, r); }
 std::string_view name_of(GradientChoice g) { return name_in(gradient_names, g); }
 
 }  // namespace rheosim::ldd

@@ -48,15 +48,13 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
   const auto preconditioner = [](const std::optional<Preconditioner>& p) {
     return p ? std::string(name_of(*p)) : std::string("auto");
   };
-  // Free-surface scenes reorder by PBD (the last line), whatever solver.reordering says.
   std::string out =
       fmt::format("  solver: {}PPE tolerance {}, velocity tolerance {}, threads {}\n",
-                  cavity ? fmt::format("{} reordering, ", name_of(s.reordering)) : std::string(), s.pressure_tolerance,
+                  cavity ? std::string("lattice reordering, ") : std::string(), s.pressure_tolerance,
                   s.velocity_tolerance, s.threads == 0 ? std::string("default") : std::to_string(s.threads));
   out += fmt::format("  preconditioners: PPE {}, velocity {} (auto: the scene's default, docs/ldd.md)\n",
                      preconditioner(s.pressure_preconditioner), preconditioner(s.velocity_preconditioner));
-  if (cavity && s.reordering == Reordering::lattice)
-    out += fmt::format("  lattice interpolation: {}\n", name_of(s.interpolation));
+  if (cavity) out += fmt::format("  lattice interpolation: {}\n", name_of(s.interpolation));
   if (!cavity)
     out += fmt::format(
         "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "

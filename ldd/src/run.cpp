@@ -332,7 +332,6 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   const Cavity cavity(*scene, l.spacing);
   SolverParams params;
   detail::set_step_params(l, params);
-  params.reordering = l.solver.reordering;
   params.interpolation = l.solver.interpolation;
   params.pressure_preconditioner = l.solver.pressure_preconditioner.value_or(params.pressure_preconditioner);
   params.velocity_preconditioner = l.solver.velocity_preconditioner.value_or(params.velocity_preconditioner);

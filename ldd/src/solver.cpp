@@ -25,7 +25,6 @@ void require(bool ok, const char* field, double value, const char* range) {
 
 void SolverParams::check() const {
   StepParams::check("LDD solver", 2);
-  require(pbd_min_distance >= 0 && pbd_min_distance < 1, "pbd_min_distance", pbd_min_distance, "[0, 1)");
   require(velocity_scale > 0, "velocity_scale", velocity_scale, "> 0 m/s");
   require(length_scale > 0, "length_scale", length_scale, "> 0 m");
   if (velocity_preconditioner == Preconditioner::sparse_lu)
@@ -54,22 +53,10 @@ Solver::Solver(SolverParams params, std::vector<std::shared_ptr<const Boundary>>
   pressure_.assign(n, 0.0);
   shear_rate_.assign(n, 0.0);
   viscosity_.assign(n, params_.rheology->viscosity(0.0));
-  rebuild_neighbours();
+  // Once: the nodes return to their lattice places every step.
+  neighbours_ = numerics::find_neighbours(positions_, 2, support_radius_ + params_.neighbour_skin * params_.spacing);
 
-  // PBD rest density ρ₀: the kernel sum of the initial lattice's fluid nodes (median, so the
-  // few near-corner nodes do not matter).
-  std::vector<double> densities;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!is_fluid(i)) continue;
-    double rho = weight(0.0, support_radius_);
-    for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1]; ++k)
-      rho += weight(neighbours_.distances[k], support_radius_);
-    densities.push_back(rho);
-  }
-  if (densities.empty()) throw std::invalid_argument("LDD solver: the cloud has no fluid nodes");
-  std::nth_element(densities.begin(), densities.begin() + static_cast<std::ptrdiff_t>(densities.size() / 2),
-                   densities.end());
-  rest_density_ = densities[densities.size() / 2];
+  if (fluid_node_count() == 0) throw std::invalid_argument("LDD solver: the cloud has no fluid nodes");
 }
 
 SolverState Solver::state() const {
@@ -97,121 +84,6 @@ void Solver::restore(SolverState state) {
 Solver::~Solver() = default;
 Solver::Solver(Solver&&) noexcept = default;
 Solver& Solver::operator=(Solver&&) noexcept = default;
-
-void Solver::rebuild_neighbours() {
-  neighbours_ = numerics::find_neighbours(positions_, 2, support_radius_ + params_.neighbour_skin * params_.spacing);
-}
-
-void Solver::keep_inside(std::size_t i, std::span<double> velocity) {
-  const double clearance = params_.wall_clearance * params_.spacing;
-  for (const auto& wall : walls_) {
-    double distance = 0, normal[2] = {0, 0};
-    if (!wall->distance(std::span<const double>(&positions_[2 * i], 2), time_, distance, normal)) continue;
-    if (distance >= clearance) continue;
-    positions_[2 * i] += (clearance - distance) * normal[0];
-    positions_[2 * i + 1] += (clearance - distance) * normal[1];
-    if (velocity.empty()) continue;
-    // A node held off the wall must not keep running into it: drop the velocity component
-    // towards the wall (a wall's own velocity, a lid's, is tangential: no normal part).
-    const double approach = normal[0] * velocity[2 * i] + normal[1] * velocity[2 * i + 1];
-    if (approach < 0) {
-      velocity[2 * i] -= approach * normal[0];
-      velocity[2 * i + 1] -= approach * normal[1];
-    }
-  }
-}
-
-void Solver::reorder(std::span<const double> grad_u) {
-  const std::size_t n = kinds_.size();
-  const auto count = static_cast<std::ptrdiff_t>(n);
-  shift_.assign(2 * n, 0.0);
-  if (params_.pbd_iterations == 0) return;
-  const numerics::NeighbourList& nb = neighbours_;
-  const double h = support_radius_, rho0 = rest_density_;
-  const double max_shift = params_.pbd_max_shift * params_.spacing;
-  const double min_distance = params_.pbd_min_distance * params_.spacing;
-  std::vector<double> lambda(n, 0.0), step(2 * n, 0.0);
-  for (int iteration = 0; iteration < params_.pbd_iterations; ++iteration) {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(i)) continue;
-      double density = weight(0.0, h), gx = 0, gy = 0, squares = 0;
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-        const std::size_t j = nb.indices[k];
-        const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
-        const double r = std::hypot(dx, dy);
-        density += weight(r, h);
-        if (r <= 0) continue;
-        const double dw = weight_derivative(r, h) / r / rho0;  // ∇_i W_ij / ρ₀ = dw · (x_i − x_j)
-        gx += dw * dx;
-        gy += dw * dy;
-        squares += dw * dw * r * r;  // |∇_j C_i|²
-      }
-      const double constraint = density / rho0 - 1.0;
-      const double denominator = gx * gx + gy * gy + squares;
-      lambda[i] = denominator > 0 ? -constraint / denominator : 0.0;
-    }
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(i)) continue;
-      double sx = 0, sy = 0;
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-        const std::size_t j = nb.indices[k];
-        const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
-        const double r = std::hypot(dx, dy);
-        if (r <= 0) continue;
-        const double dw = weight_derivative(r, h) / r / rho0;
-        sx += (lambda[i] + lambda[j]) * dw * dx;
-        sy += (lambda[i] + lambda[j]) * dw * dy;
-      }
-      sx *= params_.pbd_stiffness;
-      sy *= params_.pbd_stiffness;
-      // Minimum-distance constraint: nearly coincident nodes make the operators stiff.
-      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
-        const std::size_t j = nb.indices[k];
-        const double dx = positions_[2 * i] - positions_[2 * j], dy = positions_[2 * i + 1] - positions_[2 * j + 1];
-        const double r = std::hypot(dx, dy);
-        if (r >= min_distance || r <= 0) continue;
-        const double share = is_fluid(j) ? 0.5 : 1.0;
-        sx += share * (min_distance - r) * dx / r;
-        sy += share * (min_distance - r) * dy / r;
-      }
-      const double length = std::hypot(sx, sy);
-      if (length > max_shift) {
-        sx *= max_shift / length;
-        sy *= max_shift / length;
-      }
-      step[2 * i] = sx;
-      step[2 * i + 1] = sy;
-    }
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(i)) continue;
-      const double x0 = positions_[2 * i], y0 = positions_[2 * i + 1];
-      positions_[2 * i] += step[2 * i];
-      positions_[2 * i + 1] += step[2 * i + 1];
-      keep_inside(i, {});
-      shift_[2 * i] += positions_[2 * i] - x0;
-      shift_[2 * i + 1] += positions_[2 * i + 1] - y0;
-    }
-  }
-  // Carry the velocities to the shifted places (first-order Taylor, LDD §3.2 interpolation).
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
-    if (!is_fluid(i)) continue;
-    const double sx = shift_[2 * i], sy = shift_[2 * i + 1];
-    const double* g = &grad_u[4 * i];
-    const double du = g[0] * sx + g[1] * sy, dv = g[2] * sx + g[3] * sy;
-    velocity_[2 * i] += du;
-    velocity_[2 * i + 1] += dv;
-    previous_velocity_[2 * i] += du;
-    previous_velocity_[2 * i + 1] += dv;
-  }
-}
 
 std::vector<double> Solver::sample_velocity(std::span<const double> points) const {
   const std::size_t n = kinds_.size();

@@ -66,17 +66,6 @@ CavityStepStats Solver::step() {
   commit_and_advect();  // 6
   times_.advection += seconds_since(t0);
 
-  if (params_.reordering != Reordering::lattice) {
-    t0 = Clock::now();
-    rebuild_neighbours();
-    operators_valid_ = false;
-    times_.neighbours += seconds_since(t0);
-
-    t0 = Clock::now();
-    reorder(velocity_gradient_);  // 7
-    times_.reordering += seconds_since(t0);
-    stats.max_pbd_shift = largest_pbd_shift();
-  }
   time_ = next_time;
   ++steps_;
   return stats;
@@ -239,7 +228,7 @@ numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
   divergence(nb, ops, new_velocity_, divergence_);
   // The matrix depends on the operators, normals and node kinds only: in lattice mode it is
   // built once (and factorised once, below); each step then only forms the right-hand side.
-  const bool build_pressure_matrix = params_.reordering != Reordering::lattice || pressure_matrix_.pattern != &nb;
+  const bool build_pressure_matrix = pressure_matrix_.pattern != &nb;
   if (build_pressure_matrix) {
     pressure_matrix_.pattern = &nb;
     pressure_matrix_.diagonal.resize(n);
@@ -301,7 +290,7 @@ numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
       params_.max_iterations,
       {}};
   numerics::KrylovSettings settings_with_preconditioner = pressure_settings;
-  if (params_.reordering == Reordering::lattice && params_.pressure_preconditioner == Preconditioner::sparse_lu) {
+  if (params_.pressure_preconditioner == Preconditioner::sparse_lu) {
     // The matrix never changes in lattice mode (its operators are built once and do not depend
     // on μ): factorised once, every step solves with the factors.
     if (!pressure_lu_.ready() &&
@@ -309,14 +298,10 @@ numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
       params_.pressure_preconditioner = Preconditioner::jacobi;  // fall back to Jacobi
     if (pressure_lu_.ready()) settings_with_preconditioner.preconditioner = pressure_lu_.as_preconditioner();
   }
-  // AMG: in lattice mode the matrix is constant, so the first set-up serves the whole run.
+  // AMG: the matrix is constant, so the first set-up serves the whole run.
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
   if (pressure_amg) {
-    if (params_.reordering == Reordering::lattice) {
-      if (!pressure_amg_.ready()) pressure_amg_.setup(pressure_matrix_);
-    } else {
-      pressure_amg_.prepare(pressure_matrix_);
-    }
+    if (!pressure_amg_.ready()) pressure_amg_.setup(pressure_matrix_);
     settings_with_preconditioner.preconditioner = pressure_amg_.as_preconditioner();
   }
   numerics::KrylovResult pressure_result;
@@ -396,18 +381,16 @@ void Solver::commit_and_advect() {
     older_momentum_increment_.swap(momentum_increment_);
     momentum_increment_.swap(next_momentum_increment_);
   }
-  // ∇u_n on the pre-advection cloud, for carrying velocities along PBD shifts (and for the
-  // gradient-corrected interpolation); the quadratic interpolation fits its own.
-  const bool needs_velocity_gradient =
-      params_.reordering == Reordering::density || params_.interpolation == LatticeInterpolation::gradient_corrected;
-  if (needs_velocity_gradient) velocity_gradient_of(new_velocity_, velocity_gradient_, 2);
+  // ∇u_n for the gradient-corrected interpolation; the quadratic interpolation fits its own.
+  if (params_.interpolation == LatticeInterpolation::gradient_corrected)
+    velocity_gradient_of(new_velocity_, velocity_gradient_, 2);
   const double older_weight = first_step_ ? 0.0 : 0.5;
   // Displacement of every node over the step (eq. 20); walls stay.
   const auto displacement = [&](std::size_t j, std::size_t d) {
     if (!is_fluid(j)) return 0.0;
     return ((1.0 + older_weight) * new_velocity_[2 * j + d] - older_weight * velocity_[2 * j + d]) * dt;
   };
-  if (params_.reordering == Reordering::lattice && params_.interpolation == LatticeInterpolation::quadratic) {
+  if (params_.interpolation == LatticeInterpolation::quadratic) {
     // Advect (eq. 20) and return to the lattice in one: each lattice place takes the velocity
     // arriving from its departure point (lattice_interpolation.hpp). Walls advect with their
     // own velocity (the lid's material moves along it).
@@ -419,7 +402,7 @@ void Solver::commit_and_advect() {
     previous_velocity_.swap(velocity_);
     velocity_.swap(component_);
     first_step_ = false;
-  } else if (params_.reordering == Reordering::lattice) {
+  } else {
     // Advect (eq. 20), then reorder every node back onto its lattice place, interpolating the
     // velocity there from the advected cloud (eq. 12, optionally with a gradient correction):
     //   u(X_i) = Σ_j W(|X_i − x'_j|) (u_j + c ⟨∇u⟩_j·(X_i − x'_j)) / Σ_j W,  x'_j = X_j + d_j,
@@ -461,26 +444,7 @@ void Solver::commit_and_advect() {
     previous_velocity_.swap(velocity_);
     velocity_.swap(component_);
     first_step_ = false;
-  } else {
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t s = 0; s < count; ++s) {
-      const auto i = static_cast<std::size_t>(s);
-      if (!is_fluid(i)) continue;
-      for (std::size_t d = 0; d < 2; ++d) positions_[2 * i + d] += displacement(i, d);
-      keep_inside(i, new_velocity_);
-    }
-    previous_velocity_.swap(velocity_);
-    velocity_.swap(new_velocity_);
-    first_step_ = false;
   }
-}
-
-// 7. (after reorder) the largest PBD displacement of this step, in units of Δ.
-double Solver::largest_pbd_shift() const {
-  double max_shift = 0;
-  for (std::size_t i = 0; i < kinds_.size() && !shift_.empty(); ++i)
-    max_shift = std::max(max_shift, std::hypot(shift_[2 * i], shift_[2 * i + 1]));
-  return max_shift / params_.spacing;
 }
 
 }  // namespace rheosim::ldd

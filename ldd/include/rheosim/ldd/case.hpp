@@ -29,8 +29,7 @@ struct SolverSettings {
   double pressure_tolerance = 1e-6;             // BiCGStab relative residual of the PPE (LDD eq. 17)
   double velocity_tolerance = 1e-8;             // BiCGStab relative residual of LDD eq. 19
   int max_iterations = 2000;                    // per linear solve
-  Reordering reordering = Reordering::lattice;  // cavities; density is experimental
-  LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice reordering
+  LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // cavities: the return to the lattice
   double max_courant = 1.0;    // stop (diverged) when max|u|δt/Δ exceeds this
   int pbd_sweeps = 3;          // free-surface scenes: volume-keeping PBD sweeps per step
   double moment_rcond = 0.03;  // free-surface scenes: λ_min/λ_max of LDD eq. 13 below which it is pseudo-inverted
@@ -105,7 +104,6 @@ struct Case : core::CaseHeader {  // kind: ldd
 [[nodiscard]] std::optional<LatticeInterpolation> lattice_interpolation_named(std::string_view name);
 [[nodiscard]] std::string_view name_of(Preconditioner p);
 [[nodiscard]] std::string_view name_of(LatticeInterpolation i);
-[[nodiscard]] std::string_view name_of(Reordering r);
 [[nodiscard]] std::string_view name_of(GradientChoice g);
 
 }  // namespace rheosim::ldd

@@ -1,8 +1,7 @@
 #pragma once
 // The LDD time step for closed 2D domains (LDD §3.2), one call to Solver::step():
 //
-//   1. operators (eqs. 13–16) on the current cloud (built once in the lattice reordering mode,
-//      where the cloud returns to the same places every step);
+//   1. operators (eqs. 13–16), built once: the cloud returns to the same places every step;
 //   2. explicit velocity gradient (eq. 14), strain rate E (eq. 4), shear rate γ̇ (eq. 5),
 //      viscosity μ(γ̇) from the rheology law, and the explicit stress term ∇·(μ(∇u)ᵀ);
 //   3. semi-implicit momentum (eq. 19) with the previous pressure, matrix-free BiCGStab (Jacobi:
@@ -14,8 +13,8 @@
 //      fluid; for viscosity contrasts of 10⁴ (Bn = 10) the explicit 2E∇μ of eq. 19 blew up at the
 //      first step, this split does not (docs/ldd.md);
 //   4. pressure Poisson equation (eq. 17) for the increment φ = p_n − p_{n−1} (incremental
-//      pressure correction), matrix-free BiCGStab (lattice mode: one direct solve with the sparse
-//      LU of the constant matrix, BiCGStab only if its residual is above tolerance):
+//      pressure correction): one direct solve with the sparse LU of the constant matrix, BiCGStab
+//      only if its residual is above tolerance (or BiCGStab with AMG or Jacobi):
 //        fluid     ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩   (eq. 17's −ρ∇·(Du/Dt) with ∇·∇·τ dropped, as in the seed)
 //        walls     n·⟨∇φ⟩ = ρ n·F_ext − n·⟨∇p_{n−1}⟩ (eq. 17's Neumann condition for p; walls at
 //                  rest or moving steadily, so ∂U/∂t = 0; the ν n·∇×∇×u term is dropped)
@@ -26,9 +25,8 @@
 //   5. divergence checks: NaN, Courant number max|u|δt/Δ, solver residuals; on failure step()
 //      throws DivergenceError and leaves the state of the last good step untouched;
 //   6. Lagrangian advection (eq. 20): x' = x + (3/2 u_n − 1/2 u_{n−1}) δt;
-//   7. reordering (see Reordering): by default every node returns to its lattice place and takes
-//      the velocity arriving there (LatticeInterpolation, second order); the density-constraint
-//      PBD mode keeps the nodes Lagrangian (experimental).
+//   7. reordering: every node returns to its lattice place and takes the velocity arriving there
+//      (LatticeInterpolation; the default is second order).
 //
 // OpenMP parallelises every loop over nodes; reductions add per-thread blocks in order, so a
 // run is bit-identical for a given thread count.
@@ -57,15 +55,13 @@
 namespace rheosim::ldd {
 
 // StepParams (step.hpp) and what the lattice cavity adds. The PPE's preconditioner: sparse
-// LU (lattice mode: factorised once; density mode falls back to Jacobi), AMG or Jacobi; eq. 19's:
+// LU (factorised once), AMG (set up once) or Jacobi; eq. 19's:
 // Jacobi or AMG (hierarchy reused over steps, amg.hpp), a sparse LU is not offered. Gravity has
 // two entries.
 struct SolverParams : StepParams {
-  double velocity_scale = 1.0;                  // U [m/s] and L [m]: the PPE also stops when the
-  double length_scale = 1.0;                    // RMS divergence left is < pressure_tolerance·U/L
-  double pbd_min_distance = 0.6;                // pairs closer than this (units of Δ) are pushed apart
-  Reordering reordering = Reordering::lattice;  // see the header comment, step 7
-  LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // lattice mode: see LatticeInterpolation
+  double velocity_scale = 1.0;  // U [m/s] and L [m]: the PPE also stops when the
+  double length_scale = 1.0;    // RMS divergence left is < pressure_tolerance·U/L
+  LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // see the header comment, step 7
 
   void check() const;  // throws std::invalid_argument naming the field and its valid range
 };
@@ -114,18 +110,13 @@ class Solver : public NodeState {
   void check_divergence(double next_time, const numerics::KrylovResult& pressure, bool velocity_converged,
                         CavityStepStats& stats) const;
   void commit_and_advect();
-  [[nodiscard]] double largest_pbd_shift() const;
-
-  void rebuild_neighbours();
-  void reorder(std::span<const double> velocity_gradient);
-  void keep_inside(std::size_t node, std::span<double> velocity);
 
   SolverParams params_;
   std::vector<std::shared_ptr<const Boundary>> walls_;
   std::vector<double> wall_velocities_;
   bool operators_valid_ = false;
-  numerics::SparseLu pressure_lu_;          // lattice mode only
-  QuadraticFit lattice_fit_;                // lattice mode, quadratic interpolation
+  numerics::SparseLu pressure_lu_;
+  QuadraticFit lattice_fit_;                // quadratic interpolation
   std::vector<double> advection_velocity_;  // a of eq. 20 on every node
   numerics::PairKrylovWorkspace pair_krylov_;
   std::vector<double> momentum_rhs_;
