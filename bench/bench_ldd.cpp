@@ -51,12 +51,12 @@
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
+#include "rheosim/ldd/cavity_solver.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
-#include "rheosim/ldd/solver.hpp"
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
@@ -81,8 +81,8 @@ struct Scenario {
 };
 
 struct Preconditioners {
-  ldd::Preconditioner pressure = ldd::SolverParams{}.pressure_preconditioner;
-  ldd::Preconditioner velocity = ldd::SolverParams{}.velocity_preconditioner;
+  ldd::Preconditioner pressure = ldd::SolverParams::for_cavity().pressure_preconditioner;
+  ldd::Preconditioner velocity = ldd::SolverParams::for_cavity().velocity_preconditioner;
   numerics::AmgSettings amg;  // both systems
 };
 
@@ -95,7 +95,7 @@ double cpu_seconds() {
 
 // The state after the timed steps, for comparing builds: every node's u, v, p, then u on the
 // vertical and v on the horizontal centre line of the cavity (101 points each, cavity fractions).
-void dump_state(const std::string& path, const ldd::Cavity& cavity, const ldd::Solver& solver) {
+void dump_state(const std::string& path, const ldd::Cavity& cavity, const ldd::CavitySolver& solver) {
   std::vector<double> probes;
   for (int k = 0; k <= 100; ++k) {
     const auto a = cavity.point(0.5, k / 100.0);
@@ -126,7 +126,7 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
   scene.size = {1.0, 1.0};
   scene.lid_velocity = 1.0;
   scene.skew_angle = s.skew_angle;
-  ldd::SolverParams p;
+  ldd::SolverParams p = ldd::SolverParams::for_cavity();
   p.rheology = rheology(s.rheology);
   p.spacing = 1.0 / cells;
   p.time_step = 1e-3;
@@ -134,7 +134,7 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
   p.velocity_preconditioner = preconditioners.velocity;
   p.pressure_amg = p.velocity_amg = preconditioners.amg;
   const ldd::Cavity cavity(scene, p.spacing);
-  ldd::Solver solver(p, cavity.walls(), cavity.initial_cloud());
+  ldd::CavitySolver solver(p, cavity.initial_cloud());
   const auto t0 = std::chrono::steady_clock::now();
   solver.step();
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -18,7 +18,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/ldd/case.hpp"
-#include "rheosim/ldd/node_state.hpp"
+#include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd::detail {
 
@@ -49,13 +49,12 @@ struct StoredCheckpoint {
 [[nodiscard]] StoredCheckpoint read_checkpoint(const std::filesystem::path& path, const Case& c,
                                                core::CsvTable& history);
 
-// A run resuming from `path`: its state into `solver` (ldd::Solver or FreeSurfaceSolver; a
-// RunError when it does not fit this case's cloud), its probe rows into `history`, the resume and
+// A run resuming from `path`: its state into `solver` (a RunError when it does not fit this
+// case's cloud), its probe rows into `history`, the resume and
 // a change of build in the log. Returns the scene's record.
-template <class Solver>
-[[nodiscard]] RunRecordContent resume_from_checkpoint(const std::filesystem::path& path, const Case& c, Solver& solver,
-                                                      core::CsvTable& history, std::size_t total_steps,
-                                                      const core::Log& log) {
+[[nodiscard]] inline RunRecordContent resume_from_checkpoint(const std::filesystem::path& path, const Case& c,
+                                                             Solver& solver, core::CsvTable& history,
+                                                             std::size_t total_steps, const core::Log& log) {
   StoredCheckpoint stored = read_checkpoint(path, c, history);
   try {
     solver.restore(std::move(stored.state));
@@ -78,7 +77,6 @@ class RunCheckpoint {
   [[nodiscard]] const std::filesystem::path& file() const { return file_; }
   [[nodiscard]] bool exists() const { return std::filesystem::exists(file_); }
   // resume_from_checkpoint, and the wall time of the processes before this one.
-  template <class Solver>
   [[nodiscard]] RunRecordContent resume(Solver& solver, core::CsvTable& history, std::size_t total_steps,
                                         const core::Log& log) {
     RunRecordContent record = resume_from_checkpoint(file_, c_, solver, history, total_steps, log);

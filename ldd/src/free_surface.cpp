@@ -18,15 +18,12 @@ namespace rheosim::ldd {
 
 // ------------------------------------------------------------------------------ solver
 
-FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries,
+FreeSurfaceSolver::FreeSurfaceSolver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> boundaries,
                                      NodeCloud cloud)
-    : params_(std::move(params)), dim_(params_.dimension), boundaries_(std::move(boundaries)) {
-  params_.check();
-  pressure_amg_ = numerics::AmgPreconditioner(params_.pressure_amg);
-  velocity_amg_ = numerics::AmgPreconditioner(params_.velocity_amg);
-  const auto dim = static_cast<std::size_t>(dim_);
+    : Solver(std::move(params)), boundaries_(std::move(boundaries)) {
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = cloud.size();
-  if (cloud.dimension != dim_ || cloud.positions.size() != dim * n || cloud.normals.size() != dim * n ||
+  if (cloud.dimension != dimension() || cloud.positions.size() != dim * n || cloud.normals.size() != dim * n ||
       cloud.boundary.size() != n)
     throw std::invalid_argument("LDD free-surface solver: node cloud arrays have inconsistent sizes");
   for (int b : cloud.boundary)
@@ -39,7 +36,6 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
   boundary_of_ = std::move(cloud.boundary);
   kinds_.resize(n);
   for (std::size_t i = 0; i < n; ++i) kinds_[i] = cloud.is_wall(i) ? NodeKind::wall : NodeKind::interior;
-  support_radius_ = params_.smoothing_ratio * params_.spacing;
   search_radius_ = support_radius_ + params_.neighbour_skin * params_.spacing;
   velocity_.assign(dim * n, 0.0);
   std::vector<double> v(dim);
@@ -53,7 +49,7 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
   shear_rate_.assign(n, 0.0);
   viscosity_.assign(n, params_.rheology->viscosity(0.0));
   // Probe directions of the empty-cone test: every 10° in 2D, a 64-point Fibonacci sphere in 3D.
-  if (dim_ == 2) {
+  if (dimension() == 2) {
     for (int q = 0; q < 36; ++q) {
       const double angle = 2 * std::numbers::pi * q / 36;
       probe_directions_.insert(probe_directions_.end(), {std::cos(angle), std::sin(angle)});
@@ -134,7 +130,7 @@ FreeSurfaceSolver::FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::
 SolverState FreeSurfaceSolver::state() const { return common_state(); }
 
 void FreeSurfaceSolver::restore(SolverState state) {
-  restore_common_state(state, dim_, "LDD free-surface");
+  restore_common_state(state, "LDD free-surface");
   candidates_ = numerics::NeighbourList{};  // searched afresh at the next step (the same list either way)
   candidate_positions_.clear();
   steps_since_search_ = 0;
@@ -142,7 +138,7 @@ void FreeSurfaceSolver::restore(SolverState state) {
 
 void FreeSurfaceSolver::rebuild_neighbours() {
   const double skin = params_.neighbour_reuse_skin * params_.spacing;
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   // A pair now within the search radius but not a candidate has closed by more than the skin,
   // so one of its nodes has moved more than half of it: search again before that (with a 10 %
   // margin for rounding).
@@ -160,7 +156,7 @@ void FreeSurfaceSolver::rebuild_neighbours() {
     const bool verlet_list = candidates_.node_count() == kinds_.size();  // else the last search was plain
     if (verlet_list && 2.0 * moved < 0.9 * skin) {
       ++steps_since_search_;
-      numerics::neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
+      numerics::neighbours_within(candidates_, positions_, dimension(), search_radius_, neighbours_);
       return;
     }
   }
@@ -169,11 +165,11 @@ void FreeSurfaceSolver::rebuild_neighbours() {
   const bool known_speed = searched_before && steps_since_search_ > 0;
   const double per_step = known_speed ? moved / static_cast<double>(steps_since_search_) : 0.0;
   if (skin > 0 && (!known_speed || 0.9 * skin >= 2.0 * 2.0 * per_step)) {
-    candidates_ = numerics::find_neighbours(positions_, dim_, search_radius_ + skin);
-    numerics::neighbours_within(candidates_, positions_, dim_, search_radius_, neighbours_);
+    candidates_ = numerics::find_neighbours(positions_, dimension(), search_radius_ + skin);
+    numerics::neighbours_within(candidates_, positions_, dimension(), search_radius_, neighbours_);
   } else {
     candidates_ = numerics::NeighbourList{};
-    neighbours_ = numerics::find_neighbours(positions_, dim_, search_radius_);
+    neighbours_ = numerics::find_neighbours(positions_, dimension(), search_radius_);
   }
   candidate_positions_ = positions_;
   steps_since_search_ = 1;
@@ -181,7 +177,7 @@ void FreeSurfaceSolver::rebuild_neighbours() {
 }
 
 double FreeSurfaceSolver::fluid_volume() const {
-  const double cell = std::pow(params_.spacing, dim_);
+  const double cell = std::pow(params_.spacing, dimension());
   double volume = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
     if (kinds_[i] == NodeKind::interior)
@@ -193,21 +189,21 @@ double FreeSurfaceSolver::fluid_volume() const {
 }
 
 double FreeSurfaceSolver::kinetic_energy() const {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   double sum = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (is_fluid(i))
       for (std::size_t d = 0; d < dim; ++d) sum += velocity_[dim * i + d] * velocity_[dim * i + d];
-  return 0.5 * params_.density * sum * std::pow(params_.spacing, dim_);
+  return 0.5 * params_.density * sum * std::pow(params_.spacing, dimension());
 }
 
 double FreeSurfaceSolver::potential_energy() const {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   double sum = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i)
     if (is_fluid(i))
       for (std::size_t d = 0; d < dim; ++d) sum -= params_.gravity[d] * positions_[dim * i + d];
-  return params_.density * sum * std::pow(params_.spacing, dim_);
+  return params_.density * sum * std::pow(params_.spacing, dimension());
 }
 
 }  // namespace rheosim::ldd

@@ -23,7 +23,7 @@ namespace rheosim::ldd {
 // diagonal dominance and a lone node's pressure runs away (seen at the dam-break toe). Such nodes
 // use eq. 15 without the offset correction (o_i = 0): first order there, all coefficients ≥ 0.
 void FreeSurfaceSolver::keep_laplacian_positive() {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const numerics::NeighbourList& nb = neighbours_;
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   std::size_t guarded = 0;
@@ -140,7 +140,7 @@ void FreeSurfaceSolver::impose_boundary_pressure() {
 }
 
 void FreeSurfaceSolver::keep_off_boundaries(std::size_t i, double t, std::span<double> velocity) {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const double clearance = params_.wall_clearance * params_.spacing;
   double normal[3] = {0, 0, 0}, wall_velocity[3] = {0, 0, 0};
   for (const auto& b : boundaries_) {

@@ -17,7 +17,7 @@
 namespace rheosim::ldd {
 
 double FreeSurfaceSolver::kernel_density(std::size_t i) const {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   double rho = weight(0.0, support_radius_);
   for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1]; ++k) {
     const std::size_t j = neighbours_.indices[k];
@@ -109,7 +109,7 @@ bool has_empty_cone(const Surroundings& at, std::span<const double> probe_direct
 
 // A fluid node's surroundings within the search radius (r2: its square; h2: the support's).
 void FreeSurfaceSolver::survey(std::size_t i, double r2, double h2, Surroundings& at) const {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const numerics::NeighbourList& nb = neighbours_;
   // Counters and sums in locals (kept in registers: through `at` every update would be a store
   // the compiler cannot prove does not alias `at.seen`), copied out at the end.
@@ -154,7 +154,7 @@ void FreeSurfaceSolver::survey(std::size_t i, double r2, double h2, Surroundings
 }
 
 void FreeSurfaceSolver::classify() {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const double h2 = support_radius_ * support_radius_, r2 = search_radius_ * search_radius_;
   const double offset_limit = params_.surface_offset * params_.spacing;
@@ -163,7 +163,7 @@ void FreeSurfaceSolver::classify() {
   const std::size_t splash_limit = dim + 1;
   // 3D clouds leave wider empty cones near curved walls (64 probes, 26 lattice neighbours), so
   // the 3D half-angle is 15° wider.
-  const double cone_angle = params_.surface_cone_angle + (dim_ == 3 ? 15.0 : 0.0);
+  const double cone_angle = params_.surface_cone_angle + (dimension() == 3 ? 15.0 : 0.0);
   const double cone_cosine = std::cos(cone_angle * std::numbers::pi / 180.0);
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
@@ -196,7 +196,7 @@ void FreeSurfaceSolver::classify() {
 
 // Wall nodes: active (Neumann/Dirichlet rows) when a fluid node is within h, else idle.
 void FreeSurfaceSolver::classify_walls(double h2) {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const numerics::NeighbourList& nb = neighbours_;
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
 #pragma omp parallel for schedule(dynamic, 256)

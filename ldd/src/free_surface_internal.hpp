@@ -11,7 +11,7 @@ namespace rheosim::ldd {
 template <class Use>
 double FreeSurfaceSolver::extrapolated_pressure(std::size_t node, std::span<const double> pressure, const Use& use,
                                                 bool clip) const {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   double wsum = 0, source = 0;
   for (std::size_t k = neighbours_.offsets[node]; k < neighbours_.offsets[node + 1]; ++k) {
     const std::size_t j = neighbours_.indices[k];

@@ -20,8 +20,8 @@ namespace rheosim::ldd {
 // with wall and splash rows homogeneous. Power iteration from a pseudo-random start finds its
 // largest growth factor; pressure is measured in velocity units δt p/(ρΔ).
 void FreeSurfaceSolver::probe_step_map(const numerics::KrylovSettings& velocity_settings,
-                                       const numerics::KrylovSettings& pressure_settings, FreeSurfaceStats& stats) {
-  const auto dim = static_cast<std::size_t>(dim_);
+                                       const numerics::KrylovSettings& pressure_settings, StepStats& stats) {
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;

@@ -16,8 +16,8 @@
 
 namespace rheosim::ldd {
 
-void FreeSurfaceSolver::reorder(std::span<const double> grad_u) {
-  const auto dim = static_cast<std::size_t>(dim_);
+void FreeSurfaceSolver::apply_pbd(std::span<const double> grad_u) {
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   shift_.assign(dim * n, 0.0);

@@ -1,4 +1,4 @@
-// The free-surface scene's boundaries, its initial cloud and the solver parameters' check (free_surface.hpp).
+// The free-surface scene's boundaries and its initial cloud (free_surface.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -14,15 +14,6 @@
 #include "rheosim/ldd/free_surface.hpp"
 
 namespace rheosim::ldd {
-namespace {
-
-void require(bool ok, const char* field, double value, const char* range) {
-  if (!ok)
-    throw std::invalid_argument(
-        fmt::format("LDD free-surface solver: {} = {} is out of range, expected {}", field, value, range));
-}
-
-}  // namespace
 
 // ------------------------------------------------------------------------------ boundaries
 
@@ -91,24 +82,6 @@ void NodeCloud::add(std::span<const double> x, NodeKind kind, std::span<const do
   normals.insert(normals.end(), normal.begin(), normal.end());
   kinds.push_back(kind);
   boundary.push_back(boundary_index);
-}
-
-// ------------------------------------------------------------------------------ parameters
-
-void FreeSurfaceParams::check() const {
-  require(dimension == 2 || dimension == 3, "dimension", dimension, "2 or 3");
-  StepParams::check("LDD free-surface solver", static_cast<std::size_t>(dimension));
-  require(surface_offset > 0 && surface_offset < 1, "surface_offset", surface_offset, "(0, 1)");
-  require(surface_count > 0 && surface_count < 1, "surface_count", surface_count, "(0, 1)");
-  require(min_moment_rcond > 0 && min_moment_rcond < 1, "min_moment_rcond", min_moment_rcond, "(0, 1)");
-  require(surface_moment_rcond > 0 && surface_moment_rcond < 1, "surface_moment_rcond", surface_moment_rcond, "(0, 1)");
-  require(surface_fluid_weight >= 0 && surface_fluid_weight < 1, "surface_fluid_weight", surface_fluid_weight,
-          "[0, 1)");
-  require(surface_cone_angle > 0 && surface_cone_angle < 90, "surface_cone_angle", surface_cone_angle,
-          "(0, 90) degrees");
-  require(neighbour_reuse_skin >= 0 && neighbour_reuse_skin <= 2, "neighbour_reuse_skin", neighbour_reuse_skin,
-          "[0, 2]");
-  require(stability_probe_iterations >= 0, "stability_probe_iterations", stability_probe_iterations, ">= 0");
 }
 
 }  // namespace rheosim::ldd

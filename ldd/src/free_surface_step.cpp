@@ -38,56 +38,9 @@ double norm_of(const std::vector<double>& g) {
 
 }  // namespace
 
-// The linear solves' settings and factors of one step: the stability probe reuses them after the
-// pressure solve.
-struct FreeSurfaceSolver::LinearSolves {
-  numerics::SparseLu momentum_lu, pressure_lu, pressure_direct;
-  numerics::KrylovSettings velocity, pressure;
-};
-
-FreeSurfaceStats FreeSurfaceSolver::step() {
-  FreeSurfaceStats stats;
-  const double next_time = time_ + params_.time_step;
-  LinearSolves solves;
-
-  auto t0 = Clock::now();
-  update_operators(stats);  // 1
-  times_.operators += seconds_since(t0);
-
-  t0 = Clock::now();
-  update_viscosity();  // 2
-  times_.rheology += seconds_since(t0);
-
-  t0 = Clock::now();
-  const bool velocity_converged = solve_momentum(next_time, solves, stats);  // 3
-  times_.momentum += seconds_since(t0);
-
-  t0 = Clock::now();
-  const numerics::KrylovResult pressure = solve_pressure(solves, stats);  // 4
-  if (params_.stability_probe_iterations > 0) probe_step_map(solves.velocity, solves.pressure, stats);
-  const Correction correction = correct_velocity();
-  times_.pressure += seconds_since(t0);
-
-  check_divergence(next_time, correction, pressure, velocity_converged, stats);  // 5
-
-  t0 = Clock::now();
-  commit_and_advect(next_time);  // 6
-  times_.advection += seconds_since(t0);
-
-  t0 = Clock::now();
-  rebuild_neighbours();
-  times_.neighbours += seconds_since(t0);
-
-  t0 = Clock::now();
-  reorder(velocity_gradient_);  // 7
-  stats.max_pbd_shift = largest_pbd_shift();
-  times_.reordering += seconds_since(t0);
-  return stats;
-}
-
 // 1. Operators (eqs. 13–16) and the free-surface classification.
-void FreeSurfaceSolver::update_operators(FreeSurfaceStats& stats) {
-  build_operators(positions_, dim_, neighbours_,
+void FreeSurfaceSolver::update_operators(StepStats& stats) {
+  build_operators(positions_, dimension(), neighbours_,
                   OperatorSettings{support_radius_, params_.min_moment_rcond, params_.centred_gradient}, operators_);
   keep_laplacian_positive();
   last_kinds_ = kinds_;
@@ -102,12 +55,12 @@ void FreeSurfaceSolver::update_operators(FreeSurfaceStats& stats) {
 
 // 2. ∇u (eq. 14), γ̇ = √(2E:E) (eq. 5), μ(γ̇), and (viscous_stress: full) ∇·(μ(∇u)ᵀ).
 void FreeSurfaceSolver::update_viscosity() {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size(), dd = dim * dim;
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   velocity_gradient_.assign(dd * n, 0.0);
-  velocity_gradient_of(velocity_, velocity_gradient_, dim_);
+  velocity_gradient_of(velocity_, velocity_gradient_);
   for (std::size_t i = 0; i < n; ++i) {
     const double* grad = &velocity_gradient_[dd * i];
     double e2 = 0;  // E:E
@@ -119,7 +72,7 @@ void FreeSurfaceSolver::update_viscosity() {
     shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
-  // solver.viscous_stress: full (FreeSurfaceParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
+  // solver.viscous_stress: full (SolverParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
   // nodes, making the viscous force ∇·(2μE). Explicit alone it is a viscous term far past an
   // explicit limit, δt μ_max/(ρΔ²) up to ~5·10³ (Bingham m = 1000 s at Δ = 2 mm). So the momentum
   // matrix carries the μ-Laplacian twice on those rows (solve_momentum) and the explicit side takes
@@ -144,8 +97,9 @@ void FreeSurfaceSolver::update_viscosity() {
 
 // 3. Semi-implicit momentum (eq. 19), one solve per component, into new_velocity_. Returns
 // whether every component's solve converged.
-bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, FreeSurfaceStats& stats) {
-  const auto dim = static_cast<std::size_t>(dim_);
+bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
+  LinearSolves& solves = solves_;
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -230,7 +184,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
                        params_.max_iterations,
                        {}};
   const bool velocity_amg = params_.velocity_preconditioner == Preconditioner::amg;
-  bool velocity_hierarchy_fresh = set_preconditioner(params_.velocity_preconditioner, dim_, momentum_matrix_,
+  bool velocity_hierarchy_fresh = set_preconditioner(params_.velocity_preconditioner, dimension(), momentum_matrix_,
                                                      solves.momentum_lu, velocity_amg_, velocity_settings);
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
@@ -259,8 +213,9 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, LinearSolves& solves, F
 }
 
 // 4. PPE (eq. 17) for φ = p_n − p_{n−1} into increment_.
-numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, FreeSurfaceStats& stats) {
-  const auto dim = static_cast<std::size_t>(dim_);
+numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
+  LinearSolves& solves = solves_;
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -335,8 +290,9 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
                        params_.max_iterations,
                        {}};
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
-  const bool pressure_hierarchy_fresh = set_preconditioner(params_.pressure_preconditioner, dim_, pressure_matrix_,
-                                                           solves.pressure_lu, pressure_amg_, pressure_settings);
+  const bool pressure_hierarchy_fresh =
+      set_preconditioner(params_.pressure_preconditioner, dimension(), pressure_matrix_, solves.pressure_lu,
+                         pressure_amg_, pressure_settings);
   auto pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
   const auto repeat_pressure_solve = [&] {
     ++stats.repeated_solves;
@@ -351,7 +307,7 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
     repeat_pressure_solve();
   }
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance) &&
-      dim_ == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu &&
+      dimension() == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu &&
       solves.pressure_direct.factorise(pressure_matrix_)) {
     // Last resort in 2D: the exact factors as the preconditioner (seconds at 200 000 nodes).
     pressure_settings.preconditioner = solves.pressure_direct.as_preconditioner();
@@ -361,12 +317,14 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(LinearSolves& solves, F
   if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
   stats.pressure_iterations = pressure_result.iterations;
   stats.pressure_residual = pressure_result.relative_residual;
+  if (params_.stability_probe_iterations > 0) probe_step_map(solves.velocity, solves.pressure, stats);
+  solves_ = LinearSolves{};  // the factors are this step's
   return pressure_result;
 }
 
 // The pressure n into new_pressure_ and the projection of new_velocity_.
-FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
-  const auto dim = static_cast<std::size_t>(dim_);
+Solver::Correction FreeSurfaceSolver::correct_velocity() {
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   const double dt = params_.time_step, rho = params_.density;
   const numerics::NeighbourList& nb = neighbours_;
@@ -414,50 +372,30 @@ FreeSurfaceSolver::Correction FreeSurfaceSolver::correct_velocity() {
   return c;
 }
 
-// 5. Divergence checks; the state is untouched until they pass (step.hpp, check_step). The
-// messages say where the fastest node is and, for a failed PPE, whether a block of nodes reaches
-// no free-surface node.
-void FreeSurfaceSolver::check_divergence(double next_time, const Correction& correction,
-                                         const numerics::KrylovResult& pressure, bool velocity_converged,
-                                         FreeSurfaceStats& stats) const {
-  const auto dim = static_cast<std::size_t>(dim_);
-  const auto place = [&](std::size_t at) {
-    return fmt::format("({:.4g}, {:.4g}{})", positions_[dim * at], positions_[dim * at + 1],
-                       dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string());
-  };
-  StepCheck check;
-  check.next_time = next_time;
-  check.step = steps_ + 1;
-  check.finite = correction.finite;
-  check.max_speed = correction.max_speed;
-  check.pressure = pressure;
-  check.velocity_converged = velocity_converged;
-  check.where_fastest = [&] {
-    const std::size_t at = correction.fastest;
-    return fmt::format(" at {} node at {}, {} neighbours", a_kind(kinds_[at]), place(at),
-                       neighbours_.offsets[at + 1] - neighbours_.offsets[at]);
-  };
-  check.pressure_failure = [&] {
-    const numerics::FloatingGroups floating = numerics::floating_groups(pressure_matrix_);
-    const std::size_t at = floating.largest_member;
-    return fmt::format(
-        "({} repeated solve(s)); {}", stats.repeated_solves,
-        floating.groups == 0
-            ? std::string("every node reaches a free-surface node through the pressure matrix")
-            : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
-                          "largest, {} nodes, includes {} node at {}",
-                          floating.groups, floating.nodes, floating.largest, a_kind(kinds_[at]), place(at)));
-  };
-  check_step(check, params_, stats);
+// 5. (the checks are Solver's) Why a pressure solve may have failed: the repeated solves and
+// whether a block of nodes reaches no free-surface node.
+std::string FreeSurfaceSolver::pressure_failure(const StepStats& stats) const {
+  const auto dim = static_cast<std::size_t>(dimension());
+  const numerics::FloatingGroups floating = numerics::floating_groups(pressure_matrix_);
+  const std::size_t at = floating.largest_member;
+  return fmt::format(
+      "({} repeated solve(s)); {}", stats.repeated_solves,
+      floating.groups == 0
+          ? std::string("every node reaches a free-surface node through the pressure matrix")
+          : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
+                        "largest, {} nodes, includes {} node at ({:.4g}, {:.4g}{})",
+                        floating.groups, floating.nodes, floating.largest, a_kind(kinds_[at]), positions_[dim * at],
+                        positions_[dim * at + 1],
+                        dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string()));
 }
 
 // 6. Commit, advect (eq. 20), move the walls, keep fluid off the boundaries.
 void FreeSurfaceSolver::commit_and_advect(double next_time) {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const double dt = params_.time_step;
   pressure_.swap(new_pressure_);
-  velocity_gradient_of(new_velocity_, velocity_gradient_, dim_);  // ∇u_n, to carry velocities along PBD shifts
+  velocity_gradient_of(new_velocity_, velocity_gradient_);  // ∇u_n, to carry velocities along PBD shifts
   const double older = first_step_ ? 0.0 : 0.5;
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
@@ -475,13 +413,23 @@ void FreeSurfaceSolver::commit_and_advect(double next_time) {
   previous_velocity_.swap(velocity_);
   velocity_.swap(new_velocity_);
   first_step_ = false;
-  time_ = next_time;
-  ++steps_;
+}
+
+// 7. The neighbour search on the advected cloud and the volume-keeping PBD.
+void FreeSurfaceSolver::reorder(StepStats& stats) {
+  auto t0 = Clock::now();
+  rebuild_neighbours();
+  times_.neighbours += seconds_since(t0);
+
+  t0 = Clock::now();
+  apply_pbd(velocity_gradient_);
+  stats.max_pbd_shift = largest_pbd_shift();
+  times_.reordering += seconds_since(t0);
 }
 
 // 7. (after reorder) the largest PBD displacement of this step, in units of Δ.
 double FreeSurfaceSolver::largest_pbd_shift() const {
-  const auto dim = static_cast<std::size_t>(dim_);
+  const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   double max_shift = 0;
   for (std::size_t i = 0; i < n; ++i) {

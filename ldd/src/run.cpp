@@ -17,8 +17,8 @@
 #include "rheosim/core/progress.hpp"
 #include "rheosim/core/version.hpp"
 #include "rheosim/ldd/cavity_reference.hpp"
+#include "rheosim/ldd/cavity_solver.hpp"
 #include "rheosim/ldd/domain.hpp"
-#include "rheosim/ldd/solver.hpp"
 #include "run_loop.hpp"
 #include "run_summary.hpp"
 
@@ -67,7 +67,7 @@ Centerlines centerlines_of(std::vector<double> u, std::vector<double> v) {
   return c;
 }
 
-Centerlines sample_centerlines(const Solver& solver, const Cavity& cavity) {
+Centerlines sample_centerlines(const CavitySolver& solver, const Cavity& cavity) {
   const auto values = solver.sample_velocity(probe_points(cavity));
   const double lid = cavity.lid_velocity() != 0 ? cavity.lid_velocity() : 1.0;
   const auto n = static_cast<std::size_t>(probe_count);
@@ -90,12 +90,13 @@ double residual_between(const Centerlines& a, const Centerlines& b, double inter
   return change / (interval / convective_time);
 }
 
-void write_field(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir,
+void write_field(const CavitySolver& s, const Cavity& cavity, const std::filesystem::path& dir,
                  const std::filesystem::path& grid_file, bool with_plot_data);
 
 // One frame: the node cloud (frames/nodes_NNNN.vtk) and the resampled field with the stream
 // function (frames/field_NNNN.vtk, for streamlines). Returns the node file, relative to dir.
-std::filesystem::path write_frame(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir, int index) {
+std::filesystem::path write_frame(const CavitySolver& s, const Cavity& cavity, const std::filesystem::path& dir,
+                                  int index) {
   write_field(s, cavity, dir, std::filesystem::path("frames") / fmt::format("field_{:04d}.vtk", index), false);
   return detail::write_node_frame(s, dir, static_cast<std::size_t>(index));
 }
@@ -111,7 +112,7 @@ void write_frame_indexes(const std::filesystem::path& dir, const std::vector<cor
 // Velocity and stream function ψ (∂ψ/∂y = u, ∂ψ/∂x = −v; ψ = 0 on the walls) on a structured
 // grid in cavity coordinates. ψ is integrated along η from the bottom wall (trapezoid rule).
 // Writes `grid_file` (relative to dir); with `with_plot_data` also psi.dat for gnuplot.
-void write_field(const Solver& s, const Cavity& cavity, const std::filesystem::path& dir,
+void write_field(const CavitySolver& s, const Cavity& cavity, const std::filesystem::path& dir,
                  const std::filesystem::path& grid_file, bool with_plot_data) {
   const int m = field_grid_points;
   std::vector<double> points;
@@ -179,7 +180,7 @@ void write_plots(const std::filesystem::path& dir, const std::string& title, con
 
 // The centre-line velocities at Ghia's points against their table (cavity_reference.hpp):
 // summary.json `ghia` and ghia.csv.
-GhiaComparison compare_with_ghia(const Solver& solver, const Cavity& cavity, int reynolds,
+GhiaComparison compare_with_ghia(const CavitySolver& solver, const Cavity& cavity, int reynolds,
                                  const std::filesystem::path& dir) {
   const auto table = ghia_1982();
   std::vector<double> points;
@@ -206,12 +207,12 @@ GhiaComparison compare_with_ghia(const Solver& solver, const Cavity& cavity, int
   return out;
 }
 
-// The cavity's part of the run loop: the lattice Solver, its centre-line probes and steady
+// The cavity's part of the run loop: the CavitySolver, its centre-line probes and steady
 // residual, node and field frames, and the checkpoint the next run into the same folder
 // resumes from.
 class CavityRun final : public detail::SceneRun {
  public:
-  CavityRun(const Case& c, const Cavity& cavity, Solver& solver, const std::filesystem::path& out_dir,
+  CavityRun(const Case& c, const Cavity& cavity, CavitySolver& solver, const std::filesystem::path& out_dir,
             std::chrono::steady_clock::time_point wall_start, const core::Log& log)
       : l_(c.settings),
         cavity_(cavity),
@@ -298,7 +299,7 @@ class CavityRun final : public detail::SceneRun {
  private:
   const CaseSettings& l_;
   const Cavity& cavity_;
-  Solver& solver_;
+  CavitySolver& solver_;
   std::filesystem::path out_dir_;
   detail::RunCheckpoint checkpoint_;
   const core::Log& log_;
@@ -315,7 +316,7 @@ class CavityRun final : public detail::SceneRun {
   int quiet_probes_ = 0;
   double step_seconds_ = 0;
   std::vector<double> resumed_at_steps_;
-  CavityStepStats stats_;
+  StepStats stats_;
   detail::AcceptedSolves accepted_;
 };
 
@@ -330,14 +331,14 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   const int threads = detail::start_run(c, out_dir);
 
   const Cavity cavity(*scene, l.spacing);
-  SolverParams params;
+  SolverParams params = SolverParams::for_cavity();
   detail::set_step_params(l, params);
   params.interpolation = l.solver.interpolation;
   params.pressure_preconditioner = l.solver.pressure_preconditioner.value_or(params.pressure_preconditioner);
   params.velocity_preconditioner = l.solver.velocity_preconditioner.value_or(params.velocity_preconditioner);
   params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;
   params.length_scale = cavity.width();
-  Solver solver(params, cavity.walls(), cavity.initial_cloud());
+  CavitySolver solver(params, cavity.initial_cloud());
 
   const double reynolds = l.fluid.density * params.velocity_scale * cavity.width() /
                           l.fluid.rheology->viscosity(params.velocity_scale / cavity.width());

@@ -296,7 +296,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
     run_.volume0 = solver_.fluid_volume();
     run_.potential0 = solver_.potential_energy();
     add_frame();
-    record(FreeSurfaceStats{});
+    record(StepStats{});
     if (dam_break_) {
       run_.front_time.push_back(0.0);
       run_.front.push_back(mass_front(solver_));
@@ -363,7 +363,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
     return entries;
   }
   // One probe row; returns the kinetic energy.
-  double record(const FreeSurfaceStats& st) {
+  double record(const StepStats& st) {
     const double drift = solver_.fluid_volume() / run_.volume0 - 1;
     run_.max_drift = std::max(run_.max_drift, std::abs(drift));
     const double energy = solver_.kinetic_energy();
@@ -402,14 +402,14 @@ class FreeSurfaceRun final : public detail::SceneRun {
   std::string probe_file_;
   detail::RunCheckpoint checkpoint_;
   RunRecord run_;
-  FreeSurfaceStats stats_;
+  StepStats stats_;
   const core::Log& log_;
 };
 
 }  // namespace
 
-FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l) {
-  FreeSurfaceParams p;
+SolverParams free_surface_params(const ldd::CaseSettings& l) {
+  SolverParams p;
   p.dimension = l.dimension;
   detail::set_step_params(l, p);
   p.pbd_iterations = l.solver.pbd_sweeps;

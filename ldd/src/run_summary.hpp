@@ -28,8 +28,8 @@ namespace rheosim::ldd::detail {
 // One step of `solver`, its wall time added to step_seconds, its statistics into `stats`. On
 // DivergenceError diverged(message) is called (the solver keeps the last good state) and false
 // is returned: the caller stops stepping.
-template <class Solver, class Stats, class Diverged>
-[[nodiscard]] bool timed_step(Solver& solver, Stats& stats, double& step_seconds, Diverged&& diverged) {
+template <class Diverged>
+[[nodiscard]] bool timed_step(Solver& solver, StepStats& stats, double& step_seconds, Diverged&& diverged) {
   const auto start = std::chrono::steady_clock::now();
   bool ok = true;
   try {
@@ -42,8 +42,7 @@ template <class Solver, class Stats, class Diverged>
   return ok;
 }
 // A case run's step: a divergence becomes the outcome "diverged" with the message.
-template <class Solver, class Stats>
-[[nodiscard]] bool timed_step(Solver& solver, Stats& stats, RunOutcome& outcome, double& step_seconds) {
+[[nodiscard]] inline bool timed_step(Solver& solver, StepStats& stats, RunOutcome& outcome, double& step_seconds) {
   return timed_step(solver, stats, step_seconds, [&](const char* message) {
     outcome.status = "diverged";
     outcome.message = message;
@@ -54,7 +53,7 @@ template <class Solver, class Stats>
 // residual/tolerance among them: a rule the run bent, for its log and summary.json.
 struct AcceptedSolves {
   double pressure = 0, velocity = 0, worst_ratio = 0;  // counts as doubles: a checkpoint stores them so
-  void add(const StepStats& s, const StepParams& p) {
+  void add(const StepStats& s, const SolverParams& p) {
     if (s.pressure_accepted_unconverged) {
       ++pressure;
       worst_ratio = std::max(worst_ratio, s.pressure_residual / p.pressure_tolerance);
@@ -91,13 +90,11 @@ inline AcceptedSolves accepted_solves_of(const RunRecordContent& content) {
 }
 
 // A frame of the node cloud, frames/nodes_NNNN.vtk (relative to the run folder), and writing it
-// with velocity, pressure, shear rate, viscosity and node kind. Solver: ldd::Solver or
-// ldd::FreeSurfaceSolver.
+// with velocity, pressure, shear rate, viscosity and node kind.
 inline std::filesystem::path frame_name(std::size_t index) {
   return std::filesystem::path("frames") / fmt::format("nodes_{:04d}.vtk", index);
 }
-template <class Solver>
-std::filesystem::path write_node_frame(const Solver& s, const std::filesystem::path& dir, std::size_t index) {
+inline std::filesystem::path write_node_frame(const Solver& s, const std::filesystem::path& dir, std::size_t index) {
   const auto name = frame_name(index);
   std::vector<double> kind(s.node_count());
   for (std::size_t i = 0; i < kind.size(); ++i) kind[i] = static_cast<double>(s.kinds()[i]);
@@ -119,9 +116,10 @@ inline void write_node_frame_indexes(const std::filesystem::path& dir,
   core::write_pvd(dir / "nodes.pvd", entries);
 }
 
-// The settings of a case every LDD step reads (StepParams), for either solver: the material, the
-// resolution, the step and the solver block's tolerances and Courant guard.
-inline void set_step_params(const ldd::CaseSettings& l, StepParams& p) {
+// The settings of a case every LDD step reads, whatever the scheme: the dimension, the material,
+// the resolution, the step and the solver block's tolerances and Courant guard.
+inline void set_step_params(const ldd::CaseSettings& l, SolverParams& p) {
+  p.dimension = l.dimension;
   p.density = l.fluid.density;
   p.rheology = l.fluid.rheology;
   p.gravity = l.gravity;
@@ -135,11 +133,9 @@ inline void set_step_params(const ldd::CaseSettings& l, StepParams& p) {
 }
 
 // The part of summary.json every LDD run writes: the head, the cloud, the step and where the
-// time went. Solver: ldd::Solver or ldd::FreeSurfaceSolver (node_count, fluid_node_count, steps,
-// time, phase_times).
-template <class Solver>
-[[nodiscard]] RunSummary summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
-                                      const RunOutcome& outcome, int threads) {
+// time went.
+[[nodiscard]] inline RunSummary summary_head(const Case& c, const ldd::CaseSettings& l, const Solver& solver,
+                                             const RunOutcome& outcome, int threads) {
   RunSummary s;
   s.head = core::summary_head_of(c, "ldd");
   s.scene = l.scene_type;

@@ -37,8 +37,8 @@ std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
   return ldd::parse_case(text, "inline.yaml").settings.fluid.rheology;
 }
 
-FreeSurfaceParams column_params(double spacing, double dt, double viscosity) {
-  FreeSurfaceParams p;
+SolverParams column_params(double spacing, double dt, double viscosity) {
+  SolverParams p;
   p.dimension = 2;
   p.density = 1000;
   p.rheology = newtonian(viscosity);
@@ -109,11 +109,11 @@ TEST(FreeSurface, JitteredColumnHasNoFalseSurfaceNodesInsideOrAlongWalls) {
 TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {
   const double dx = 0.01, height = 0.3, rho = 1000, g = 9.81;
   FreeSurfaceScene scene = column_scene(column(0.1, height), dx);
-  FreeSurfaceParams p = column_params(dx, 1e-3, 5.0);
+  SolverParams p = column_params(dx, 1e-3, 5.0);
   p.hydrostatic_start = false;
   FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
   const double volume0 = s.fluid_volume();
-  FreeSurfaceStats stats;
+  StepStats stats;
   for (int k = 0; k < 400; ++k) stats = s.step();
   const double top = top_row(s);
   double worst = 0, max_speed = 0;
@@ -140,12 +140,12 @@ TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
   const double dx = 0.005;
   const auto run = [&](Preconditioner preconditioner) {
     FreeSurfaceScene scene = column_scene(column(0.15, 0.3), dx);
-    FreeSurfaceParams p = column_params(dx, 1e-3, 5.0);
+    SolverParams p = column_params(dx, 1e-3, 5.0);
     p.pressure_tolerance = 1e-9;
     p.velocity_tolerance = 1e-9;
     p.pressure_preconditioner = p.velocity_preconditioner = preconditioner;
     FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
-    FreeSurfaceStats stats;
+    StepStats stats;
     for (int k = 0; k < 8; ++k) stats = s.step();
     if (preconditioner == Preconditioner::amg) {
       EXPECT_LT(stats.pressure_iterations, 30);
@@ -165,14 +165,14 @@ TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
   EXPECT_LT(worst, 1e-5 * scale);
 }
 
-// The Verlet neighbour list (FreeSurfaceParams::neighbour_reuse_skin) changes only the cost: a
+// The Verlet neighbour list (SolverParams::neighbour_reuse_skin) changes only the cost: a
 // collapsing dam gives the same cloud bit for bit with it and with a fresh search every step,
 // and it searches less often.
 TEST(FreeSurface, ReusedNeighbourListGivesTheSameRunWithFewerSearches) {
   const double dx = 0.01, dt = 1e-3;
   const auto run = [&](double reuse_skin) {
     FreeSurfaceScene scene = dam_break_scene(ldd::DamBreakScene{{0.1, 0.1}, 0.3}, dx);
-    FreeSurfaceParams p = column_params(dx, dt, 1.0);
+    SolverParams p = column_params(dx, dt, 1.0);
     p.neighbour_reuse_skin = reuse_skin;
     FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
     for (int k = 0; k < 40; ++k) (void)s.step();
@@ -206,7 +206,7 @@ TEST(FreeSurface, NodeSupportedOnlyByWallNodesIsOnTheSurface) {
       cloud.add(std::vector<double>{1.75 * dx * std::cos(angle), 1.75 * dx * std::sin(angle)}, NodeKind::interior, none,
                 -1);
     }
-    FreeSurfaceParams p = column_params(dx, 1e-3, 1.0);
+    SolverParams p = column_params(dx, 1e-3, 1.0);
     p.surface_fluid_weight = fluid_weight_limit;
     p.hydrostatic_start = false;
     std::vector<std::shared_ptr<const Boundary>> walls{
@@ -224,7 +224,7 @@ TEST(FreeSurface, SplashNodeFallsFreelyWithoutUpsettingThePressure) {
   scene.cloud.add(drop, NodeKind::interior, std::vector<double>{0.0, 0.0}, -1);
   FreeSurfaceSolver s(column_params(dx, dt, 1.0), scene.boundaries, scene.cloud);
   const std::size_t last = s.node_count() - 1;
-  FreeSurfaceStats stats;
+  StepStats stats;
   for (int k = 0; k < 50; ++k) stats = s.step();
   EXPECT_EQ(s.kinds()[last], NodeKind::splash);
   // Ballistic: u_n = −g n δt, and eq. 20 moves it by (3/2 u_n − 1/2 u_{n−1}) δt = −g δt² (n + ½)
@@ -274,13 +274,13 @@ TEST(FreeSurface, RecedingGateReleasesAViscousColumnWithoutPressureCollapse) {
   for (int j = 0; j < 14; ++j)
     scene.cloud.add(std::vector<double>{0.5 * dx, (j + 0.5) * dx}, NodeKind::wall, std::vector<double>{-1.0, 0.0},
                     gate);
-  FreeSurfaceParams p = column_params(dx, dt, 1000.0);
+  SolverParams p = column_params(dx, dt, 1000.0);
   p.max_courant = 10;  // measure the speeds rather than stop at the guard
   FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
   const double volume0 = s.fluid_volume();
   double slowest_bottom = 1e300, fastest = 0;
   for (int k = 0; k < 30; ++k) {
-    const FreeSurfaceStats stats = s.step();
+    const StepStats stats = s.step();
     fastest = std::max(fastest, stats.max_speed);
     // Bottom-row pressure away from the released edge: hydrostatic support must not vanish.
     double bottom = 0;

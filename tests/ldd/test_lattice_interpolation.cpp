@@ -12,7 +12,7 @@
 
 #include "rheosim/ldd/lattice_interpolation.hpp"
 #include "rheosim/ldd/operators.hpp"
-#include "rheosim/ldd/solver.hpp"
+#include "rheosim/ldd/cavity_solver.hpp"
 #include "rheosim/numerics/neighbours.hpp"
 
 namespace rheosim::ldd {

@@ -143,7 +143,7 @@ double step_map_growth(const char* gradient, std::size_t& node, NodeKind& kind) 
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));
   for (int k = 0; k < 249; ++k) solver.step();
   solver.set_stability_probe(120);
-  const FreeSurfaceStats stats = solver.step();
+  const StepStats stats = solver.step();
   node = stats.step_map_node;
   kind = solver.kinds()[node];
   return stats.step_map_growth;

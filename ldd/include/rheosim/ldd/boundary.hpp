@@ -1,5 +1,5 @@
 #pragma once
-// The walls as both LDD solvers see them: a rigid boundary keeps fluid nodes off it (the wall
+// The walls of an LDD scene: a rigid boundary keeps fluid nodes off it (the wall
 // nodes carry the boundary conditions). A cavity's walls are planes (lines); a free-surface scene
 // adds moving moulds and the solids of walls.hpp.
 #include <span>

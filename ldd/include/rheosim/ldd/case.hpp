@@ -22,13 +22,13 @@ namespace rheosim::ldd {
 // cavities; surface_anchored: centred in the interior, eq. 14 on free-surface nodes).
 enum class GradientChoice { automatic, centred, renormalised, surface_anchored };
 
-// solver: — numerical settings of the LDD solver (all optional; solver.hpp and free_surface.hpp
-// document them).
+// solver: — numerical settings of the LDD solver (all optional; step.hpp, cavity_solver.hpp and
+// free_surface.hpp document them).
 struct SolverSettings {
-  int threads = 0;                              // OpenMP threads; 0: OMP_NUM_THREADS or all cores
-  double pressure_tolerance = 1e-6;             // BiCGStab relative residual of the PPE (LDD eq. 17)
-  double velocity_tolerance = 1e-8;             // BiCGStab relative residual of LDD eq. 19
-  int max_iterations = 2000;                    // per linear solve
+  int threads = 0;                   // OpenMP threads; 0: OMP_NUM_THREADS or all cores
+  double pressure_tolerance = 1e-6;  // BiCGStab relative residual of the PPE (LDD eq. 17)
+  double velocity_tolerance = 1e-8;  // BiCGStab relative residual of LDD eq. 19
+  int max_iterations = 2000;         // per linear solve
   LatticeInterpolation interpolation = LatticeInterpolation::quadratic;  // cavities: the return to the lattice
   double max_courant = 1.0;    // stop (diverged) when max|u|δt/Δ exceeds this
   int pbd_sweeps = 3;          // free-surface scenes: volume-keeping PBD sweeps per step

@@ -1,10 +1,10 @@
 #pragma once
-// The LDD time step for free-surface flows in 2D and 3D (LDD §3.2): dam break, slump
+// The free surface's scheme of the LDD step (solver.hpp) in 2D and 3D (LDD §3.2): dam break, slump
 // test, resting columns. Nodes are Lagrangian; solid walls are fixed (or moving, a lifted mould)
 // wall nodes one layer thick, and every fluid node is classified each step as interior, free
 // surface (p = p_atm = 0, LDD eq. 17 third line) or splash (too few neighbours to build operators).
 //
-// One call to FreeSurfaceSolver::step():
+// One call to Solver::step():
 //   1. operators (eqs. 13–16; the gradient centred on the neighbours' centroid unless
 //      centred_gradient is off, operators.hpp) on the current cloud; free-surface detection;
 //   2. ∇u (eq. 14), E (eq. 4), γ̇ = √(2E:E) (eq. 5), μ(γ̇);
@@ -63,13 +63,14 @@
 #include "rheosim/ldd/boundary.hpp"
 #include "rheosim/ldd/dry_walls.hpp"
 #include "rheosim/ldd/node_cloud.hpp"
-#include "rheosim/ldd/node_state.hpp"
 #include "rheosim/ldd/operators.hpp"
 #include "rheosim/ldd/preconditioner.hpp"
+#include "rheosim/ldd/solver.hpp"
 #include "rheosim/ldd/step.hpp"
 #include "rheosim/numerics/amg.hpp"
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
+#include "rheosim/numerics/sparse_lu.hpp"
 
 namespace rheosim::ldd {
 
@@ -77,91 +78,20 @@ namespace detail {
 struct Surroundings;  // what a fluid node sees (free_surface_classify.cpp)
 }  // namespace detail
 
-// StepParams (step.hpp) and what a free surface adds; gravity has `dimension` entries.
-// Its defaults where a free surface needs others than the cavity: eq. 19 solved to 1e-6, three
-// PBD sweeps, a 0.3 Δ search skin, sparse-LU preconditioners (2D; case runs choose AMG).
-struct FreeSurfaceParams : StepParams {
-  FreeSurfaceParams() {
-    velocity_tolerance = 1e-6;
-    pbd_iterations = 3;
-    neighbour_skin = 0.3;
-    velocity_preconditioner = Preconditioner::sparse_lu;
-  }
-
-  int dimension = 2;
-  double surface_offset = 0.3;         // |c_i|/Δ above which a node is on the surface
-  double surface_count = 0.7;          // n_i/n₀ below which a node is on the surface
-  double surface_cone_angle = 35;      // [°] half-angle of the empty-cone test
-  double min_moment_rcond = 0.03;      // λ_min/λ_max of eq. 13's moment matrix below which it is
-                                       // pseudo-inverted (weak directions dropped)
-  double surface_moment_rcond = 0.01;  // λ_min/λ_max below which the node counts as surface
-  bool centred_gradient = true;        // operators.hpp: no self-coupling of ⟨∇p⟩ and ⟨∇·u⟩ (docs/ldd.md)
-  // Free-surface nodes use eq. 14 about the node (their own value, p = p_atm, enters) instead of
-  // the centred gradient; interior nodes keep centred_gradient. Case key gradient: surface_anchored.
-  bool anchored_surface_gradient = false;
-  // Wall nodes above the surface (no interior fluid within h): p = p_atm in the gradients (include),
-  // p = p_atm left out of them (exclude), or the fluid's extrapolated pressure with every wall
-  // pressure unclipped (extrapolate). Case key solver.dry_walls (dry_walls.hpp).
-  DryWalls dry_walls = DryWalls::include;
-  double surface_fluid_weight = 0.1;  // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
-  // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
-  // this, and each step keeps those now within the search radius (the same list a fresh search
-  // gives) until some node has moved half of it. 0: a fresh search every step.
-  double neighbour_reuse_skin = 0.3;
-  // A PBD shift δx carries the velocity along to first order, u += ⟨∇u⟩·δx (true), or the node
-  // keeps its velocity (false; LDD §3.2 interpolates only after large reorderings).
-  bool pbd_velocity_correction = true;
-  bool hydrostatic_start = true;  // initial p = ρ|g|·depth below the top fluid node
-  // The preconditioners (StepParams) of the PPE and eq. 19: sparse_lu refactorised every step (2D
-  // only; in 3D its fill is unusable, >90 s/step at 85k nodes, and it falls back to Jacobi), amg
-  // (amg.hpp), or jacobi. Case files: `auto` is amg; in 2D the velocity hierarchy is rebuilt every
-  // step and the PPE's kept for 4 steps, in 3D both are reused (and the PPE rows unit-diagonal)
-  // (free_surface_params in run_free_surface.cpp, docs/performance.md).
-  // Diagnostic: when > 0, every step also runs this many power iterations of its linearised
-  // step map (u, p) → (u', p') — predictor, PPE and correction on the step's own matrices, without
-  // advection or the no-tension clip — and reports the growth per step in
-  // FreeSurfaceStats::step_map_growth (≤ 1: perturbations do not grow). Costs ~3 solves each.
-  int stability_probe_iterations = 0;
-  // ∇·(2μE) rather than ∇·(μ∇u): ∇·(μ(∇u)ᵀ) on interior nodes, stabilised by a second implicit
-  // μ-Laplacian (update_viscosity). Case key solver.viscous_stress: full.
-  bool transpose_stress = false;
-
-  void check() const;  // throws std::invalid_argument naming the field and its range
-};
-
-// The free-surface step's statistics: StepStats (step.hpp) and its own.
-struct FreeSurfaceStats : StepStats {
-  std::size_t surface_nodes = 0, splash_nodes = 0;
-  std::size_t positivity_guarded = 0;  // nodes whose Laplacian dropped the offset correction
-  // Solves that failed and were repeated: with a fresh AMG hierarchy when the kept one was built
-  // for an older cloud, and in 2D a pressure solve with the matrix's sparse LU as preconditioner
-  // (the failed iterations are counted in the totals).
-  int repeated_solves = 0;
-  int repeated_with_lu = 0;  // of which: pressure solves repeated with the sparse LU (the rest: fresh AMG)
-  // FreeSurfaceParams::stability_probe_iterations > 0: largest growth factor per step of the
-  // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
-  double step_map_growth = 0;
-  std::size_t step_map_node = 0;
-};
-
-class FreeSurfaceSolver : public NodeState {
+// The free surface's parameters are SolverParams (step.hpp) with its defaults; gravity has
+// `dimension` entries.
+class FreeSurfaceSolver final : public Solver {
  public:
-  FreeSurfaceSolver(FreeSurfaceParams params, std::vector<std::shared_ptr<const Boundary>> boundaries, NodeCloud cloud);
+  FreeSurfaceSolver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> boundaries, NodeCloud cloud);
 
-  // One time step; throws DivergenceError (state of the last good step kept) on divergence.
-  FreeSurfaceStats step();
-
-  [[nodiscard]] int dimension() const { return dim_; }
-  [[nodiscard]] const FreeSurfaceParams& params() const { return params_; }
-
-  [[nodiscard]] SolverState state() const;
+  [[nodiscard]] SolverState state() const override;
   // Continues from a state taken from a solver of the same scene and parameters. Throws
   // std::invalid_argument naming the mismatch (node count, a wall node turned fluid or back, a
   // neighbour list that does not fit the cloud).
-  void restore(SolverState state);
+  void restore(SolverState state) override;
 
   // From the next step on, probe the linearised step map with this many power iterations per
-  // step (FreeSurfaceParams::stability_probe_iterations; 0: off).
+  // step (SolverParams::stability_probe_iterations; 0: off).
   void set_stability_probe(int iterations) { params_.stability_probe_iterations = std::max(iterations, 0); }
   // Re-runs the free-surface detection on the current cloud (kinds() then holds the result).
   void classify();
@@ -169,7 +99,7 @@ class FreeSurfaceSolver : public NodeState {
   // share of space from its kernel density; surface kernel sums are truncated by the void).
   [[nodiscard]] double fluid_volume() const;
   // Kinetic energy Σ ½ ρ |u|² Δ^d over fluid nodes [J, or J/m in 2D].
-  [[nodiscard]] double kinetic_energy() const;
+  [[nodiscard]] double kinetic_energy() const override;
   // Potential energy −Σ ρ g·x Δ^d over fluid nodes [J, or J/m in 2D], with the same node volume
   // as kinetic_energy(): their sum may only fall (gravity's work goes to kinetic energy and
   // viscous dissipation).
@@ -181,22 +111,21 @@ class FreeSurfaceSolver : public NodeState {
   [[nodiscard]] std::size_t neighbour_searches() const { return candidate_searches_; }
 
  private:
-  struct LinearSolves;  // free_surface_step.cpp
-  // What the velocity correction leaves for the divergence checks.
-  struct Correction {
-    bool finite = true;       // every velocity and pressure finite
-    double max_speed = 0;     // over interior and surface nodes [m/s]
-    std::size_t fastest = 0;  // the node that has it
+  // The linear solves' settings and factors of one step, from the momentum solve to the end of
+  // the pressure solve (the stability probe reuses them).
+  struct LinearSolves {
+    numerics::SparseLu momentum_lu, pressure_lu, pressure_direct;
+    numerics::KrylovSettings velocity, pressure;
   };
   // The phases of step(), in order (free_surface_step.cpp).
-  void update_operators(FreeSurfaceStats& stats);
-  void update_viscosity();
-  bool solve_momentum(double next_time, LinearSolves& solves, FreeSurfaceStats& stats);
-  numerics::KrylovResult solve_pressure(LinearSolves& solves, FreeSurfaceStats& stats);
-  Correction correct_velocity();
-  void check_divergence(double next_time, const Correction& correction, const numerics::KrylovResult& pressure,
-                        bool velocity_converged, FreeSurfaceStats& stats) const;
-  void commit_and_advect(double next_time);
+  void update_operators(StepStats& stats) override;
+  void update_viscosity() override;
+  bool solve_momentum(double next_time, StepStats& stats) override;
+  numerics::KrylovResult solve_pressure(StepStats& stats) override;
+  Correction correct_velocity() override;
+  void commit_and_advect(double next_time) override;
+  void reorder(StepStats& stats) override;  // the neighbour search and the PBD
+  [[nodiscard]] std::string pressure_failure(const StepStats& stats) const override;
   [[nodiscard]] double largest_pbd_shift() const;
 
   void rebuild_neighbours();
@@ -204,11 +133,11 @@ class FreeSurfaceSolver : public NodeState {
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
   void impose_boundary_pressure();        // previous_pressure_ from pressure_
   void regradient_for_boundary_values();  // dry walls; anchored_surface_gradient, DryWalls::exclude
-  void reorder(std::span<const double> velocity_gradient);
+  void apply_pbd(std::span<const double> velocity_gradient);
   // Power iteration of the linearised step map on this step's matrices: growth per step and the
-  // node where the mode is largest (FreeSurfaceParams::stability_probe_iterations).
+  // node where the mode is largest (SolverParams::stability_probe_iterations).
   void probe_step_map(const numerics::KrylovSettings& velocity_settings,
-                      const numerics::KrylovSettings& pressure_settings, FreeSurfaceStats& stats);
+                      const numerics::KrylovSettings& pressure_settings, StepStats& stats);
   [[nodiscard]] double kernel_density(std::size_t node) const;
   // Shepard average (eq. 12) of pressure_j + ρ g·(x_node − x_j) over the neighbours j that pass
   // `use`: a wall's (or a newly interior node's) pressure from the fluid with the hydrostatic
@@ -221,9 +150,8 @@ class FreeSurfaceSolver : public NodeState {
               detail::Surroundings& surroundings) const;
   void classify_walls(double support_radius_squared);
 
-  FreeSurfaceParams params_;
-  int dim_;
   std::vector<std::shared_ptr<const Boundary>> boundaries_;
+  LinearSolves solves_;               // this step's (solve_momentum to solve_pressure)
   std::vector<NodeKind> last_kinds_;  // the classification of the previous step
   std::vector<std::uint8_t> corner_;
   std::vector<int> boundary_of_;
@@ -236,7 +164,7 @@ class FreeSurfaceSolver : public NodeState {
   std::vector<double> increment_gradient_;
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
   std::vector<double> transpose_stress_;  // ∇·(μ(∇u)ᵀ) − ∇·(μ∇u_{n−1}) on interior nodes (viscous_stress: full)
-  std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (reorder)
+  std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (apply_pbd)
   std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (regradient_for_boundary_values)
 };
 

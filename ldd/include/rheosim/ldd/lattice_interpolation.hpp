@@ -1,6 +1,6 @@
 #pragma once
 // Second-order return of the advected velocity to the node lattice (the lattice reordering of
-// LDD §3.2, taken every step; solver.hpp, step 7).
+// LDD §3.2, taken every step; cavity_solver.hpp, step 7).
 //
 // Why not eq. 12 on the advected cloud: Shepard's average Σ W u_j / Σ W is not the identity even
 // when nothing moved (δt → 0), so every step smooths the field by O(Δ²): a numerical viscosity

@@ -1,5 +1,5 @@
 #pragma once
-// The initial node cloud of an LDD scene, for either solver: a cavity's lattice (domain.hpp) or a
+// The initial node cloud of an LDD scene, for either scheme of the solver: a cavity's lattice (domain.hpp) or a
 // free-surface scene's fluid and wall nodes (scenes.hpp).
 #include <cstddef>
 #include <cstdint>
@@ -9,7 +9,7 @@
 
 namespace rheosim::ldd {
 
-// What a node is, in both solvers and in the `kind` of every node frame. A cloud starts with
+// What a node is, in both schemes and in the `kind` of every node frame. A cloud starts with
 // interior (fluid), wall and corner nodes (a corner, where walls meet, has no unique normal);
 // the free-surface solver reclassifies each step: fluid nodes on the surface (p = 0) or splashed
 // (few neighbours), wall nodes with no fluid within reach idle.

@@ -18,7 +18,7 @@
 // Laplacian is exact for quadratics on symmetric lattices (o_i = 0); on disordered clouds its
 // error for anisotropic second derivatives (∂²f/∂x² ≠ ∂²f/∂y², ∂²f/∂x∂y ≠ 0) is O(1) and does
 // not vanish under refinement (measured in tests/ldd/test_operators.cpp), so node
-// quality is an accuracy control (see the PBD reordering in solver.hpp).
+// quality is an accuracy control (see the PBD in free_surface.hpp).
 //
 // Guards (documented in docs/ldd.md):
 //  * moment matrix near-singular (too few or collinear neighbours): when its reciprocal

@@ -54,7 +54,7 @@ struct RunControl {
   double wall_time_limit = 0;        // [s]
   double checkpoint_interval = 600;  // [s] of wall time between checkpoints (also at every frame)
   // Free-surface runs: when > 0, each probe step also runs this many power iterations of the
-  // linearised step map on the current cloud (FreeSurfaceParams::stability_probe_iterations) and
+  // linearised step map on the current cloud (SolverParams::stability_probe_iterations) and
   // the probe file gains `step_map_growth` and its node's position (bench_ldd run --stability-probe).
   int stability_probe_iterations = 0;
 };
@@ -151,6 +151,6 @@ struct LinearSloshing {
 [[nodiscard]] std::vector<double> level_crossings(std::span<const double> t, std::span<const double> h, double level,
                                                   std::size_t until);
 
-FreeSurfaceParams free_surface_params(const ldd::CaseSettings& l);
+SolverParams free_surface_params(const ldd::CaseSettings& l);
 
 }  // namespace rheosim::ldd

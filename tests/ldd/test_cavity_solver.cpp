@@ -16,9 +16,9 @@
 
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/case.hpp"
+#include "rheosim/ldd/cavity_solver.hpp"
 #include "rheosim/ldd/domain.hpp"
 #include "rheosim/ldd/run.hpp"
-#include "rheosim/ldd/solver.hpp"
 
 namespace rheosim::ldd {
 namespace {
@@ -78,15 +78,15 @@ TEST(Cavity, SkewedWallsHaveInwardUnitNormals) {
   EXPECT_NEAR(top_left[1], std::sqrt(3.0) / 2, 1e-12);
 }
 
-TEST(Solver, StaysAtRestUnderGravity) {
+TEST(CavitySolver, StaysAtRestUnderGravity) {
   omp_set_num_threads(1);
   const Cavity cavity(square(0.0), 1.0 / 16);
-  SolverParams p;
+  SolverParams p = SolverParams::for_cavity();
   p.rheology = newtonian(0.01);
   p.spacing = 1.0 / 16;
   p.time_step = 0.01;
   p.gravity = {0.0, -9.81};
-  Solver solver(p, cavity.walls(), cavity.initial_cloud());
+  CavitySolver solver(p, cavity.initial_cloud());
   for (int k = 0; k < 20; ++k) solver.step();
   double max_speed = 0;
   for (std::size_t i = 0; i < solver.node_count(); ++i)
@@ -97,14 +97,14 @@ TEST(Solver, StaysAtRestUnderGravity) {
   EXPECT_NEAR(p_at(8, 1) - p_at(8, 15), 9.81 * 14.0 / 16, 0.05 * 9.81);
 }
 
-TEST(Solver, DivergenceStopsWithTheLastGoodStateKept) {
+TEST(CavitySolver, DivergenceStopsWithTheLastGoodStateKept) {
   omp_set_num_threads(1);
   const Cavity cavity(square(1.0), 1.0 / 16);
-  SolverParams p;
+  SolverParams p = SolverParams::for_cavity();
   p.rheology = newtonian(0.01);
   p.spacing = 1.0 / 16;
   p.time_step = 0.5;  // Courant number 8 at the lid
-  Solver solver(p, cavity.walls(), cavity.initial_cloud());
+  CavitySolver solver(p, cavity.initial_cloud());
   try {
     solver.step();
     FAIL() << "no DivergenceError";
@@ -120,15 +120,15 @@ TEST(Solver, DivergenceStopsWithTheLastGoodStateKept) {
   }
 }
 
-TEST(Solver, RepeatedRunsAreBitIdentical) {
+TEST(CavitySolver, RepeatedRunsAreBitIdentical) {
   omp_set_num_threads(2);
   const auto run = [] {
     const Cavity cavity(square(1.0), 1.0 / 12);
-    SolverParams p;
+    SolverParams p = SolverParams::for_cavity();
     p.rheology = newtonian(0.01);
     p.spacing = 1.0 / 12;
     p.time_step = 0.01;
-    Solver solver(p, cavity.walls(), cavity.initial_cloud());
+    CavitySolver solver(p, cavity.initial_cloud());
     for (int k = 0; k < 2; ++k) solver.step();
     return std::vector<double>(solver.velocity().begin(), solver.velocity().end());
   };
@@ -140,11 +140,11 @@ TEST(Solver, RepeatedRunsAreBitIdentical) {
 // AMG preconditioners (amg.hpp) for both systems: the same velocities as the default LU / Jacobi
 // solves to within the solver tolerances, and bit-identical repeated runs on two threads (5 041
 // nodes, above the AMG's parallel threshold).
-TEST(Solver, AmgPreconditionersMatchTheDefaultSolvesAndRepeatExactly) {
+TEST(CavitySolver, AmgPreconditionersMatchTheDefaultSolvesAndRepeatExactly) {
   omp_set_num_threads(2);
   const auto run = [](Preconditioner pressure, Preconditioner velocity) {
     const Cavity cavity(square(1.0), 1.0 / 70);
-    SolverParams p;
+    SolverParams p = SolverParams::for_cavity();
     p.rheology = newtonian(0.01);
     p.spacing = 1.0 / 70;
     p.time_step = 2e-3;
@@ -152,8 +152,8 @@ TEST(Solver, AmgPreconditionersMatchTheDefaultSolvesAndRepeatExactly) {
     p.velocity_tolerance = 1e-10;
     p.pressure_preconditioner = pressure;
     p.velocity_preconditioner = velocity;
-    Solver solver(p, cavity.walls(), cavity.initial_cloud());
-    CavityStepStats stats;
+    CavitySolver solver(p, cavity.initial_cloud());
+    StepStats stats;
     for (int k = 0; k < 3; ++k) stats = solver.step();
     if (velocity == Preconditioner::amg) {
       EXPECT_LT(stats.velocity_iterations, 20);

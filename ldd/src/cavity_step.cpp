@@ -1,6 +1,5 @@
-// One lattice-cavity step (solver.hpp, steps 1–7), one private method per phase.
+// The lattice cavity's phases of the LDD step (cavity_solver.hpp, solver.hpp), one method per phase.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -8,13 +7,10 @@
 
 #include <fmt/format.h>
 
-#include "rheosim/ldd/solver.hpp"
+#include "rheosim/ldd/cavity_solver.hpp"
 
 namespace rheosim::ldd {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // x = LU⁻¹ b and its residual against `a` (the factorised matrix), as a KrylovResult with one
 // iteration; `scratch` holds A x.
@@ -39,41 +35,9 @@ constexpr double pressure_regularisation = 1e-6;
 
 }  // namespace
 
-CavityStepStats Solver::step() {
-  CavityStepStats stats;
-  const double next_time = time_ + params_.time_step;
-
-  auto t0 = Clock::now();
-  update_operators(stats);  // 1
-  times_.operators += seconds_since(t0);
-
-  t0 = Clock::now();
-  update_viscosity();  // 2
-  times_.rheology += seconds_since(t0);
-
-  t0 = Clock::now();
-  const bool velocity_converged = solve_momentum(stats);  // 3
-  times_.momentum += seconds_since(t0);
-
-  t0 = Clock::now();
-  const numerics::KrylovResult pressure = solve_pressure(stats);  // 4
-  correct_velocity();
-  times_.pressure += seconds_since(t0);
-
-  check_divergence(next_time, pressure, velocity_converged, stats);  // 5
-
-  t0 = Clock::now();
-  commit_and_advect();  // 6
-  times_.advection += seconds_since(t0);
-
-  time_ = next_time;
-  ++steps_;
-  return stats;
-}
-
 // 1. Operators (eqs. 13–16) on the current cloud (once in lattice mode: the cloud returns to the
 // same places every step).
-void Solver::update_operators(CavityStepStats& stats) {
+void CavitySolver::update_operators(StepStats& stats) {
   if (!operators_valid_) {
     operators_ = build_operators(positions_, 2, neighbours_, OperatorSettings{support_radius_});
     operators_valid_ = true;
@@ -82,11 +46,11 @@ void Solver::update_operators(CavityStepStats& stats) {
 }
 
 // 2. ∇u (eq. 14), E (eq. 4), γ̇ (eq. 5), μ(γ̇).
-void Solver::update_viscosity() {
+void CavitySolver::update_viscosity() {
   const std::size_t n = kinds_.size();
   velocity_gradient_.resize(4 * n);  // per node: ∂u/∂x, ∂u/∂y, ∂v/∂x, ∂v/∂y
   divergence_.resize(n);
-  velocity_gradient_of(velocity_, velocity_gradient_, 2);
+  velocity_gradient_of(velocity_, velocity_gradient_);
   const auto count = static_cast<std::ptrdiff_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
@@ -104,7 +68,7 @@ void Solver::update_viscosity() {
 //    the PPE use it), the explicit ∇·(μ(∇u)ᵀ) and the implicit matrix, each sum in the order
 //    of the separate operator passes it replaces (the same bits). Into new_velocity_; returns
 //    whether both components' solves converged.
-bool Solver::solve_momentum(CavityStepStats& stats) {
+bool CavitySolver::solve_momentum(double /*next_time: the walls' velocities are the cloud's*/, StepStats& stats) {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -219,7 +183,7 @@ bool Solver::solve_momentum(CavityStepStats& stats) {
 
 // 4. Pressure Poisson equation (eq. 17) for the increment φ = p_n − p_{n−1} into increment_:
 //    interior ⟨∇²φ⟩ = ρ/δt ⟨∇·u*⟩, walls n·⟨∇φ⟩ = ρ n·F_ext − n·⟨∇p_{n−1}⟩, corners Shepard.
-numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
+numerics::KrylovResult CavitySolver::solve_pressure(StepStats& stats) {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -324,8 +288,9 @@ numerics::KrylovResult Solver::solve_pressure(CavityStepStats& stats) {
   return pressure_result;
 }
 
-// p_n (relative to its mean) into new_pressure_, u_n = u* − δt/ρ ⟨∇φ⟩ on fluid nodes.
-void Solver::correct_velocity() {
+// p_n (relative to its mean) into new_pressure_, u_n = u* − δt/ρ ⟨∇φ⟩ on fluid nodes; the
+// largest speed over every node (the lid's included) and whether all values are finite.
+Solver::Correction CavitySolver::correct_velocity() {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step, rho = params_.density;
@@ -344,34 +309,27 @@ void Solver::correct_velocity() {
     new_velocity_[2 * i] -= dt / rho * pressure_gradient_[2 * i];
     new_velocity_[2 * i + 1] -= dt / rho * pressure_gradient_[2 * i + 1];
   }
-}
-
-// 5. Divergence checks before anything is committed (step.hpp, check_step).
-void Solver::check_divergence(double next_time, const numerics::KrylovResult& pressure, bool velocity_converged,
-                              CavityStepStats& stats) const {
-  const std::size_t n = kinds_.size();
+  Correction c;
   double max_speed_squared = 0;
-  bool finite = true;
   for (std::size_t i = 0; i < n; ++i) {
     const double u = new_velocity_[2 * i], v = new_velocity_[2 * i + 1];
-    if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(new_pressure_[i])) finite = false;
-    max_speed_squared = std::max(max_speed_squared, u * u + v * v);
+    if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(new_pressure_[i])) c.finite = false;
+    if (u * u + v * v > max_speed_squared) {
+      max_speed_squared = u * u + v * v;
+      c.fastest = i;
+    }
   }
-  StepCheck check;
-  check.next_time = next_time;
-  check.step = steps_ + 1;
-  check.finite = finite;
-  check.max_speed = std::sqrt(max_speed_squared);
-  check.pressure = pressure;
-  check.velocity_converged = velocity_converged;
-  check.pressure_failure = [&] { return fmt::format("(tolerance {:.3g})", params_.pressure_tolerance); };
-  check_step(check, params_, stats);
+  c.max_speed = std::sqrt(max_speed_squared);
+  return c;
 }
 
-// 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler. In lattice mode the
-// nodes return to their lattice places with the velocity arriving there; in density mode they
-// stay where the flow takes them (the PBD of step 7 follows).
-void Solver::commit_and_advect() {
+std::string CavitySolver::pressure_failure(const StepStats& /*stats*/) const {
+  return fmt::format("(tolerance {:.3g})", params_.pressure_tolerance);
+}
+
+// 6. Commit and advect (eq. 20). The first step has no u_{n−1}: plain Euler. The nodes return to
+// their lattice places with the velocity arriving there (step 7 of the header comment).
+void CavitySolver::commit_and_advect(double /*next_time*/) {
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
   const double dt = params_.time_step;
@@ -383,7 +341,7 @@ void Solver::commit_and_advect() {
   }
   // ∇u_n for the gradient-corrected interpolation; the quadratic interpolation fits its own.
   if (params_.interpolation == LatticeInterpolation::gradient_corrected)
-    velocity_gradient_of(new_velocity_, velocity_gradient_, 2);
+    velocity_gradient_of(new_velocity_, velocity_gradient_);
   const double older_weight = first_step_ ? 0.0 : 0.5;
   // Displacement of every node over the step (eq. 20); walls stay.
   const auto displacement = [&](std::size_t j, std::size_t d) {
