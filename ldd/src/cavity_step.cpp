@@ -35,8 +35,7 @@ constexpr double pressure_regularisation = 1e-6;
 
 }  // namespace
 
-// 1. Operators (eqs. 13–16) on the current cloud (once in lattice mode: the cloud returns to the
-// same places every step).
+// 1. Operators (eqs. 13–16), once: the cloud returns to the same places every step.
 void CavitySolver::update_operators(StepStats& stats) {
   if (!operators_valid_) {
     operators_ = build_operators(positions_, 2, neighbours_, OperatorSettings{support_radius_});
@@ -190,8 +189,8 @@ numerics::KrylovResult CavitySolver::solve_pressure(StepStats& stats) {
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   divergence(nb, ops, new_velocity_, divergence_);
-  // The matrix depends on the operators, normals and node kinds only: in lattice mode it is
-  // built once (and factorised once, below); each step then only forms the right-hand side.
+  // The matrix depends on the operators, normals and node kinds only: it is built once (and factorised once, below);
+  // each step then only forms the right-hand side.
   const bool build_pressure_matrix = pressure_matrix_.pattern != &nb;
   if (build_pressure_matrix) {
     pressure_matrix_.pattern = &nb;
@@ -255,8 +254,8 @@ numerics::KrylovResult CavitySolver::solve_pressure(StepStats& stats) {
       {}};
   numerics::KrylovSettings settings_with_preconditioner = pressure_settings;
   if (params_.pressure_preconditioner == Preconditioner::sparse_lu) {
-    // The matrix never changes in lattice mode (its operators are built once and do not depend
-    // on μ): factorised once, every step solves with the factors.
+    // The matrix never changes (its operators are built once and do not depend on μ): factorised once, every step
+    // solves with the factors.
     if (!pressure_lu_.ready() &&
         !pressure_lu_.factorise(pressure_matrix_, numerics::SparseLu::Method::nested_dissection, positions_))
       params_.pressure_preconditioner = Preconditioner::jacobi;  // fall back to Jacobi
