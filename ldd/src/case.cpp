@@ -232,6 +232,12 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
   v.full_viscous_stress =
       s.choice_or({"viscous_stress", "free surface: viscous force (laplacian: ∇·(μ∇u); full: ∇·(2μE))", "-"},
                   "laplacian", {"laplacian", "full"}) == "full";
+  v.surface_normal_stress =
+      s.choice_or({"surface_stress",
+                   "free surface: pressure of surface nodes (none: p = 0; normal: p = 2μ n·E·n, the viscous normal "
+                   "stress)",
+                   "-"},
+                  "none", {"none", "normal"}) == "normal";
   const auto preconditioner = [&](const KeyInfo& key) -> std::optional<Preconditioner> {
     std::vector<std::string> names = names_in(preconditioner_names);
     names.insert(names.begin(), "auto");
@@ -245,7 +251,7 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       s.choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed",
                   {"smoothed", "plain"}) == "smoothed";
   for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "dry_walls", "moment_rcond",
-                          "surface_moment_rcond", "viscous_stress"})
+                          "surface_moment_rcond", "viscous_stress", "surface_stress"})
     if (cavity && s.has(key))
       s.fail(
           key,

@@ -58,7 +58,7 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
   if (!cavity)
     out += fmt::format(
         "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "
-        "(surface), dry walls {}, {} gradient, viscous force {}\n",
+        "(surface), dry walls {}, {} gradient, viscous force {}, surface pressure {}\n",
         s.pbd_sweeps, s.pbd_velocity_correction ? "taylor" : "none", s.moment_rcond, s.surface_moment_rcond,
         s.dry_walls == DryWalls::exclude       ? "at p = 0, excluded from gradients"
         : s.dry_walls == DryWalls::extrapolate ? "at the fluid's extrapolated pressure (walls unclipped)"
@@ -66,7 +66,7 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
         s.gradient == GradientChoice::renormalised       ? "renormalised (eq. 14)"
         : s.gradient == GradientChoice::surface_anchored ? "centred, eq. 14 on free-surface nodes,"
                                                          : "centred",
-        s.full_viscous_stress ? "∇·(2μE)" : "∇·(μ∇u)");
+        s.full_viscous_stress ? "∇·(2μE)" : "∇·(μ∇u)", s.surface_normal_stress ? "2μ n·E·n" : "0");
   return out;
 }
 

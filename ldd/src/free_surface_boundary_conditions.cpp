@@ -104,12 +104,48 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
 //     A moved wall node (the rising mould, δz = v δt) otherwise kept a pressure off by ρ g δz —
 //     a Neumann source over the whole mould that the PPE can drain only through the small top
 //     surface: φ ≈ −10 kPa in the 50 000-node slump at δt = 1e-2, clipped to p = 0 everywhere.
+// The traction-free surface's normal part: n·σ·n = −p + 2μ n·E·n = 0, so p = 2μ n·E·n on surface
+// nodes, with E of u_{n−1} (update_viscosity's gradient) and n the outward unit normal, opposite
+// the kernel-weighted offset of the fluid neighbours. A node whose fluid neighbours balance (no
+// direction) keeps p = 0.
+void FreeSurfaceSolver::update_surface_pressure() {
+  const auto dim = static_cast<std::size_t>(dimension());
+  const std::size_t n = kinds_.size(), dd = dim * dim;
+  surface_pressure_.assign(n, 0.0);
+  if (!params_.surface_normal_stress) return;
+  const numerics::NeighbourList& nb = neighbours_;
+  const Operators& ops = operators_;
+  const auto count = static_cast<std::ptrdiff_t>(n);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    if (kinds_[i] != NodeKind::surface) continue;
+    double offset[3] = {0, 0, 0};
+    for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+      const std::size_t j = nb.indices[k];
+      if (!is_fluid(j)) continue;
+      for (std::size_t d = 0; d < dim; ++d)
+        offset[d] += ops.weights[k] * (positions_[dim * j + d] - positions_[dim * i + d]);
+    }
+    double length = 0;
+    for (std::size_t d = 0; d < dim; ++d) length += offset[d] * offset[d];
+    length = std::sqrt(length);
+    if (!(length > 1e-12 * params_.spacing)) continue;
+    const double* grad = &velocity_gradient_[dd * i];  // ∂u_a/∂x_b at [a·dim + b]
+    double normal_strain = 0;                          // n·E·n = n_a n_b ∂u_a/∂x_b
+    for (std::size_t a = 0; a < dim; ++a)
+      for (std::size_t b = 0; b < dim; ++b) normal_strain += offset[a] * offset[b] * grad[a * dim + b];
+    surface_pressure_[i] = 2.0 * viscosity_[i] * normal_strain / (length * length);
+  }
+}
+
 void FreeSurfaceSolver::impose_boundary_pressure() {
   const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   std::vector<double>& p = previous_pressure_;
   p = pressure_;
   for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (kinds_[i] == NodeKind::surface || kinds_[i] == NodeKind::splash || kinds_[i] == NodeKind::idle_wall) p[i] = 0.0;
+    if (kinds_[i] == NodeKind::surface || kinds_[i] == NodeKind::splash || kinds_[i] == NodeKind::idle_wall)
+      p[i] = surface_pressure_[i];  // 0 but on surface nodes under surface_normal_stress
   const bool history = last_kinds_.size() == kinds_.size();
   const auto known = [&](std::size_t j) {
     return kinds_[j] == NodeKind::surface || (kinds_[j] == NodeKind::interior && last_kinds_[j] == NodeKind::interior);

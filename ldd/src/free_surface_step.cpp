@@ -72,6 +72,7 @@ void FreeSurfaceSolver::update_viscosity() {
     shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
   }
   params_.rheology->viscosity(shear_rate_, viscosity_);
+  update_surface_pressure();
   // solver.viscous_stress: full (SolverParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
   // nodes, making the viscous force ∇·(2μE). Explicit alone it is a viscous term far past an
   // explicit limit, δt μ_max/(ρΔ²) up to ~5·10³ (Bingham m = 1000 s at Δ = 2 mm). So the momentum
@@ -277,10 +278,10 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
         rhs_[i] = source - previous_pressure_[i];
         break;
       }
-      default:  // surface, splash, idle wall: p_n = p_atm = 0
+      default:  // surface, splash, idle wall: p_n = p_atm = 0 (surface: 2μ n·E·n, surface_normal_stress)
         for (std::size_t k = begin; k < end; ++k) pressure_matrix_.off_diagonal[k] = 0.0;
         pressure_matrix_.diagonal[i] = 1.0;
-        rhs_[i] = -previous_pressure_[i];
+        rhs_[i] = surface_pressure_[i] - previous_pressure_[i];
     }
   }
   increment_.assign(n, 0.0);

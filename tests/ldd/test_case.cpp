@@ -139,6 +139,7 @@ TEST(Case, LddCavityRefusesTheFreeSurfaceSolverKeys) {
   expect_cavity_refuses("moment_rcond", "0.01", "leave it out");
   expect_cavity_refuses("surface_moment_rcond", "0.01", "leave it out");
   expect_cavity_refuses("viscous_stress", "full", "leave it out");
+  expect_cavity_refuses("surface_stress", "normal", "leave it out");
 }
 
 TEST(Case, LddChoicesArriveAsEnums) {
@@ -156,7 +157,8 @@ TEST(Case, LddChoicesArriveAsEnums) {
       "resolution: {spacing: 0.002}\ntime: {step: 1.0e-4, end: 0.3}\n";
   const CaseSettings d = parse_case(dam_break +
                                         "solver: {gradient: surface_anchored, pbd_velocity: none, dry_walls: exclude, "
-                                        "pressure_amg: plain, velocity_preconditioner: lu, viscous_stress: full}\n",
+                                        "pressure_amg: plain, velocity_preconditioner: lu, viscous_stress: full, "
+                                        "surface_stress: normal}\n",
                                     "d.yaml")
                              .settings;
   EXPECT_EQ(d.solver.gradient, GradientChoice::surface_anchored);
@@ -164,6 +166,8 @@ TEST(Case, LddChoicesArriveAsEnums) {
   EXPECT_EQ(d.solver.dry_walls, DryWalls::exclude);
   EXPECT_TRUE(d.solver.full_viscous_stress);
   EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.full_viscous_stress);  // laplacian
+  EXPECT_TRUE(d.solver.surface_normal_stress);
+  EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.surface_normal_stress);  // none
   EXPECT_EQ(parse_case(dam_break, "d.yaml").settings.solver.dry_walls, DryWalls::include);
   EXPECT_EQ(parse_case(dam_break + "solver: {dry_walls: extrapolate}\n", "e.yaml").settings.solver.dry_walls,
             DryWalls::extrapolate);

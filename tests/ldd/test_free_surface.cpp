@@ -136,6 +136,45 @@ TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {
 
 // The AMG preconditioners (reused hierarchy) give the sparse-LU run's hydrostatic column to the
 // solver tolerance, and repeat bit for bit. ~1 800 nodes, so the hierarchy has coarse levels.
+// solver.surface_stress: normal puts the traction-free condition's normal part on the surface,
+// p = 2μ n·E·n. In the extension u = (−a x, a y) the top row (n = +y) has n·E·n = a: its nodes
+// away from the walls take p = 2μa after one step (the Dirichlet row of the PPE; the gradient is
+// exact for this linear field); compression (a < 0) gives suction, which the no-tension clip sets to 0, and the
+// default keeps p = 0.
+TEST(FreeSurface, SurfaceNormalStressIsTwiceViscosityTimesNormalStrain) {
+  const double dx = 0.01, viscosity = 2.0;
+  const auto top_pressures = [&](double rate, bool normal_stress) {
+    SolverParams p = column_params(dx, 1e-4, viscosity);
+    p.gravity = {0.0, 0.0};
+    p.surface_normal_stress = normal_stress;
+    FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
+    FreeSurfaceSolver solver(p, scene.boundaries, scene.cloud);
+    SolverState state = solver.state();
+    for (std::size_t i = 0; i < solver.node_count(); ++i) {
+      state.velocity[2 * i] = -rate * state.positions[2 * i];
+      state.velocity[2 * i + 1] = rate * state.positions[2 * i + 1];
+    }
+    state.previous_velocity = state.velocity;
+    solver.restore(state);
+    const double top = top_row(solver);
+    solver.step();
+    std::vector<double> pressures;  // top-row nodes more than 2h from the side walls
+    for (std::size_t i = 0; i < solver.node_count(); ++i)
+      if (solver.kinds()[i] == NodeKind::surface && std::abs(solver.positions()[2 * i] - 0.1) < 0.1 - 3.2 * dx &&
+          solver.positions()[2 * i + 1] > top - 0.5 * dx)
+        pressures.push_back(solver.pressure()[i]);
+    return pressures;
+  };
+  const double rate = 0.5;
+  const auto stretched = top_pressures(rate, true);
+  ASSERT_GE(stretched.size(), 10U);
+  // The PPE's Dirichlet rows are met to its tolerance, not exactly.
+  const double tolerance = 1e-5 * 2.0 * viscosity * rate;
+  for (const double p : stretched) EXPECT_NEAR(p, 2.0 * viscosity * rate, tolerance);
+  for (const double p : top_pressures(-rate, true)) EXPECT_NEAR(p, 0.0, tolerance);
+  for (const double p : top_pressures(rate, false)) EXPECT_NEAR(p, 0.0, tolerance);
+}
+
 TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
   const double dx = 0.005;
   const auto run = [&](Preconditioner preconditioner) {

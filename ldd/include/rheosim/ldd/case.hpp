@@ -38,7 +38,10 @@ struct SolverSettings {
   // Free-surface scenes: a PBD shift δx changes the velocity by ⟨∇u⟩·δx (pbd_velocity: taylor),
   // or leaves it (none).
   bool pbd_velocity_correction = true;
-  bool full_viscous_stress = false;        // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
+  bool full_viscous_stress = false;  // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
+  // Free-surface scenes: the surface nodes' pressure, 2μ n·E·n (surface_stress: normal, the
+  // traction-free condition's normal part) or p_atm = 0 (none, LDD eq. 17).
+  bool surface_normal_stress = false;
   DryWalls dry_walls = DryWalls::include;  // free-surface scenes: wall nodes above the surface (dry_walls.hpp)
   // Empty: auto, the scene's default (lu: free-surface scenes only).
   std::optional<Preconditioner> pressure_preconditioner, velocity_preconditioner;

@@ -131,6 +131,7 @@ class FreeSurfaceSolver final : public Solver {
   void rebuild_neighbours();
   void keep_laplacian_positive();
   void keep_off_boundaries(std::size_t node, double t, std::span<double> velocity);
+  void update_surface_pressure();         // surface_pressure_ (surface_normal_stress), after μ(γ̇)
   void impose_boundary_pressure();        // previous_pressure_ from pressure_
   void regradient_for_boundary_values();  // dry walls; anchored_surface_gradient, DryWalls::exclude
   void apply_pbd(std::span<const double> velocity_gradient);
@@ -163,6 +164,7 @@ class FreeSurfaceSolver final : public Solver {
   std::size_t candidate_searches_ = 0, steps_since_search_ = 0;
   std::vector<double> increment_gradient_;
   std::vector<double> previous_pressure_;  // p_{n−1} on the current cloud (impose_boundary_pressure)
+  std::vector<double> surface_pressure_;   // 2μ n·E·n on surface nodes (surface_normal_stress), else 0
   std::vector<double> transpose_stress_;  // ∇·(μ(∇u)ᵀ) − ∇·(μ∇u_{n−1}) on interior nodes (viscous_stress: full)
   std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (apply_pbd)
   std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (regradient_for_boundary_values)

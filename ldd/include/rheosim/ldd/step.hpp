@@ -80,6 +80,10 @@ struct SolverParams {
   // μ-Laplacian (update_viscosity). Case key solver.viscous_stress: full. (The cavity always
   // takes ∇·(μ(∇u)ᵀ) explicitly.)
   bool transpose_stress = false;
+  // Free-surface nodes carry p = 2μ n·E·n (the normal part of the traction-free condition
+  // σ·n = 0, with u_{n−1}'s E and the outward normal of the fluid neighbours) instead of p_atm = 0
+  // (LDD eq. 17); the no-tension clip keeps it ≥ 0. Case key solver.surface_stress: normal.
+  bool surface_normal_stress = false;
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
   // this, and each step keeps those now within the search radius (the same list a fresh search
   // gives) until some node has moved half of it. 0: a fresh search every step.
