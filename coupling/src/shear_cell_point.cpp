@@ -12,6 +12,7 @@
 #include "rheosim/core/config.hpp"
 #include "rheosim/core/units.hpp"
 #include "rheosim/coupling/drag.hpp"
+#include "rheosim/coupling/forces.hpp"
 #include "rheosim/coupling/void_fraction.hpp"
 #include "rheosim/dem/contact.hpp"
 #include "rheosim/fluid/couette_column.hpp"
@@ -224,8 +225,13 @@ class ShearCellCoupling {
                .axial_cells = settings.axial_cells}),
         locator_(grid_),
         scheme_(make_void_fraction_scheme(settings.void_fraction)),
-        drag_(make_drag_model(settings.drag)),
-        solid_(column.layers()) {}
+        solid_(column.layers()) {
+    // The disk's force models (forces.hpp) by name: the drag law and CD eq. 35's viscous force.
+    // No pressure-gradient force: the column carries no ∇p along the plates, and the buoyancy is
+    // in the particles' reduced gravity.
+    models_.push_back(make_force_model(name_of(settings.drag)));
+    if (settings.viscous_force) models_.push_back(make_force_model(ViscousForce::model_name));
+  }
 
   // One coupling step of fluid time step dt ending at `time`: its record.
   ShearCellStepRecord step(double dt, double time) {
@@ -290,42 +296,46 @@ class ShearCellCoupling {
     out_.cost.void_fraction += seconds_since(t0);
   }
 
-  // Drag (and the viscous force) on the particles from the column as it is now, handed to
-  // LIGGGHTS; the reaction to the column's layers. Returns the drag's virial
-  // Σ −(z_p − z_layer) F_x: the fluid forces act at the particle and react at the layer.
+  // The fluid at each particle from the column as it is now (u_f interpolated in z; ε, μ and
+  // ∂z τ weighted by the volume shares), the force models' forces handed to LIGGGHTS, the drag's
+  // reaction to the column's layers. Returns the drag's virial Σ −(z_p − z_layer) F_x: the fluid
+  // forces act at the particle and react at the layer.
   double update_forces() {
     const auto t0 = Clock::now();
     const ParticleView particles = view();
     const std::size_t n = particles.size();
     const auto eps = column_.void_fraction();
-    forces_.assign(3 * n, 0.0);
-    double drag_virial = 0.0;
+    samples_.resize(n);
     for (std::size_t p = 0; p < n; ++p) {
-      const double vp = sphere_volume_from_radius(radii_[p]);
+      ParticleSample& s = samples_[p];
+      s.position = {shifted_[3 * p], shifted_[3 * p + 1], shifted_[3 * p + 2]};
+      s.velocity = particles.velocity(p);
+      s.diameter = 2.0 * radii_[p];
+      s.volume = sphere_volume_from_radius(radii_[p]);
+      s.fluid_velocity = column_.velocity_at(shifted_[3 * p + 2]);
       double eps_p = 0.0, mu_p = 0.0, div_x = 0.0, div_y = 0.0;
       for (const auto& share : map_.of(p)) {
-        const double w = share.volume / vp;
+        const double w = share.volume / s.volume;
         eps_p += w * eps[share.cell];
         mu_p += w * column_.cell_viscosity(share.cell);
         div_x += w * column_.div_tau_x(share.cell);
         div_y += w * column_.div_tau_y(share.cell);
       }
-      const Vector3 up = particles.velocity(p);
-      const DragInput input{.fluid_velocity = column_.velocity_at(shifted_[3 * p + 2]),
-                            .particle_velocity = up,
-                            .void_fraction = eps_p,
-                            .diameter = 2.0 * radii_[p],
-                            .fluid_density = settings_.fluid.density,
-                            .fluid_viscosity = mu_p};
-      const double beta = drag_->exchange_coefficient(input);
-      for (int c = 0; c < 3; ++c) forces_[3 * p + c] = beta * (input.fluid_velocity[c] - up[c]);
-      if (settings_.viscous_force) {
-        forces_[3 * p] += vp * div_x;
-        forces_[3 * p + 1] += vp * div_y;
-      }
+      s.void_fraction = eps_p;
+      s.viscosity = mu_p;
+      s.stress_divergence = {div_x, div_y, 0.0};
+    }
+    compute_forces(models_, FluidConstants{.density = settings_.fluid.density}, samples_, particle_forces_);
+    forces_.resize(3 * n);
+    double drag_virial = 0.0;
+    for (std::size_t p = 0; p < n; ++p) {
+      const ParticleSample& s = samples_[p];
+      const Vector3 f = particle_forces_[p].total(s);
+      for (std::size_t c = 0; c < 3; ++c) forces_[3 * p + c] = f[c];
+      const double beta = particle_forces_[p].drag_coefficient;
       for (const auto& share : map_.of(p)) {
-        column_.add_reaction(share.cell, beta * share.volume / vp, input.fluid_velocity, up);
-        drag_virial -= share.volume / vp * (shifted_[3 * p + 2] - column_.centre(share.cell)) * forces_[3 * p];
+        column_.add_reaction(share.cell, beta * share.volume / s.volume, s.fluid_velocity, s.velocity);
+        drag_virial -= share.volume / s.volume * (s.position[2] - column_.centre(share.cell)) * forces_[3 * p];
       }
     }
     scene_->engine().set_external_forces(forces_);
@@ -378,8 +388,10 @@ class ShearCellCoupling {
   fluid::CylindricalGrid grid_;
   CellLocator locator_;
   std::unique_ptr<const VoidFractionScheme> scheme_;
-  std::unique_ptr<const DragModel> drag_;
+  std::vector<std::unique_ptr<const ForceModel>> models_;
   ParticleCellMap map_;
+  std::vector<ParticleSample> samples_;
+  std::vector<ParticleForce> particle_forces_;
   std::vector<double> shifted_, velocities_, radii_, forces_, solid_;
   double near_field_seconds_ = 0.0;
 };

@@ -23,8 +23,10 @@
 //   - void fraction: the particle volume split of the chosen scheme (centre | divided, reused
 //     from void_fraction.hpp on a one-cell-wide cylindrical grid, so the sub-points and the
 //     plate mirroring are the disk's), ε_k = 1 − V_s,k / (A Δz), floored at void_fraction_floor;
-//   - forces on each particle (coupling::DragModel of particles.drag: di_felice, CD eqs. 30–33, ε and μ in Re_p;
-//     viscous force V_p ∂z τ of CD eq. 35, with the layer's discrete ∂z τ): u_f is the column
+//   - forces on each particle, the disk's force models (forces.hpp) by name: the drag law of
+//     particles.drag (di_felice, CD eqs. 30–33, ε and μ in Re_p) and the viscous force V_p ∂z τ of
+//     CD eq. 35 (with the layer's discrete ∂z τ; no pressure-gradient force, the buoyancy being in
+//     the reduced gravity): u_f is the column
 //     velocity interpolated linearly in z between layer centres and the plate values; ε, μ and
 //     ∂z τ are the layer values weighted by the particle's volume shares;
 //   - fluid step: implicit in u (Thomas algorithm), drag reaction −Σ w β (ũ − u_p)/V with an
