@@ -141,11 +141,4 @@ std::vector<double> CavitySolver::sample_velocity(std::span<const double> points
   return out;
 }
 
-double CavitySolver::kinetic_energy() const {
-  double sum = 0;
-  for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (is_fluid(i)) sum += velocity_[2 * i] * velocity_[2 * i] + velocity_[2 * i + 1] * velocity_[2 * i + 1];
-  return 0.5 * params_.density * sum * params_.spacing * params_.spacing;
-}
-
 }  // namespace rheosim::ldd

@@ -188,15 +188,6 @@ double FreeSurfaceSolver::fluid_volume() const {
   return volume;
 }
 
-double FreeSurfaceSolver::kinetic_energy() const {
-  const auto dim = static_cast<std::size_t>(dimension());
-  double sum = 0;
-  for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (is_fluid(i))
-      for (std::size_t d = 0; d < dim; ++d) sum += velocity_[dim * i + d] * velocity_[dim * i + d];
-  return 0.5 * params_.density * sum * std::pow(params_.spacing, dimension());
-}
-
 double FreeSurfaceSolver::potential_energy() const {
   const auto dim = static_cast<std::size_t>(dimension());
   double sum = 0;

@@ -119,6 +119,15 @@ std::string a_kind(NodeKind k) {
   return (name.front() == 'i' ? "an " : "a ") + name;
 }
 
+double Solver::kinetic_energy() const {
+  const auto dim = static_cast<std::size_t>(params_.dimension);
+  double sum = 0;
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (is_fluid(i))
+      for (std::size_t d = 0; d < dim; ++d) sum += velocity_[dim * i + d] * velocity_[dim * i + d];
+  return 0.5 * params_.density * sum * std::pow(params_.spacing, params_.dimension);
+}
+
 std::size_t Solver::fluid_node_count() const {
   std::size_t count = 0;
   for (std::size_t i = 0; i < kinds_.size(); ++i) count += is_fluid(i) ? 1 : 0;

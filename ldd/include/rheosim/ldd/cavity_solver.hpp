@@ -74,8 +74,6 @@ class CavitySolver final : public Solver {
   // first-order gradient correction: ⟨u(x)⟩ = Σ W_j (u_j + ⟨∇u⟩_j·(x − x_j)) / Σ W_j over the
   // nodes within h of x. Points without a node within h get NaN.
   [[nodiscard]] std::vector<double> sample_velocity(std::span<const double> points) const;
-  // Kinetic energy per unit depth, Σ ½ ρ |u|² Δ² over fluid nodes [J/m] (a lattice-area estimate).
-  [[nodiscard]] double kinetic_energy() const override;
 
  private:
   // The phases of step(), in order (cavity_step.cpp).

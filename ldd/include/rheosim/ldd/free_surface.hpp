@@ -98,8 +98,6 @@ class FreeSurfaceSolver final : public Solver {
   // Fluid volume [m^d]: Σ Δ^d ρ₀/ρ_i over interior nodes + Δ^d per surface/splash node (a node's
   // share of space from its kernel density; surface kernel sums are truncated by the void).
   [[nodiscard]] double fluid_volume() const;
-  // Kinetic energy Σ ½ ρ |u|² Δ^d over fluid nodes [J, or J/m in 2D].
-  [[nodiscard]] double kinetic_energy() const override;
   // Potential energy −Σ ρ g·x Δ^d over fluid nodes [J, or J/m in 2D], with the same node volume
   // as kinetic_energy(): their sum may only fall (gravity's work goes to kinetic energy and
   // viscous dissipation).
