@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "coupling_step.hpp"
+
 namespace rheosim::coupling {
 namespace {
 
@@ -78,8 +80,13 @@ Coupler::Coupler(CouplerSettings settings, dem::RheometerScene* scene, dem::Engi
     torque_samples_seen_ = scene_->torque_series().size();
   }
   // Initial state: ε of the initial packing with no change in time, forces of the initial fluid.
+  auto start = Clock::now();
   update_void_fraction(true);
-  update_forces();
+  cost_.void_fraction += seconds_since(start);
+  start = Clock::now();
+  CouplingStepRecord initial;
+  update_forces(initial);
+  cost_.forces += seconds_since(start);
 }
 
 ParticleView Coupler::particles() const {
@@ -89,7 +96,6 @@ ParticleView Coupler::particles() const {
 double Coupler::time() const { return fluid_->time(); }
 
 void Coupler::update_void_fraction(bool reset) {
-  const auto start = Clock::now();
   last_.void_fraction = void_fraction_.update(*scheme_, particles());
   if (last_.void_fraction.capped_cells > 0) ++cost_.void_fraction_floor_steps;
   if (last_.void_fraction.unplaced_volume > 0.0) ++cost_.void_fraction_clamped_steps;
@@ -98,11 +104,9 @@ void Coupler::update_void_fraction(bool reset) {
     fluid_->reset_void_fraction(void_fraction_.void_fraction());
   else
     fluid_->set_void_fraction(void_fraction_.void_fraction());
-  cost_.void_fraction += seconds_since(start);
 }
 
-void Coupler::update_forces() {
-  const auto start = Clock::now();
+void Coupler::update_forces(CouplingStepRecord& /*record: the disk's forces add nothing to it*/) {
   sampler_.sample(*fluid_, void_fraction_, particles(), samples_);
   compute_forces(models_, FluidConstants{.density = fluid_->params().density}, samples_, forces_);
   dem_forces_.resize(3 * samples_.size());
@@ -119,50 +123,49 @@ void Coupler::update_forces() {
   exchange_.build(void_fraction_.map(), samples_, forces_, &sampler_.cell_fields().velocity());
   last_.balance = exchange_.balance(void_fraction_.map(), samples_, forces_);
   fluid_->set_momentum_source(exchange_.source());
-  cost_.forces += seconds_since(start);
 }
 
 const CouplingStepReport& Coupler::step() {
-  auto start = Clock::now();
-  double contact_torque = 0.0;
-  if (scene_) {
-    scene_->advance(settings_.coupling_interval);
-    const auto series = scene_->torque_series();
-    if (series.size() > torque_samples_seen_) {
-      double sum = 0.0;
-      for (std::size_t s = torque_samples_seen_; s < series.size(); ++s) sum += series[s].torque;
-      contact_torque = sum / static_cast<double>(series.size() - torque_samples_seen_);
-    } else {
-      contact_torque = scene_->torque();
-    }
-    torque_samples_seen_ = series.size();
-    fluid_->set_top_angular_velocity(scene_->angular_velocity());
-  } else {
-    engine_->run(settings_.coupling_interval);
-  }
-  cost_.dem += seconds_since(start);
-
-  update_void_fraction(false);
-  update_forces();
-
-  start = Clock::now();
-  last_.fluid = advance_fluid(settings_.fluid_time_step);
-  cost_.fluid += seconds_since(start);
-  ++cost_.steps;
-
-  last_.record = {.time = fluid_->time(),
-                  .fluid_torque = last_.fluid.torque,
-                  .contact_torque = contact_torque,
-                  .bottom_fluid_torque = last_.fluid.bottom_torque};
-  series_.push_back(last_.record);
+  CouplingStepRecord record;
+  detail::take_coupling_step(*this, true, record, cost_);
+  last_.record = record;
+  series_.push_back(record);
   return last_;
+}
+
+// 1. LIGGGHTS over the coupling interval; the contact torque on the top plate: the mean of the
+// torque blocks the scene finished in it, else its instantaneous value (0 without a scene).
+void Coupler::advance_particles(CouplingStepRecord& record) {
+  if (!scene_) {
+    engine_->run(settings_.coupling_interval);
+    return;
+  }
+  scene_->advance(settings_.coupling_interval);
+  const auto series = scene_->torque_series();
+  if (series.size() > torque_samples_seen_) {
+    double sum = 0.0;
+    for (std::size_t s = torque_samples_seen_; s < series.size(); ++s) sum += series[s].torque;
+    record.contact_torque = sum / static_cast<double>(series.size() - torque_samples_seen_);
+  } else {
+    record.contact_torque = scene_->torque();
+  }
+  torque_samples_seen_ = series.size();
+  fluid_->set_top_angular_velocity(scene_->angular_velocity());
+}
+
+// 4. The fluid step and the plates' fluid torques.
+void Coupler::advance_fluid(CouplingStepRecord& record) {
+  last_.fluid = fluid_step(settings_.fluid_time_step);
+  record.time = fluid_->time();
+  record.fluid_torque = last_.fluid.torque;
+  record.bottom_fluid_torque = last_.fluid.bottom_torque;
 }
 
 // The fluid step comes from the DEM step times the coupling interval; where the flow makes it
 // break the fluid's own Courant limit, the step is covered by substeps that hold 0.8 of it
 // (shrunk again whenever one is refused, as the flow speeds up within the step), the coupling
 // forces held (the void fraction's change falls in the first); the split is counted.
-fluid::StepReport Coupler::advance_fluid(double dt) {
+fluid::StepReport Coupler::fluid_step(double dt) {
   try {
     return fluid_->advance(dt);
   } catch (const fluid::StepError& e) {

@@ -18,6 +18,8 @@
 #include "rheosim/fluid/couette_column.hpp"
 #include "rheosim/fluid/grid.hpp"
 
+#include "coupling_step.hpp"
+
 namespace rheosim::coupling {
 namespace {
 
@@ -233,44 +235,31 @@ class ShearCellCoupling {
     if (settings.viscous_force) models_.push_back(make_force_model(ViscousForce::model_name));
   }
 
-  // One coupling step of fluid time step dt ending at `time`: its record.
+  // One coupling step of fluid time step dt ending at `time` (coupling_step.hpp): its record.
   ShearCellStepRecord step(double dt, double time) {
     ShearCellStepRecord record;
-    column_.clear_sources();
-    if (scene_) {
-      advance_particles(record);
-      update_void_fraction();
-      const double drag_virial = update_forces();
-      add_particle_stress(record, drag_virial);
-    }
-    const auto t0 = Clock::now();
-    column_.advance(dt);
-    out_.cost.fluid += seconds_since(t0);
-    ++out_.cost.steps;
-    record.time = time;
-    record.fluid_top = column_.wall_stress_top();
-    record.fluid_bottom = column_.wall_stress_bottom();
-    record.bulk += column_.mean_fluid_stress();
-    record.parts.fluid = column_.mean_fluid_stress();
+    dt_ = dt;
+    time_ = time;
+    detail::take_coupling_step(*this, scene_ != nullptr, record, out_.cost);
     return record;
   }
 
   [[nodiscard]] double near_field_seconds() const { return near_field_seconds_; }
 
  private:
-  // LIGGGHTS over the coupling interval; the plates' contact stress (mean over it).
+  template <class Loop, class Record>
+  friend void detail::take_coupling_step(Loop& loop, bool with_particles, Record& record, CostSplit& cost);
+
+  // 1. LIGGGHTS over the coupling interval; the plates' contact stress (mean over it).
   void advance_particles(ShearCellStepRecord& record) {
-    const auto t0 = Clock::now();
     scene_->advance(settings_.coupling_interval);
-    out_.cost.dem += seconds_since(t0);
     const auto& sample = scene_->stress_series().back();
     record.contact_top = sample.top_shear;
     record.contact_bottom = sample.bottom_shear;
   }
 
-  // Void fraction of each layer (floored, the clamps counted), from the particles' shares.
+  // 2. Void fraction of each layer (floored, the clamps counted), from the particles' shares.
   void update_void_fraction() {
-    const auto t0 = Clock::now();
     auto& engine = scene_->engine();
     const auto x = engine.positions();
     shifted_.assign(x.begin(), x.end());
@@ -293,15 +282,30 @@ class ShearCellCoupling {
       out_.min_void_fraction = std::min(out_.min_void_fraction, eps[k]);
     }
     if (clamped) ++out_.cost.void_fraction_clamped_steps;
-    out_.cost.void_fraction += seconds_since(t0);
+  }
+
+  // 3. The forces and their reaction (the column's sources start from zero each step), and the
+  // bulk stress of the particles.
+  void update_forces(ShearCellStepRecord& record) {
+    column_.clear_sources();
+    add_particle_stress(record, apply_forces());
+  }
+
+  // 4. The column's step; the plates' fluid stress and the fluid's part of the bulk stress.
+  void advance_fluid(ShearCellStepRecord& record) {
+    column_.advance(dt_);
+    record.time = time_;
+    record.fluid_top = column_.wall_stress_top();
+    record.fluid_bottom = column_.wall_stress_bottom();
+    record.bulk += column_.mean_fluid_stress();
+    record.parts.fluid = column_.mean_fluid_stress();
   }
 
   // The fluid at each particle from the column as it is now (u_f interpolated in z; ε, μ and
   // ∂z τ weighted by the volume shares), the force models' forces handed to LIGGGHTS, the drag's
   // reaction to the column's layers. Returns the drag's virial Σ −(z_p − z_layer) F_x: the fluid
   // forces act at the particle and react at the layer.
-  double update_forces() {
-    const auto t0 = Clock::now();
+  double apply_forces() {
     const ParticleView particles = view();
     const std::size_t n = particles.size();
     const auto eps = column_.void_fraction();
@@ -339,7 +343,6 @@ class ShearCellCoupling {
       }
     }
     scene_->engine().set_external_forces(forces_);
-    out_.cost.forces += seconds_since(t0);
     return drag_virial;
   }
 
@@ -393,6 +396,7 @@ class ShearCellCoupling {
   std::vector<ParticleSample> samples_;
   std::vector<ParticleForce> particle_forces_;
   std::vector<double> shifted_, velocities_, radii_, forces_, solid_;
+  double dt_ = 0.0, time_ = 0.0;  // this step's fluid time step and its end [s]
   double near_field_seconds_ = 0.0;
 };
 

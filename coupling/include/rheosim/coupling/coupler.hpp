@@ -1,6 +1,6 @@
 #pragma once
 // coupling::Coupler: advances LIGGGHTS and the transient fluid solver together (CD §3–4).
-// One coupling step:
+// One coupling step (coupling/src/coupling_step.hpp, the order the shear cell's loop takes too):
 //   1. DEM: N = coupling_interval LIGGGHTS steps with the fluid forces of the previous step held
 //      fixed (fix external, dem::Engine::set_external_forces);
 //   2. void fraction ε from the new particle positions (VoidFractionField; volume conserved to
@@ -37,6 +37,12 @@
 #include "rheosim/fluid/transient.hpp"
 
 namespace rheosim::coupling {
+
+struct CostSplit;
+namespace detail {
+template <class Loop, class Record>
+void take_coupling_step(Loop& loop, bool with_particles, Record& record, CostSplit& cost);  // coupling_step.hpp
+}  // namespace detail
 
 struct CouplerSettings {
   int coupling_interval = 100;                            // N DEM steps per fluid step, >= 1
@@ -139,9 +145,14 @@ class Coupler {
  private:
   Coupler(CouplerSettings settings, dem::RheometerScene* scene, dem::Engine& engine, fluid::TransientSolver& fluid);
   ParticleView particles() const;
-  void update_void_fraction(bool reset);
-  void update_forces();
-  fluid::StepReport advance_fluid(double dt);
+  // The phases of step() (header comment), in take_coupling_step's order.
+  template <class Loop, class Record>
+  friend void detail::take_coupling_step(Loop& loop, bool with_particles, Record& record, CostSplit& cost);
+  void advance_particles(CouplingStepRecord& record);
+  void update_void_fraction(bool reset = false);
+  void update_forces(CouplingStepRecord& record);
+  void advance_fluid(CouplingStepRecord& record);
+  fluid::StepReport fluid_step(double dt);  // split into substeps where the Courant limit asks
 
   CouplerSettings settings_;
   dem::RheometerScene* scene_;
