@@ -111,6 +111,16 @@ void start_from_couette(fluid::TransientSolver& fluid, double angular_velocity) 
   fluid.set_velocity(ur, ut, uz);
 }
 
+// The point's torque: the detector's estimate over its last window, with the strain reached.
+void set_steady_torque(const SteadyStateDetector& detector, double rim_shear_rate, SuspensionPoint& out) {
+  out.shear_rate = rim_shear_rate;
+  const SteadyEstimate e = detector.estimate();
+  out.torque = e.mean;
+  out.torque_error = e.standard_error;
+  out.converged = e.steady;
+  out.strain = detector.strain();
+}
+
 void fill_window_means(const SuspensionPointSettings& s, SuspensionPoint& out) {
   const double window_start = out.series.back().time - s.steady.strain_window / s.rim_shear_rate;
   CouplingStepRecord sum;
@@ -229,12 +239,7 @@ SuspensionPoint run_fluid_only(const SuspensionPointSettings& s, std::chrono::st
         {.time = r.time, .fluid_torque = r.torque, .contact_torque = 0.0, .bottom_fluid_torque = r.bottom_torque});
     detector.add(r.time, r.torque);
   }
-  out.shear_rate = s.rim_shear_rate;
-  const SteadyEstimate e = detector.estimate();
-  out.torque = e.mean;
-  out.torque_error = e.standard_error;
-  out.converged = e.steady;
-  out.strain = detector.strain();
+  set_steady_torque(detector, s.rim_shear_rate, out);
   fill_window_means(s, out);
   out.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
@@ -319,12 +324,7 @@ SuspensionPoint run_point(const SuspensionPointSettings& s) {
   }
 
   SuspensionPoint out;
-  out.shear_rate = s.rim_shear_rate;
-  const SteadyEstimate e = detector.estimate();
-  out.torque = e.mean;
-  out.torque_error = e.standard_error;
-  out.converged = e.steady;
-  out.strain = detector.strain();
+  set_steady_torque(detector, s.rim_shear_rate, out);
   out.series = std::move(series);
   fill_window_means(s, out);
   out.max_near_field_iterations = near_field_iterations;
