@@ -134,7 +134,7 @@ void time_steps(const Scenario& s, int cells, int threads, int steps, const Prec
   p.velocity_preconditioner = preconditioners.velocity;
   p.pressure_amg = p.velocity_amg = preconditioners.amg;
   const ldd::Cavity cavity(scene, p.spacing);
-  ldd::CavitySolver solver(p, cavity.initial_cloud());
+  ldd::CavitySolver solver(p, cavity.walls(), cavity.initial_cloud());
   const auto t0 = std::chrono::steady_clock::now();
   solver.step();
   const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -14,8 +14,8 @@
 
 namespace rheosim::ldd {
 
-CavitySolver::CavitySolver(SolverParams params, NodeCloud cloud)
-    : Solver(std::move(params)), wall_velocities_(std::move(cloud.wall_velocities)) {
+CavitySolver::CavitySolver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> walls, NodeCloud cloud)
+    : Solver(std::move(params)) {
   if (params_.dimension != 2)
     throw std::invalid_argument(
         fmt::format("LDD cavity: dimension = {} is out of range, expected 2", params_.dimension));
@@ -25,8 +25,17 @@ CavitySolver::CavitySolver(SolverParams params, NodeCloud cloud)
   normals_ = std::move(cloud.normals);
   positions_ = std::move(cloud.positions);
   const std::size_t n = kinds_.size();
-  if (positions_.size() != 2 * n || normals_.size() != 2 * n || wall_velocities_.size() != 2 * n)
+  if (positions_.size() != 2 * n || normals_.size() != 2 * n || cloud.boundary.size() != n)
     throw std::invalid_argument("LDD cavity: node cloud arrays have inconsistent sizes");
+  // The walls do not move: each wall node keeps its wall's surface velocity (the lid's slides).
+  wall_velocities_.assign(2 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int b = cloud.boundary[i];
+    if (b < 0) continue;
+    if (static_cast<std::size_t>(b) >= walls.size())
+      throw std::invalid_argument("LDD cavity: a wall node names a boundary that does not exist");
+    walls[static_cast<std::size_t>(b)]->surface_velocity(0.0, std::span<double>(&wall_velocities_[2 * i], 2));
+  }
   velocity_.assign(2 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i)
     if (!is_fluid(i)) {

@@ -36,9 +36,14 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
                                             spacing, cells_[0], cells_[1]));
   const Vec2 a = point(0, 0), b = point(1, 0), c = point(1, 1), d = point(0, 1);
   const std::array<Vec2, 4> normals{inward_normal(a, b), inward_normal(b, c), inward_normal(c, d), inward_normal(d, a)};
-  for (const auto& [start, normal] : {std::pair{a, normals[0]}, {b, normals[1]}, {c, normals[2]}, {d, normals[3]}})
-    walls_.push_back(std::make_shared<PlaneBoundary>(std::vector<double>{start[0], start[1]},
-                                                     std::vector<double>{normal[0], normal[1]}));
+  // Counter-clockwise from the bottom; the lid (the third) slides along +x.
+  const std::array<Vec2, 4> starts{a, b, c, d};
+  for (std::size_t w = 0; w < 4; ++w) {
+    const Vec2& start = starts[w];
+    walls_.push_back(std::make_shared<PlaneBoundary>(
+        std::vector<double>{start[0], start[1]}, std::vector<double>{normals[w][0], normals[w][1]},
+        w == 2 ? std::vector<double>{lid_velocity_, 0.0} : std::vector<double>{0.0, 0.0}));
+  }
 
   const int nx = cells_[0], ny = cells_[1];
   for (int j = 0; j <= ny; ++j)
@@ -46,8 +51,9 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
       const Vec2 p = point(static_cast<double>(i) / nx, static_cast<double>(j) / ny);
       cloud_.positions.insert(cloud_.positions.end(), {p[0], p[1]});
       const bool left = i == 0, right = i == nx, bottom = j == 0, top = j == ny;
-      Vec2 normal{0, 0}, velocity{0, 0};
+      Vec2 normal{0, 0};
       NodeKind kind = NodeKind::interior;
+      int boundary = -1;
       const auto add_normal = [&](const Vec2& n) {
         normal[0] += n[0];
         normal[1] += n[1];
@@ -59,9 +65,10 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
       const int sides = int{bottom} + int{right} + int{top} + int{left};
       if (sides == 1) {
         kind = NodeKind::wall;
-        if (top) velocity = {lid_velocity_, 0};  // the lid moves along +x; its end points are corners
+        boundary = bottom ? 0 : right ? 1 : top ? 2 : 3;  // the lid's end points are corners
       } else if (sides == 2) {
-        kind = NodeKind::corner;  // stationary: the lid's ends belong to the side walls
+        kind = NodeKind::corner;
+        boundary = right ? 1 : 3;  // stationary: the lid's ends belong to the side walls
       }
       if (sides > 0) {
         const double length = std::hypot(normal[0], normal[1]);
@@ -69,7 +76,7 @@ Cavity::Cavity(const ldd::CavityScene& scene, double spacing)
       }
       cloud_.kinds.push_back(kind);
       cloud_.normals.insert(cloud_.normals.end(), {normal[0], normal[1]});
-      cloud_.wall_velocities.insert(cloud_.wall_velocities.end(), {velocity[0], velocity[1]});
+      cloud_.boundary.push_back(boundary);
     }
 }
 

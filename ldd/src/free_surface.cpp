@@ -41,7 +41,7 @@ FreeSurfaceSolver::FreeSurfaceSolver(SolverParams params, std::vector<std::share
   std::vector<double> v(dim);
   for (std::size_t i = 0; i < n; ++i)
     if (boundary_of_[i] >= 0) {
-      boundaries_[static_cast<std::size_t>(boundary_of_[i])]->velocity(0.0, v);
+      boundaries_[static_cast<std::size_t>(boundary_of_[i])]->surface_velocity(0.0, v);
       for (std::size_t d = 0; d < dim; ++d) velocity_[dim * i + d] = v[d];
     }
   previous_velocity_ = velocity_;

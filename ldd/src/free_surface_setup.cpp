@@ -17,15 +17,23 @@ namespace rheosim::ldd {
 
 // ------------------------------------------------------------------------------ boundaries
 
-PlaneBoundary::PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal)
-    : point_(std::move(point)), normal_(std::move(inward_normal)) {
+PlaneBoundary::PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal,
+                             std::vector<double> sliding_velocity)
+    : point_(std::move(point)), normal_(std::move(inward_normal)), sliding_velocity_(std::move(sliding_velocity)) {
   if (point_.size() != normal_.size() || (point_.size() != 2 && point_.size() != 3))
     throw std::invalid_argument("PlaneBoundary: point and normal need 2 or 3 equal-sized entries");
+  if (sliding_velocity_.empty()) sliding_velocity_.assign(point_.size(), 0.0);
+  if (sliding_velocity_.size() != point_.size())
+    throw std::invalid_argument("PlaneBoundary: the sliding velocity needs one entry per dimension");
   double length = 0;
   for (double v : normal_) length += v * v;
   length = std::sqrt(length);
   if (!(length > 0)) throw std::invalid_argument("PlaneBoundary: zero normal");
   for (double& v : normal_) v /= length;
+  double normal_part = 0;
+  for (std::size_t d = 0; d < normal_.size(); ++d) normal_part += normal_[d] * sliding_velocity_[d];
+  if (std::abs(normal_part) > 1e-12 * (1.0 + std::abs(normal_part)))
+    throw std::invalid_argument("PlaneBoundary: the sliding velocity must be tangential");
 }
 
 bool PlaneBoundary::distance(std::span<const double> x, double /*t*/, double& distance,
@@ -39,6 +47,10 @@ bool PlaneBoundary::distance(std::span<const double> x, double /*t*/, double& di
 }
 
 void PlaneBoundary::velocity(double /*t*/, std::span<double> v) const { std::fill(v.begin(), v.end(), 0.0); }
+
+void PlaneBoundary::surface_velocity(double /*t*/, std::span<double> v) const {
+  std::copy(sliding_velocity_.begin(), sliding_velocity_.end(), v.begin());
+}
 
 ConeMouldBoundary::ConeMouldBoundary(double bottom_radius, double top_radius, double height, double z0,
                                      double lift_velocity, double lift_height)

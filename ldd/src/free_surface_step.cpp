@@ -144,7 +144,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
       double v[3] = {0, 0, 0};
       const Boundary* boundary =
           boundary_of_[i] >= 0 ? boundaries_[static_cast<std::size_t>(boundary_of_[i])].get() : nullptr;
-      if (boundary) boundary->velocity(next_time, std::span<double>(v, dim));
+      if (boundary) boundary->surface_velocity(next_time, std::span<double>(v, dim));
       if (boundary && boundary->slip()) {
         // Free slip: the wall's normal velocity plus the tangential part of the fluid's (Shepard
         // average of the fluid neighbours' u_{n−1}, eq. 12); the fluid's own normal velocity

@@ -338,7 +338,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
   params.velocity_preconditioner = l.solver.velocity_preconditioner.value_or(params.velocity_preconditioner);
   params.velocity_scale = std::abs(scene->lid_velocity) > 0 ? std::abs(scene->lid_velocity) : 1.0;
   params.length_scale = cavity.width();
-  CavitySolver solver(params, cavity.initial_cloud());
+  CavitySolver solver(params, cavity.walls(), cavity.initial_cloud());
 
   const double reynolds = l.fluid.density * params.velocity_scale * cavity.width() /
                           l.fluid.rheology->viscosity(params.velocity_scale / cavity.width());

@@ -1,7 +1,9 @@
 #pragma once
-// The walls of an LDD scene: a rigid boundary keeps fluid nodes off it (the wall
-// nodes carry the boundary conditions). A cavity's walls are planes (lines); a free-surface scene
-// adds moving moulds and the solids of walls.hpp.
+// The walls of an LDD scene, for both schemes: each wall node names its boundary
+// (NodeCloud::boundary), which gives the velocity its no-slip row imposes (surface_velocity) and
+// the motion of the node (velocity), and keeps fluid nodes off it. A cavity's walls are planes
+// (lines), its lid a plane sliding along itself; a free-surface scene adds moving moulds and the
+// solids of walls.hpp.
 #include <span>
 #include <vector>
 
@@ -16,8 +18,11 @@ class Boundary {
   // unit normal pointing into the fluid. Returns false when the boundary does not constrain x
   // (outside a mould's height range, say).
   virtual bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const = 0;
-  // Velocity of the boundary at time t [m/s] (dimension entries).
+  // Velocity of the boundary at time t [m/s] (dimension entries): how its wall nodes move.
   virtual void velocity(double t, std::span<double> v) const = 0;
+  // Velocity of the wall's material at time t [m/s]: what a no-slip wall imposes on the fluid.
+  // The boundary's own motion unless it slides along itself (a cavity's lid).
+  virtual void surface_velocity(double t, std::span<double> v) const { velocity(t, v); }
   // Free slip: its wall nodes take the fluid's tangential velocity (a greased mould) instead of
   // the no-slip condition.
   [[nodiscard]] virtual bool slip() const { return false; }
@@ -28,15 +33,18 @@ class Boundary {
   Boundary& operator=(const Boundary&) = default;
 };
 
-// A fixed plane (a line in 2D): the fluid is on the side its normal points to.
+// A fixed plane (a line in 2D): the fluid is on the side its normal points to. With a sliding
+// velocity (tangential, one entry per dimension) its material moves along it: a cavity's lid.
 class PlaneBoundary final : public Boundary {
  public:
-  PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal);
+  PlaneBoundary(std::vector<double> point, std::vector<double> inward_normal,
+                std::vector<double> sliding_velocity = {});
   bool distance(std::span<const double> x, double t, double& distance, std::span<double> normal) const override;
   void velocity(double t, std::span<double> v) const override;
+  void surface_velocity(double t, std::span<double> v) const override;
 
  private:
-  std::vector<double> point_, normal_;
+  std::vector<double> point_, normal_, sliding_velocity_;
 };
 
 // The inside of a truncated cone about the z axis (3D), bottom radius at z = z0 + v t, lifted at

@@ -59,7 +59,8 @@ namespace rheosim::ldd {
 // components in one fused solve) or AMG, no sparse LU; the PPE's sparse LU factorised once.
 class CavitySolver final : public Solver {
  public:
-  CavitySolver(SolverParams params, NodeCloud cloud);
+  // `walls`: the boundaries the cloud's wall nodes name (Cavity::walls()).
+  CavitySolver(SolverParams params, std::vector<std::shared_ptr<const Boundary>> walls, NodeCloud cloud);
   ~CavitySolver() override;
   CavitySolver(CavitySolver&&) noexcept;
   CavitySolver& operator=(CavitySolver&&) noexcept;
@@ -85,7 +86,7 @@ class CavitySolver final : public Solver {
   void commit_and_advect(double next_time) override;
   [[nodiscard]] std::string pressure_failure(const StepStats& stats) const override;
 
-  std::vector<double> wall_velocities_;
+  std::vector<double> wall_velocities_;  // each wall node's surface velocity (constant walls)
   bool operators_valid_ = false;
   numerics::SparseLu pressure_lu_;
   QuadraticFit lattice_fit_;                // quadratic interpolation

@@ -31,7 +31,8 @@ class Cavity {
   Cavity(const ldd::CavityScene& scene, double spacing);
 
   // The four walls as planes (lines) through their sides, normals into the cavity, counter-
-  // clockwise from the bottom; the lid's motion is in the wall nodes' velocities (NodeCloud).
+  // clockwise from the bottom; the lid (the third) slides along +x. Each wall node of the cloud
+  // names its wall (a corner a side wall: stationary).
   [[nodiscard]] const std::vector<std::shared_ptr<const Boundary>>& walls() const { return walls_; }
   [[nodiscard]] const NodeCloud& initial_cloud() const { return cloud_; }
   [[nodiscard]] double width() const { return width_; }

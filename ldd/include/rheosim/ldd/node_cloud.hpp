@@ -24,11 +24,7 @@ struct NodeCloud {
   std::vector<double> positions;  // interleaved with stride dimension [m]
   std::vector<NodeKind> kinds;
   std::vector<double> normals;  // inward unit normal per node (0 for fluid nodes; corners: bisector)
-  // The wall node's velocity [m/s] when it is a property of the node (a cavity's lid), one entry
-  // per coordinate; empty where wall nodes move with their boundary (free-surface scenes).
-  std::vector<double> wall_velocities;
-  // Index of the wall node's boundary in the scene's list, −1 for fluid nodes (free-surface
-  // scenes; empty for a cavity, whose walls are planes through its lattice's outer ring).
+  // Index of the wall node's boundary in the scene's list (boundary.hpp), −1 for fluid nodes.
   std::vector<int> boundary;
 
   [[nodiscard]] std::size_t size() const { return kinds.size(); }
