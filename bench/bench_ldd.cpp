@@ -298,7 +298,7 @@ void bandwidth() {
 // solves"): what the linear solves alone cost at this machine's speed, whatever else the step
 // does. For each measured run (a `bench_ldd run` folder of the Δ = 2 mm dam break, the 50 000-node
 // slump or the Δ = 1 mm dam break; bench/ldd_floor.sh makes them), on its scene's initial cloud
-// (the solver's neighbour radius h + skin = 1.9 Δ, wall nodes included): one StencilMatrix product
+// (the solver's neighbour radius h + skin, 1.9 Δ, wall nodes included): one StencilMatrix product
 // and one AMG V-cycle (the solver's settings: unit-diagonal rows for the 3D PPE) of a PPE-like
 // matrix and of a momentum-like one, and their AMG set-ups. PPE-like: fluid rows W-weighted
 // Laplacians, Dirichlet where the support is not full (Σ W below 0.85 of the median fluid node's:
@@ -335,9 +335,12 @@ void krylov_floor(const std::vector<std::filesystem::path>& runs) {
                                             ? ldd::slump_scene(std::get<ldd::SlumpScene>(l.scene), spacing, l.walls)
                                             : ldd::dam_break_scene(std::get<ldd::DamBreakScene>(l.scene), spacing);
     const ldd::NodeCloud& cloud = built.cloud;
-    const numerics::NeighbourList nb = numerics::find_neighbours(cloud.positions, l.dimension, 1.9 * spacing);
+    // The run's own support h and neighbour radius h + skin (1.6 Δ and 1.9 Δ in the shipped cases).
+    const ldd::SolverParams params = ldd::free_surface_params(l);
+    const double support = params.smoothing_ratio * spacing;
+    const numerics::NeighbourList nb =
+        numerics::find_neighbours(cloud.positions, l.dimension, support + params.neighbour_skin * spacing);
     const std::size_t n = nb.node_count();
-    const double support = 1.6 * spacing;
     std::vector<double> weights(nb.pair_count()), kernel_sum(n, 0.0);  // W of each pair, Σ W of each node
     for (std::size_t i = 0; i < n; ++i)
       for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {

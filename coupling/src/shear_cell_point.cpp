@@ -235,12 +235,12 @@ class ShearCellCoupling {
     if (settings.viscous_force) models_.push_back(make_force_model(ViscousForce::model_name));
   }
 
-  // One coupling step of fluid time step dt ending at `time` (coupling_step.hpp): its record.
-  ShearCellStepRecord step(double dt, double time) {
+  // One coupling step of the point's fluid time step (out.fluid_time_step) ending at `time`
+  // (coupling_step.hpp): its record.
+  ShearCellStepRecord step(double time) {
     ShearCellStepRecord record;
-    dt_ = dt;
-    time_ = time;
     detail::take_coupling_step(*this, scene_ != nullptr, record, out_.cost);
+    record.time = time;
     return record;
   }
 
@@ -293,8 +293,7 @@ class ShearCellCoupling {
 
   // 4. The column's step; the plates' fluid stress and the fluid's part of the bulk stress.
   void advance_fluid(ShearCellStepRecord& record) {
-    column_.advance(dt_);
-    record.time = time_;
+    column_.advance(out_.fluid_time_step);
     record.fluid_top = column_.wall_stress_top();
     record.fluid_bottom = column_.wall_stress_bottom();
     record.bulk += column_.mean_fluid_stress();
@@ -396,7 +395,6 @@ class ShearCellCoupling {
   std::vector<ParticleSample> samples_;
   std::vector<ParticleForce> particle_forces_;
   std::vector<double> shifted_, velocities_, radii_, forces_, solid_;
-  double dt_ = 0.0, time_ = 0.0;  // this step's fluid time step and its end [s]
   double near_field_seconds_ = 0.0;
 };
 
@@ -445,7 +443,7 @@ ShearCellPoint run_shear_cell_point(const ShearCellPointSettings& settings) {
   double time = 0.0;
   while (!detector.done()) {
     time += dt;
-    const ShearCellStepRecord record = coupling.step(dt, time);
+    const ShearCellStepRecord record = coupling.step(time);
     if (!std::isfinite(record.total_top()))
       throw std::runtime_error(fmt::format("shear cell: wall stress is not finite at t = {:.6g} s", time));
     out.series.push_back(record);

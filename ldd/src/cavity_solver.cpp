@@ -1,13 +1,9 @@
 #include "rheosim/ldd/cavity_solver.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdint>
-#include <functional>
 #include <limits>
 #include <memory>
-#include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -36,12 +32,7 @@ CavitySolver::CavitySolver(SolverParams params, std::vector<std::shared_ptr<cons
       throw std::invalid_argument("LDD cavity: a wall node names a boundary that does not exist");
     walls[static_cast<std::size_t>(b)]->surface_velocity(0.0, std::span<double>(&wall_velocities_[2 * i], 2));
   }
-  velocity_.assign(2 * n, 0.0);
-  for (std::size_t i = 0; i < n; ++i)
-    if (!is_fluid(i)) {
-      velocity_[2 * i] = wall_velocities_[2 * i];
-      velocity_[2 * i + 1] = wall_velocities_[2 * i + 1];
-    }
+  velocity_ = wall_velocities_;  // the fluid at rest (its nodes name no wall)
   previous_velocity_ = velocity_;
   pressure_.assign(n, 0.0);
   shear_rate_.assign(n, 0.0);

@@ -111,8 +111,11 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
 void FreeSurfaceSolver::update_surface_pressure() {
   const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size(), dd = dim * dim;
+  if (!params_.surface_normal_stress) {
+    surface_pressure_.resize(n, 0.0);  // p_atm everywhere, written once
+    return;
+  }
   surface_pressure_.assign(n, 0.0);
-  if (!params_.surface_normal_stress) return;
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
   const auto count = static_cast<std::ptrdiff_t>(n);

@@ -376,7 +376,6 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
 // 5. (the checks are Solver's) Why a pressure solve may have failed: the repeated solves and
 // whether a block of nodes reaches no free-surface node.
 std::string FreeSurfaceSolver::pressure_failure(const StepStats& stats) const {
-  const auto dim = static_cast<std::size_t>(dimension());
   const numerics::FloatingGroups floating = numerics::floating_groups(pressure_matrix_);
   const std::size_t at = floating.largest_member;
   return fmt::format(
@@ -384,10 +383,8 @@ std::string FreeSurfaceSolver::pressure_failure(const StepStats& stats) const {
       floating.groups == 0
           ? std::string("every node reaches a free-surface node through the pressure matrix")
           : fmt::format("{} node group(s), {} nodes, reach no free-surface node (a singular Neumann block); the "
-                        "largest, {} nodes, includes {} node at ({:.4g}, {:.4g}{})",
-                        floating.groups, floating.nodes, floating.largest, a_kind(kinds_[at]), positions_[dim * at],
-                        positions_[dim * at + 1],
-                        dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string()));
+                        "largest, {} nodes, includes {} node at {}",
+                        floating.groups, floating.nodes, floating.largest, a_kind(kinds_[at]), place(at)));
 }
 
 // 6. Commit, advect (eq. 20), move the walls, keep fluid off the boundaries.

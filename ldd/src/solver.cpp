@@ -103,15 +103,18 @@ void Solver::check_divergence(double next_time, const Correction& correction, co
   check.pressure = pressure;
   check.velocity_converged = velocity_converged;
   check.where_fastest = [&] {
-    const auto dim = static_cast<std::size_t>(params_.dimension);
     const std::size_t at = correction.fastest;
-    return fmt::format(" at {} node at ({:.4g}, {:.4g}{}), {} neighbours", a_kind(kinds_[at]), positions_[dim * at],
-                       positions_[dim * at + 1],
-                       dim == 3 ? fmt::format(", {:.4g}", positions_[dim * at + 2]) : std::string(),
+    return fmt::format(" at {} node at {}, {} neighbours", a_kind(kinds_[at]), place(at),
                        neighbours_.offsets[at + 1] - neighbours_.offsets[at]);
   };
   check.pressure_failure = [&] { return pressure_failure(stats); };
   check_step(check, params_, stats);
+}
+
+std::string Solver::place(std::size_t node) const {
+  const auto dim = static_cast<std::size_t>(params_.dimension);
+  return fmt::format("({:.4g}, {:.4g}{})", positions_[dim * node], positions_[dim * node + 1],
+                     dim == 3 ? fmt::format(", {:.4g}", positions_[dim * node + 2]) : std::string());
 }
 
 std::string a_kind(NodeKind k) {

@@ -113,6 +113,8 @@ class Solver {
   // turned fluid or back, a neighbour list or a kept AMG matrix that does not fit), before
   // anything is changed.
   void restore_common_state(SolverState& state, const char* who);
+  // "(x, y)" or "(x, y, z)" of a node, for messages.
+  [[nodiscard]] std::string place(std::size_t node) const;
   // ∇u (eq. 14) of a velocity field on the current operators: per node ∂u_a/∂x_b at
   // out[dimension² i + dimension a + b].
   void velocity_gradient_of(std::span<const double> u, std::span<double> out) const;
@@ -122,7 +124,6 @@ class Solver {
   std::vector<double> positions_, velocity_, previous_velocity_, pressure_, shear_rate_, viscosity_;
   std::vector<double> normals_;  // inward unit normal of wall nodes (0 for fluid nodes)
   double support_radius_ = 0;    // h [m]
-  double rest_density_ = 0;      // ρ₀ of the PBD constraint (kernel sum, dimensionless)
   double time_ = 0;
   std::size_t steps_ = 0;
   bool first_step_ = true;  // the first advection is first order (no u_{n−1} yet)
@@ -135,7 +136,6 @@ class Solver {
   // Work buffers reused across steps.
   std::vector<double> velocity_gradient_, divergence_, pressure_gradient_, rhs_, new_velocity_, component_;
   std::vector<double> increment_;     // φ = p_n − p_{n−1}
-  std::vector<double> shift_;         // this step's PBD displacement per node
   std::vector<double> new_pressure_;  // p_n until the step commits
 
  private:
