@@ -223,6 +223,10 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       s.choice_or(
           {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
           "taylor", {"taylor", "none"}) == "taylor";
+  v.pbd_surface_tangential =
+      s.choice_or({"pbd_surface",
+                   "free surface: PBD shift of surface nodes (full; tangential: its outward-normal part removed)", "-"},
+                  "full", {"full", "tangential"}) == "tangential";
   v.dry_walls = choice_or(s,
                           {"dry_walls",
                            "free surface: pressure of the wall nodes above the surface (no interior fluid within h) "
@@ -250,7 +254,7 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
   v.pressure_amg_smoothed =
       s.choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed",
                   {"smoothed", "plain"}) == "smoothed";
-  for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "dry_walls", "moment_rcond",
+  for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "pbd_surface", "dry_walls", "moment_rcond",
                           "surface_moment_rcond", "viscous_stress", "surface_stress"})
     if (cavity && s.has(key))
       s.fail(

@@ -57,9 +57,11 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
   if (cavity) out += fmt::format("  lattice interpolation: {}\n", name_of(s.interpolation));
   if (!cavity)
     out += fmt::format(
-        "  free surface: {} PBD sweeps per step (velocity: {}), moment-matrix rcond {} (pseudo-inverse), {} "
+        "  free surface: {} PBD sweeps per step (velocity: {}, surface nodes: {}), moment-matrix rcond {} "
+        "(pseudo-inverse), {} "
         "(surface), dry walls {}, {} gradient, viscous force {}, surface pressure {}\n",
-        s.pbd_sweeps, s.pbd_velocity_correction ? "taylor" : "none", s.moment_rcond, s.surface_moment_rcond,
+        s.pbd_sweeps, s.pbd_velocity_correction ? "taylor" : "none",
+        s.pbd_surface_tangential ? "tangential shift" : "full shift", s.moment_rcond, s.surface_moment_rcond,
         s.dry_walls == DryWalls::exclude       ? "at p = 0, excluded from gradients"
         : s.dry_walls == DryWalls::extrapolate ? "at the fluid's extrapolated pressure (walls unclipped)"
                                                : "at p = 0, in gradients",

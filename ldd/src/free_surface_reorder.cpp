@@ -27,6 +27,36 @@ void FreeSurfaceSolver::apply_pbd(std::span<const double> grad_u) {
   const double max_shift = params_.pbd_max_shift * params_.spacing;
   const double h2 = h * h;
   std::vector<double> lambda(n, 0.0), step(dim * n, 0.0);
+  // pbd_surface_tangential (Lind et al. 2012): each surface node's outward unit normal, opposite
+  // the kernel-weighted offset of all its neighbours (wall nodes stand in for fluid), and the
+  // interior nodes within h of a surface node, whose kernel sums the void truncates as well; both
+  // fixed for the step's sweeps.
+  std::vector<double> outward;
+  std::vector<char> near_surface;
+  if (params_.pbd_surface_tangential) {
+    outward.assign(dim * n, 0.0);
+    near_surface.assign(n, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      if (kinds_[i] != NodeKind::surface && kinds_[i] != NodeKind::interior) continue;
+      double offset[3] = {0, 0, 0};
+      for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
+        const std::size_t j = nb.indices[k];
+        const double r2 = detail::squared_distance(&positions_[dim * i], &positions_[dim * j], dim);
+        if (r2 >= h2) continue;
+        if (kinds_[j] == NodeKind::surface) near_surface[i] = 1;
+        const double w = weight(std::sqrt(r2), h);
+        for (std::size_t d = 0; d < dim; ++d) offset[d] += w * (positions_[dim * i + d] - positions_[dim * j + d]);
+      }
+      if (kinds_[i] != NodeKind::surface) continue;
+      double length = 0;
+      for (std::size_t d = 0; d < dim; ++d) length += offset[d] * offset[d];
+      length = std::sqrt(length);
+      if (!(length > 0)) continue;
+      for (std::size_t d = 0; d < dim; ++d) outward[dim * i + d] = offset[d] / length;
+    }
+  }
   pair_dw_.resize(nb.pair_count());
   const std::span<double> pair_dw(pair_dw_);  // ∇W/(r ρ₀) of each pair within h, else 0
   for (int iteration = 0; iteration < params_.pbd_iterations; ++iteration) {
@@ -50,8 +80,10 @@ void FreeSurfaceSolver::apply_pbd(std::span<const double> grad_u) {
         if (is_continuum(j)) squares += dw * dw * r * r;  // |∇_j C_i|² (fixed nodes cannot help)
       }
       double constraint = density / rho0 - 1.0;
-      // The surface's kernel sum is truncated by the void: only compression is corrected there.
-      if (kinds_[i] == NodeKind::surface) constraint = std::max(constraint, 0.0);
+      // The surface's kernel sum is truncated by the void: only compression is corrected there
+      // (and, under pbd_surface_tangential, within h of it).
+      if (kinds_[i] == NodeKind::surface || (!near_surface.empty() && near_surface[i]))
+        constraint = std::max(constraint, 0.0);
       double denominator = squares;
       for (std::size_t d = 0; d < dim; ++d) denominator += grad_i[d] * grad_i[d];
       lambda[i] = denominator > 0 ? -constraint / denominator : 0.0;
@@ -68,6 +100,11 @@ void FreeSurfaceSolver::apply_pbd(std::span<const double> grad_u) {
         const std::size_t j = nb.indices[k];
         const double factor = (lambda[i] + lambda[j]) * dw * params_.pbd_stiffness;
         for (std::size_t d = 0; d < dim; ++d) shift[d] += factor * (positions_[dim * i + d] - positions_[dim * j + d]);
+      }
+      if (!outward.empty()) {
+        double normal_part = 0;
+        for (std::size_t d = 0; d < dim; ++d) normal_part += shift[d] * outward[dim * i + d];
+        for (std::size_t d = 0; d < dim; ++d) shift[d] -= normal_part * outward[dim * i + d];
       }
       double length = 0;
       for (std::size_t d = 0; d < dim; ++d) length += shift[d] * shift[d];

@@ -140,6 +140,7 @@ TEST(Case, LddCavityRefusesTheFreeSurfaceSolverKeys) {
   expect_cavity_refuses("surface_moment_rcond", "0.01", "leave it out");
   expect_cavity_refuses("viscous_stress", "full", "leave it out");
   expect_cavity_refuses("surface_stress", "normal", "leave it out");
+  expect_cavity_refuses("pbd_surface", "tangential", "leave it out");
 }
 
 TEST(Case, LddChoicesArriveAsEnums) {
@@ -158,7 +159,7 @@ TEST(Case, LddChoicesArriveAsEnums) {
   const CaseSettings d = parse_case(dam_break +
                                         "solver: {gradient: surface_anchored, pbd_velocity: none, dry_walls: exclude, "
                                         "pressure_amg: plain, velocity_preconditioner: lu, viscous_stress: full, "
-                                        "surface_stress: normal}\n",
+                                        "surface_stress: normal, pbd_surface: tangential}\n",
                                     "d.yaml")
                              .settings;
   EXPECT_EQ(d.solver.gradient, GradientChoice::surface_anchored);
@@ -168,6 +169,8 @@ TEST(Case, LddChoicesArriveAsEnums) {
   EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.full_viscous_stress);  // laplacian
   EXPECT_TRUE(d.solver.surface_normal_stress);
   EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.surface_normal_stress);  // none
+  EXPECT_TRUE(d.solver.pbd_surface_tangential);
+  EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.pbd_surface_tangential);  // full
   EXPECT_EQ(parse_case(dam_break, "d.yaml").settings.solver.dry_walls, DryWalls::include);
   EXPECT_EQ(parse_case(dam_break + "solver: {dry_walls: extrapolate}\n", "e.yaml").settings.solver.dry_walls,
             DryWalls::extrapolate);

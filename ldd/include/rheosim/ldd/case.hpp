@@ -38,6 +38,9 @@ struct SolverSettings {
   // Free-surface scenes: a PBD shift δx changes the velocity by ⟨∇u⟩·δx (pbd_velocity: taylor),
   // or leaves it (none).
   bool pbd_velocity_correction = true;
+  // Free-surface scenes: surface nodes take a PBD shift's tangential part only (pbd_surface:
+  // tangential) or all of it (full).
+  bool pbd_surface_tangential = false;
   bool full_viscous_stress = false;  // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
   // Free-surface scenes: the surface nodes' pressure, 2μ n·E·n (surface_stress: normal, the
   // traction-free condition's normal part) or p_atm = 0 (none, LDD eq. 17).

@@ -59,6 +59,12 @@ struct SolverParams {
   // A PBD shift δx carries the velocity along to first order, u += ⟨∇u⟩·δx (true), or the node
   // keeps its velocity (false; LDD §3.2 interpolates only after large reorderings).
   bool pbd_velocity_correction = true;
+  // Surface nodes keep only the part of a PBD shift along the surface, its component along the
+  // outward normal (away from the kernel-weighted neighbours, walls included) removed, and interior
+  // nodes within h of a surface node correct only compression, as surface nodes do (true; Lind et
+  // al. 2012, J. Comput. Phys. 231, 1499); or surface nodes take the whole shift and the interior
+  // nodes beside them correct both ways (false). Case key solver.pbd_surface.
+  bool pbd_surface_tangential = false;
   // Free surface: the classification (free_surface.hpp).
   double surface_offset = 0.3;         // |c_i|/Δ above which a node is on the surface
   double surface_count = 0.7;          // n_i/n₀ below which a node is on the surface
