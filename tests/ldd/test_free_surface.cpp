@@ -175,26 +175,36 @@ TEST(FreeSurface, SurfaceNormalStressIsTwiceViscosityTimesNormalStrain) {
   for (const double p : top_pressures(rate, false)) EXPECT_NEAR(p, 0.0, tolerance);
 }
 
-// A compressed top row is pushed apart by the PBD: with the whole shift it rises (outwards);
-// with pbd_surface_tangential its nodes keep only the part along the surface, which on a level
-// row away from the walls is zero by symmetry.
+// A 0.2 × 0.3 m column without gravity (Δ = 1 cm), its top row moved up by `lift` [m]
+// (negative: down), and the PBD's surface treatment chosen.
+FreeSurfaceSolver column_with_moved_top_row(double lift, bool tangential) {
+  const double dx = 0.01;
+  SolverParams p = column_params(dx, 1e-4, 1.0);
+  p.gravity = {0.0, 0.0};
+  p.pbd_surface_tangential = tangential;
+  FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
+  FreeSurfaceSolver solver(p, scene.boundaries, scene.cloud);
+  const double top = top_row(solver);
+  SolverState state = solver.state();
+  for (std::size_t i = 0; i < solver.node_count(); ++i)
+    if (solver.is_fluid(i) && state.positions[2 * i + 1] > top - 0.5 * dx) state.positions[2 * i + 1] += lift;
+  solver.restore(state);
+  return solver;
+}
+
+// A compressed top row (0.3 Δ down) is pushed apart by the PBD: with the whole shift it rises
+// (outwards); with pbd_surface_tangential its nodes keep only the part along the surface, which
+// on a level row away from the walls is zero by symmetry.
 TEST(FreeSurface, TangentialPbdShiftKeepsCompressedSurfaceNodesOnTheirSurface) {
   const double dx = 0.01;
   const auto top_row_rise = [&](bool tangential) {
-    SolverParams p = column_params(dx, 1e-4, 1.0);
-    p.gravity = {0.0, 0.0};
-    p.pbd_surface_tangential = tangential;
-    FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
-    FreeSurfaceSolver solver(p, scene.boundaries, scene.cloud);
+    FreeSurfaceSolver solver = column_with_moved_top_row(-0.3 * dx, tangential);
     const double top = top_row(solver);
-    SolverState state = solver.state();
     std::vector<std::size_t> row;  // top-row nodes more than 2h from the side walls
     for (std::size_t i = 0; i < solver.node_count(); ++i)
-      if (solver.is_fluid(i) && state.positions[2 * i + 1] > top - 0.5 * dx) {
-        state.positions[2 * i + 1] -= 0.3 * dx;  // towards the row below: denser than ρ₀
-        if (std::abs(state.positions[2 * i] - 0.1) < 0.1 - 3.2 * dx) row.push_back(i);
-      }
-    solver.restore(state);
+      if (solver.is_fluid(i) && solver.positions()[2 * i + 1] > top - 0.5 * dx &&
+          std::abs(solver.positions()[2 * i] - 0.1) < 0.1 - 3.2 * dx)
+        row.push_back(i);
     const std::vector<double> before(solver.positions().begin(), solver.positions().end());
     solver.step();
     EXPECT_EQ(solver.kinds()[row.front()], NodeKind::surface);
@@ -213,19 +223,8 @@ TEST(FreeSurface, TangentialPbdShiftKeepsCompressedSurfaceNodesOnTheirSurface) {
 // fluid does not have; under pbd_surface_tangential the rows within h of the surface correct only
 // compression and the surface only along itself, and nothing moves.
 TEST(FreeSurface, TangentialPbdDoesNotPullALiftedSurfaceBack) {
-  const double dx = 0.01;
-  const auto largest_shift = [&](bool tangential) {
-    SolverParams p = column_params(dx, 1e-4, 1.0);
-    p.gravity = {0.0, 0.0};
-    p.pbd_surface_tangential = tangential;
-    FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
-    FreeSurfaceSolver solver(p, scene.boundaries, scene.cloud);
-    const double top = top_row(solver);
-    SolverState state = solver.state();
-    for (std::size_t i = 0; i < solver.node_count(); ++i)
-      if (solver.is_fluid(i) && state.positions[2 * i + 1] > top - 0.5 * dx) state.positions[2 * i + 1] += 0.3 * dx;
-    solver.restore(state);
-    return solver.step().max_pbd_shift;  // in units of Δ
+  const auto largest_shift = [](bool tangential) {  // in units of Δ
+    return column_with_moved_top_row(0.003, tangential).step().max_pbd_shift;
   };
   EXPECT_GT(largest_shift(false), 0.01);
   EXPECT_LT(largest_shift(true), 1e-9);

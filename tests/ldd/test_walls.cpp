@@ -265,7 +265,9 @@ TEST(WallCaseFile, DescribeListsTheWalls) {
   EXPECT_NE(text.find("wall: cylinder base [0, 0, 0] m"), std::string::npos) << text;
   EXPECT_NE(text.find("radius 0.07 m, height 0.15 m, fluid inside"), std::string::npos) << text;
   EXPECT_NE(text.find("wall: box"), std::string::npos) << text;
-  EXPECT_NE(text.find("6 PBD sweeps per step (velocity: taylor), moment-matrix rcond 0.01"), std::string::npos) << text;
+  EXPECT_NE(text.find("6 PBD sweeps per step (velocity: taylor, surface nodes: full shift), moment-matrix rcond 0.01"),
+            std::string::npos)
+      << text;
 }
 
 // The case file cases/ldd_slump_cylinder.yaml: the liquid spreads to the container wall and no
