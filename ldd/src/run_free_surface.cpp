@@ -120,6 +120,7 @@ struct RunRecord {
   std::vector<double> frame_times;
   std::vector<double> resumed_at_steps;  // steps at which this run was continued from a checkpoint
   double volume0 = 0, max_drift = 0, peak_energy = 0;
+  double max_compression = 0;  // largest |ρ̄_bulk/ρ₀ − 1| (FreeSurfaceSolver::bulk_density_ratio)
   // Energy balance: potential energy at the start, the most released so far, and the largest
   // excess of kinetic energy over the potential energy released (> 0: the scheme created energy).
   double potential0 = 0, max_released = 0, max_energy_excess = 0;
@@ -133,6 +134,7 @@ struct RunRecord {
 constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
     {"volume0", &RunRecord::volume0},
     {"max_drift", &RunRecord::max_drift},
+    {"max_compression", &RunRecord::max_compression},
     {"peak_energy", &RunRecord::peak_energy},
     {"potential0", &RunRecord::potential0},
     {"max_released", &RunRecord::max_released},
@@ -205,6 +207,7 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
   const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
   RunSummary summary = detail::summary_head(c, l, solver, outcome, threads);
   summary.volume_drift = run.max_drift;
+  summary.bulk_compression = run.max_compression;
   summary.kinetic_energy_peak = run.peak_energy;
   // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only
   // where a release drives the flow; a resting column releases nothing but noise (empty).
@@ -217,6 +220,11 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
   if (run.max_drift > volume_drift_tolerance)
     summary.warnings.push_back(fmt::format("the fluid volume drifted by up to {:.3g} % (more than {:.3g} %)",
                                            1e2 * run.max_drift, 1e2 * volume_drift_tolerance));
+  if (run.max_compression > volume_drift_tolerance)
+    summary.warnings.push_back(
+        fmt::format("the bulk's mean kernel density departed from its rest value by up to {:.3g} % (more than {:.3g} "
+                    "%): the fluid was compressed or expanded",
+                    1e2 * run.max_compression, 1e2 * volume_drift_tolerance));
   if (energy_gain > energy_gain_tolerance)
     summary.warnings.push_back(fmt::format(
         "the kinetic energy exceeded the potential energy released by {:.3g} % of the latter: the scheme created "
@@ -366,6 +374,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
   double record(const StepStats& st) {
     const double drift = solver_.fluid_volume() / run_.volume0 - 1;
     run_.max_drift = std::max(run_.max_drift, std::abs(drift));
+    run_.max_compression = std::max(run_.max_compression, std::abs(solver_.bulk_density_ratio() - 1));
     const double energy = solver_.kinetic_energy();
     const double released = run_.potential0 - solver_.potential_energy();
     run_.max_released = std::max(run_.max_released, released);

@@ -230,6 +230,24 @@ TEST(FreeSurface, TangentialPbdDoesNotPullALiftedSurfaceBack) {
   EXPECT_LT(largest_shift(true), 1e-9);
 }
 
+// The bulk's mean kernel sum (nodes with no surface node within h): ρ₀ on the lattice column it
+// was taken from, above it when the column is squeezed 5 % towards its floor (+2.6 %: with
+// h = 1.6 Δ the node's own W(0) dominates the sum, which is therefore not proportional to the
+// number density), whatever the truncated sums along the surface say.
+TEST(FreeSurface, BulkDensityRatioSeesACompressedBody) {
+  const double dx = 0.01;
+  SolverParams p = column_params(dx, 1e-4, 1.0);
+  FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
+  FreeSurfaceSolver solver(p, scene.boundaries, scene.cloud);
+  EXPECT_NEAR(solver.bulk_density_ratio(), 1.0, 1e-12);
+  SolverState state = solver.state();
+  for (std::size_t i = 0; i < solver.node_count(); ++i)
+    if (solver.is_fluid(i)) state.positions[2 * i + 1] *= 0.95;  // the floor's fluid row stays above y = 0
+  solver.restore(state);
+  solver.classify();
+  EXPECT_GT(solver.bulk_density_ratio(), 1.02);
+}
+
 TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
   const double dx = 0.005;
   const auto run = [&](Preconditioner preconditioner) {

@@ -73,7 +73,7 @@ struct CoarseRun {
   bool diverged = false;
   std::string message;
   std::size_t nodes = 0;
-  double ms_per_step = 0, volume_drift = 0, kinetic_energy_peak = 0;
+  double ms_per_step = 0, volume_drift = 0, bulk_compression = 0, kinetic_energy_peak = 0;
   std::vector<double> front_at_table1;  // at DamBreakReference::times
 };
 

@@ -98,6 +98,9 @@ class FreeSurfaceSolver final : public Solver {
   // Fluid volume [m^d]: Σ Δ^d ρ₀/ρ_i over interior nodes + Δ^d per surface/splash node (a node's
   // share of space from its kernel density; surface kernel sums are truncated by the void).
   [[nodiscard]] double fluid_volume() const;
+  // Mean ρ_i/ρ₀ over the bulk: interior nodes with no surface or splash node within h, whose
+  // kernel sums the void does not truncate (1 when there are none). Above 1: compressed.
+  [[nodiscard]] double bulk_density_ratio() const;
   // Potential energy −Σ ρ g·x Δ^d over fluid nodes [J, or J/m in 2D], with the same node volume
   // as kinetic_energy(): their sum may only fall (gravity's work goes to kinetic energy and
   // viscous dissipation).

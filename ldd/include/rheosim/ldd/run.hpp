@@ -71,7 +71,8 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 
 // ---------------------------------------------------------------- free-surface scenes
 // run_case() runs dam_break, slump and column scenes with the FreeSurfaceSolver and writes
-//   summary.json   nodes, steps, ms_per_step, status, volume_drift, front: [{t, x}] (dam break),
+//   summary.json   nodes, steps, ms_per_step, status, volume_drift, bulk_compression,
+//                  front: [{t, x}] (dam break),
 //                  spread: [{t, diameter, height}] (slump), table1 (dam break), phase timings
 //   front.csv / spread.csv / column.csv   the probe history with kinetic energy and volume drift
 //   table1.csv, table1.txt                LDD §4.3's dam break: mass front at LDD Table 1's times next
@@ -92,7 +93,8 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 // above this fraction of the released energy (summary.json `energy_gain`) is a warning.
 inline constexpr double energy_gain_tolerance = 0.01;
 // A free-surface run whose fluid volume drifts by more than this fraction warns (summary.json
-// `volume_drift` is the largest drift).
+// `volume_drift` is the largest drift), and so does one whose bulk's mean kernel sum departs from
+// ρ₀ by more than it (`bulk_compression`; FreeSurfaceSolver::bulk_density_ratio).
 inline constexpr double volume_drift_tolerance = 0.01;
 
 // LDD Table 1 (seed §4.3): mass front [m] at six times, experiment (Komatina & Jovanović 1997)

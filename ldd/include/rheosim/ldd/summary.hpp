@@ -128,6 +128,9 @@ struct RunSummary {
   std::optional<GhiaComparison> ghia;
   // Free-surface runs.
   double volume_drift = 0, kinetic_energy_peak = 0;
+  // Largest |ρ̄/ρ₀ − 1| of the bulk's kernel sums (nodes with no free surface within h); empty in
+  // a summary written before it was recorded.
+  MaybeNumber bulk_compression;
   MaybeNumber energy_gain;  // empty for a resting column
   std::size_t repeated_solves = 0, repeated_with_lu = 0;
   double pressure_iterations_per_step = 0, velocity_iterations_per_step = 0;
