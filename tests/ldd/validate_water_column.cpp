@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -68,6 +69,11 @@ TEST(WaterColumn, ShippedSettingsRunToTheEndWithoutCreatingEnergy) {
   EXPECT_GT(summary["front"].back()["x"].get<double>(), 0.2);  // the water ran
   // The volume drift is reported, with a warning when it exceeds its tolerance.
   EXPECT_EQ(has_warning(summary, "volume drifted"), summary["volume_drift"].get<double>() > volume_drift_tolerance);
+  // The surge compresses the water (docs/ldd.md, "Water column"): the bulk's kernel sums rise well
+  // above ρ₀, and the run says so.
+  std::printf("bulk_compression %.4f\n", summary["bulk_compression"].get<double>());
+  EXPECT_GT(summary["bulk_compression"].get<double>(), 0.03);
+  EXPECT_TRUE(has_warning(summary, "fluid was compressed"));
 }
 
 TEST(WaterColumn, DefaultSettingsAreCaughtCreatingEnergy) {
