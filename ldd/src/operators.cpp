@@ -8,6 +8,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "rheosim/numerics/row_blocks.hpp"
+
 namespace rheosim::ldd {
 namespace {
 
@@ -186,14 +188,12 @@ void build_operators(std::span<const double> positions, int dimension, const num
   ops.offset.resize(n * dim);
   ops.guarded.resize(n);
   ops.conditioning.resize(n);
-  const auto count = static_cast<std::ptrdiff_t>(n);
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t i = 0; i < count; ++i) {
+  numerics::for_balanced_rows(neighbours.offsets, [&](std::size_t i) {
     if (dimension == 2)
-      build_node<2>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
+      build_node<2>(i, positions, neighbours, settings, ops);
     else
-      build_node<3>(static_cast<std::size_t>(i), positions, neighbours, settings, ops);
-  }
+      build_node<3>(i, positions, neighbours, settings, ops);
+  });
 }
 
 void rebuild_gradients(std::span<const double> positions, const numerics::NeighbourList& neighbours,
@@ -219,17 +219,14 @@ void gradient(const numerics::NeighbourList& nb, const Operators& ops, std::span
               std::span<double> out) {
   const auto dim = static_cast<std::size_t>(ops.dimension);
   check_sizes(nb, ops, f.size(), 1, out.size(), dim, "gradient");
-  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
     double g[3] = {0, 0, 0};
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const double fij = f[nb.indices[k]] - f[i];
       for (std::size_t d = 0; d < dim; ++d) g[d] += ops.gradient[k * dim + d] * fij;
     }
     for (std::size_t d = 0; d < dim; ++d) out[i * dim + d] = g[d];
-  }
+  });
 }
 
 void transposed_viscous_force(const numerics::NeighbourList& nb, const Operators& ops,
@@ -239,10 +236,7 @@ void transposed_viscous_force(const numerics::NeighbourList& nb, const Operators
   const std::size_t dd = dim * dim;
   check_sizes(nb, ops, viscosity.size(), 1, out.size(), dim, "transposed_viscous_force");
   check_sizes(nb, ops, velocity_gradient.size(), dd, out.size(), dim, "transposed_viscous_force");
-  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
     double force[3] = {0, 0, 0};
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
@@ -254,37 +248,31 @@ void transposed_viscous_force(const numerics::NeighbourList& nb, const Operators
               ops.gradient[k * dim + b] * (viscosity[j] * grad_j[b * dim + a] - viscosity[i] * grad_i[b * dim + a]);
     }
     for (std::size_t a = 0; a < dim; ++a) out[i * dim + a] = force[a];
-  }
+  });
 }
 
 void divergence(const numerics::NeighbourList& nb, const Operators& ops, std::span<const double> v,
                 std::span<double> out) {
   const auto dim = static_cast<std::size_t>(ops.dimension);
   check_sizes(nb, ops, v.size(), dim, out.size(), 1, "divergence");
-  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
     double sum = 0;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
       for (std::size_t d = 0; d < dim; ++d) sum += ops.gradient[k * dim + d] * (v[j * dim + d] - v[i * dim + d]);
     }
     out[i] = sum;
-  }
+  });
 }
 
 void laplacian(const numerics::NeighbourList& nb, const Operators& ops, std::span<const double> f,
                std::span<double> out) {
   check_sizes(nb, ops, f.size(), 1, out.size(), 1, "laplacian");
-  const auto count = static_cast<std::ptrdiff_t>(nb.node_count());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
     double sum = 0;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) sum += ops.laplacian[k] * (f[nb.indices[k]] - f[i]);
     out[i] = sum;
-  }
+  });
 }
 
 }  // namespace rheosim::ldd

@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "rheosim/numerics/row_blocks.hpp"
+
 namespace rheosim::ldd {
 namespace {
 
@@ -35,12 +37,9 @@ const char* kind_name(NodeKind k) {
 void Solver::velocity_gradient_of(std::span<const double> u, std::span<double> out) const {
   const auto dim = static_cast<std::size_t>(params_.dimension);
   const std::size_t dd = dim * dim;
-  const auto count = static_cast<std::ptrdiff_t>(kinds_.size());
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t s = 0; s < count; ++s) {
-    const auto i = static_cast<std::size_t>(s);
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
     double grad[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};  // grad[a·dim + b] = ∂u_a/∂x_b
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
@@ -50,7 +49,7 @@ void Solver::velocity_gradient_of(std::span<const double> u, std::span<double> o
       }
     }
     for (std::size_t c = 0; c < dd; ++c) out[dd * i + c] = grad[c];
-  }
+  });
 }
 
 Solver::Solver(SolverParams params) : params_(std::move(params)) {

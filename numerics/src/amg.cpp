@@ -91,6 +91,18 @@ SparseRows sparse_of(const Rows& a) {
   return m;
 }
 
+// body(i) for each row of a compressed row-major matrix (a prolongator or restrictor), in
+// parallel above parallel_rows with blocks balanced by the rows' entries.
+template <class Body>
+void for_sparse_rows(const SparseRows& m, Body&& body) {
+  const auto n = static_cast<std::size_t>(m.rows());
+  if (n < parallel_rows || !m.isCompressed()) {
+    for_rows(n, body);
+    return;
+  }
+  for_balanced_rows(std::span<const SparseRows::StorageIndex>(m.outerIndexPtr(), n + 1), body);
+}
+
 // Contiguous blocks of rows, one per thread, balanced by the rows' entries (one block below
 // parallel_rows).
 template <class Body>
@@ -430,14 +442,14 @@ struct AmgPreconditioner::Hierarchy {
     const std::size_t m = next.a.size();
     next.b.resize(m);
     next.x.resize(m);
-    for_rows(m, [&](std::size_t i) {
+    for_sparse_rows(level.r, [&](std::size_t i) {
       double sum = 0;
       for (SparseRows::InnerIterator it(level.r, static_cast<Eigen::Index>(i)); it; ++it)
         sum += it.value() * level.residual[static_cast<std::size_t>(it.col())];
       next.b[i] = sum;
     });
     cycle(l + 1, next.b, next.x, s);
-    for_rows(n, [&](std::size_t i) {
+    for_sparse_rows(level.p, [&](std::size_t i) {
       double sum = 0;
       for (SparseRows::InnerIterator it(level.p, static_cast<Eigen::Index>(i)); it; ++it)
         sum += it.value() * next.x[static_cast<std::size_t>(it.col())];

@@ -9,6 +9,8 @@
 #include <span>
 #include <utility>
 
+#include "rheosim/numerics/row_blocks.hpp"  // balanced_block_range
+
 namespace rheosim::numerics::detail {
 
 // [begin, end) of block `t` out of `blocks` over n entries.
@@ -30,38 +32,13 @@ void for_blocks(std::size_t n, Body&& body) {
   }
 }
 
-// [begin, end) of block `t` out of `blocks` over the rows of a sparse pattern (offsets: rows + 1
-// entries), balanced by each row's work, 1 + its off-diagonal entries: a cloud's short wall rows
-// (a base plate's ~8 neighbours against the fluid's ~26) would otherwise leave one thread idle.
-// Depends only on the pattern and the block count.
-inline std::pair<std::size_t, std::size_t> balanced_block_range(std::span<const std::size_t> offsets, int t,
-                                                                int blocks) {
-  const std::size_t n = offsets.size() - 1;
-  const auto work = [&](std::size_t i) { return i + offsets[i] - offsets[0]; };  // before row i
-  const std::size_t total = work(n);
-  const auto first_row_from = [&](int b) {
-    if (b <= 0) return std::size_t{0};
-    if (b >= blocks) return n;
-    const std::size_t target = total * static_cast<std::size_t>(b) / static_cast<std::size_t>(blocks);
-    std::size_t low = 0, high = n;  // the first row i with work(i) >= target
-    while (low < high) {
-      const std::size_t mid = low + (high - low) / 2;
-      if (work(mid) < target)
-        low = mid + 1;
-      else
-        high = mid;
-    }
-    return low;
-  };
-  return {first_row_from(t), first_row_from(t + 1)};
-}
-
 // for_blocks over a sparse pattern's rows, blocks balanced by work (balanced_block_range).
 template <class Body>
 void for_balanced_blocks(std::span<const std::size_t> offsets, Body&& body) {
 #pragma omp parallel
   {
-    const auto [begin, end] = balanced_block_range(offsets, omp_get_thread_num(), omp_get_num_threads());
+    const auto [begin, end] =
+        numerics::balanced_block_range<std::size_t>(offsets, omp_get_thread_num(), omp_get_num_threads());
     body(begin, end);
   }
 }

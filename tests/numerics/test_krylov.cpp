@@ -11,6 +11,7 @@
 #include "blocks.hpp"  // the work split the Krylov and AMG loops share
 #include "rheosim/numerics/krylov.hpp"
 #include "rheosim/numerics/neighbours.hpp"
+#include "rheosim/numerics/row_blocks.hpp"
 
 namespace rheosim::numerics {
 namespace {
@@ -146,7 +147,7 @@ TEST(BalancedBlocks, SplitRowsByTheirEntriesAndCoverEveryRowOnce) {
   for (int blocks : {1, 2, 3, 7}) {
     std::size_t expected_begin = 0;
     for (int t = 0; t < blocks; ++t) {
-      const auto [begin, end] = detail::balanced_block_range(offsets, t, blocks);
+      const auto [begin, end] = balanced_block_range<std::size_t>(offsets, t, blocks);
       EXPECT_EQ(begin, expected_begin) << blocks << " blocks, block " << t;
       expected_begin = end;
       // Within one row's work (27) of an even share.
@@ -156,10 +157,29 @@ TEST(BalancedBlocks, SplitRowsByTheirEntriesAndCoverEveryRowOnce) {
   }
   // No rows, more blocks than rows: empty or single-row blocks, still covering all.
   const std::vector<std::size_t> empty{0};
-  EXPECT_EQ(detail::balanced_block_range(empty, 0, 2), std::make_pair(std::size_t{0}, std::size_t{0}));
+  EXPECT_EQ(balanced_block_range<std::size_t>(empty, 0, 2), std::make_pair(std::size_t{0}, std::size_t{0}));
   const std::vector<std::size_t> two_rows{0, 3, 3};
-  EXPECT_EQ(detail::balanced_block_range(two_rows, 0, 4).first, 0U);
-  EXPECT_EQ(detail::balanced_block_range(two_rows, 3, 4).second, 2U);
+  EXPECT_EQ(balanced_block_range<std::size_t>(two_rows, 0, 4).first, 0U);
+  EXPECT_EQ(balanced_block_range<std::size_t>(two_rows, 3, 4).second, 2U);
+}
+
+// for_balanced_rows visits every row once, on two threads, each thread within its own block.
+TEST(BalancedBlocks, ForBalancedRowsVisitsEveryRowOnceInItsThreadsBlock) {
+  std::vector<std::size_t> offsets{0};
+  for (std::size_t i = 0; i < 10000; ++i) offsets.push_back(offsets.back() + (i < 4000 ? 8 : 26));
+  std::vector<int> visits(10000, 0), thread_of(10000, -1);
+  omp_set_num_threads(2);
+  for_balanced_rows(offsets, [&](std::size_t i) {
+    ++visits[i];
+    thread_of[i] = omp_get_thread_num();
+  });
+  omp_set_num_threads(1);
+  for (std::size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], 1) << "row " << i;
+  // The split is the balanced one, not an even split by rows (which would end at row 5000).
+  const auto [begin, end] = balanced_block_range<std::size_t>(offsets, 0, 2);
+  EXPECT_EQ(begin, 0U);
+  EXPECT_GT(end, 5000U);
+  for (std::size_t i = 0; i < visits.size(); ++i) EXPECT_EQ(thread_of[i], i < end ? 0 : 1) << "row " << i;
 }
 
 }  // namespace
