@@ -15,6 +15,7 @@
 
 #include "free_surface_internal.hpp"
 #include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/numerics/row_blocks.hpp"
 
 namespace rheosim::ldd {
 
@@ -56,14 +57,15 @@ void FreeSurfaceSolver::regradient_for_boundary_values() {
   const std::size_t n = kinds_.size();
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
-  dry_wall_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) continue;
+  dry_wall_.resize(n);
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
+    dry_wall_[i] = 0;
+    if (kinds_[i] != NodeKind::wall && kinds_[i] != NodeKind::corner) return;
     bool wet = false;
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1] && !wet; ++k)
       wet = kinds_[nb.indices[k]] == NodeKind::interior && ops.weights[k] > 0;
     dry_wall_[i] = wet ? 0 : 1;
-  }
+  });
   const std::span<const std::uint8_t> skip = params_.dry_walls == DryWalls::exclude
                                                  ? std::span<const std::uint8_t>(dry_wall_)
                                                  : std::span<const std::uint8_t>();

@@ -20,13 +20,19 @@ void FreeSurfaceSolver::apply_pbd(std::span<const double> grad_u) {
   const auto dim = static_cast<std::size_t>(dimension());
   const std::size_t n = kinds_.size();
   const auto count = static_cast<std::ptrdiff_t>(n);
-  shift_.assign(dim * n, 0.0);
+  shift_.resize(dim * n);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < static_cast<std::ptrdiff_t>(dim * n); ++s) shift_[static_cast<std::size_t>(s)] = 0.0;
   if (params_.pbd_iterations == 0) return;
   const numerics::NeighbourList& nb = neighbours_;
   const double h = support_radius_, rho0 = rest_density_;
   const double max_shift = params_.pbd_max_shift * params_.spacing;
   const double h2 = h * h;
-  std::vector<double> lambda(n, 0.0), step(dim * n, 0.0);
+  // Every entry of both is written in each sweep before it is read: kept between steps, not cleared.
+  std::vector<double>& lambda = pbd_lambda_;
+  std::vector<double>& step = pbd_step_;
+  lambda.resize(n);
+  step.resize(dim * n);
   // pbd_surface_tangential (Lind et al. 2012): each surface node's outward unit normal, opposite
   // the kernel-weighted offset of all its neighbours (wall nodes stand in for fluid), and the
   // interior nodes within h of a surface node, whose kernel sums the void truncates as well; both

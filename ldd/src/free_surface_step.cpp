@@ -8,9 +8,11 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <omp.h>
 
 #include "free_surface_internal.hpp"
 #include "rheosim/ldd/free_surface.hpp"
+#include "rheosim/numerics/row_blocks.hpp"
 #include "rheosim/numerics/sparse_lu.hpp"
 
 namespace rheosim::ldd {
@@ -59,19 +61,27 @@ void FreeSurfaceSolver::update_viscosity() {
   const std::size_t n = kinds_.size(), dd = dim * dim;
   const numerics::NeighbourList& nb = neighbours_;
   const Operators& ops = operators_;
-  velocity_gradient_.assign(dd * n, 0.0);
+  velocity_gradient_.resize(dd * n);  // every entry written
   velocity_gradient_of(velocity_, velocity_gradient_);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double* grad = &velocity_gradient_[dd * i];
-    double e2 = 0;  // E:E
-    for (std::size_t a = 0; a < dim; ++a)
-      for (std::size_t b = 0; b < dim; ++b) {
-        const double e = 0.5 * (grad[a * dim + b] + grad[b * dim + a]);
-        e2 += e * e;
-      }
-    shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
+  // γ̇ and μ(γ̇) per node, one contiguous block of nodes per thread (the law is stateless).
+#pragma omp parallel
+  {
+    const auto threads = static_cast<std::size_t>(omp_get_num_threads());
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
+    for (std::size_t i = begin; i < end; ++i) {
+      const double* grad = &velocity_gradient_[dd * i];
+      double e2 = 0;  // E:E
+      for (std::size_t a = 0; a < dim; ++a)
+        for (std::size_t b = 0; b < dim; ++b) {
+          const double e = 0.5 * (grad[a * dim + b] + grad[b * dim + a]);
+          e2 += e * e;
+        }
+      shear_rate_[i] = std::sqrt(2.0 * e2);  // eq. 5
+    }
+    params_.rheology->viscosity(std::span<const double>(shear_rate_).subspan(begin, end - begin),
+                                std::span<double>(viscosity_).subspan(begin, end - begin));
   }
-  params_.rheology->viscosity(shear_rate_, viscosity_);
   update_surface_pressure();
   // solver.viscous_stress: full (SolverParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
   // nodes, making the viscous force ∇·(2μE). Explicit alone it is a viscous term far past an
@@ -82,10 +92,10 @@ void FreeSurfaceSolver::update_viscosity() {
   transpose_stress_.assign(dim * n, 0.0);
   if (!params_.transpose_stress) return;
   transposed_viscous_force(nb, ops, viscosity_, velocity_gradient_, transpose_stress_);
-  for (std::size_t i = 0; i < n; ++i) {
+  numerics::for_balanced_rows(nb.offsets, [&](std::size_t i) {
     if (kinds_[i] != NodeKind::interior) {
       for (std::size_t d = 0; d < dim; ++d) transpose_stress_[dim * i + d] = 0.0;
-      continue;
+      return;
     }
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
@@ -93,7 +103,7 @@ void FreeSurfaceSolver::update_viscosity() {
       for (std::size_t d = 0; d < dim; ++d)
         transpose_stress_[dim * i + d] -= c * (velocity_[dim * j + d] - velocity_[dim * i + d]);
     }
-  }
+  });
 }
 
 // 3. Semi-implicit momentum (eq. 19), one solve per component, into new_velocity_. Returns
@@ -114,7 +124,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
   momentum_matrix_.pattern = &nb;
   momentum_matrix_.diagonal.resize(n);
   momentum_matrix_.off_diagonal.resize(nb.pair_count());
-  rhs_.assign(dim * n, 0.0);  // component-major: rhs_[d·n + i]
+  rhs_.resize(dim * n);  // component-major: rhs_[d·n + i]; every entry written below
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t s = 0; s < count; ++s) {
     const auto i = static_cast<std::size_t>(s);
@@ -189,8 +199,15 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
                                                      solves.momentum_lu, velocity_amg_, velocity_settings);
   bool velocity_converged = true;
   int most_velocity_iterations = 0;
+  const auto copy_component = [&](const std::vector<double>& field, std::size_t d) {
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      component_[i] = field[dim * i + d];
+    }
+  };
   for (std::size_t d = 0; d < dim; ++d) {
-    for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
+    copy_component(velocity_, d);
     auto result = numerics::bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
                                      velocity_settings, krylov_);
     if (!result.converged && velocity_amg && !velocity_hierarchy_fresh) {
@@ -198,7 +215,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
       velocity_amg_.setup(momentum_matrix_);
       velocity_hierarchy_fresh = true;
       ++stats.repeated_solves;
-      for (std::size_t i = 0; i < n; ++i) component_[i] = velocity_[dim * i + d];
+      copy_component(velocity_, d);
       stats.velocity_iterations += result.iterations;
       result = numerics::bicgstab(momentum_matrix_, std::span<const double>(&rhs_[d * n], n), component_,
                                   velocity_settings, krylov_);
@@ -207,7 +224,11 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
     stats.velocity_iterations += result.iterations;
     stats.velocity_residual = std::max(stats.velocity_residual, result.relative_residual);
     velocity_converged = velocity_converged && result.converged;
-    for (std::size_t i = 0; i < n; ++i) new_velocity_[dim * i + d] = component_[i];
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
+      const auto i = static_cast<std::size_t>(s);
+      new_velocity_[dim * i + d] = component_[i];
+    }
   }
   if (velocity_amg) velocity_amg_.record_iterations(most_velocity_iterations);
   return velocity_converged;
@@ -333,8 +354,13 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
   // No tension: p_n = max(p_{n−1} + φ, p_atm). A free-surface fluid cannot pull on the void, and
   // without the clip the suction at a stretching toe (ρ/δt ∇·u* > 0 on a torn cloud) grew without
   // bound; the velocity is corrected with the increment actually applied.
+  const auto count = static_cast<std::ptrdiff_t>(n);
   new_pressure_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) new_pressure_[i] = std::max(previous_pressure_[i] + increment_[i], 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    new_pressure_[i] = std::max(previous_pressure_[i] + increment_[i], 0.0);
+  }
   if (params_.dry_walls == DryWalls::extrapolate) {
     // Wall pressures unclipped, as the PPE's wall rows but from the clipped fluid pressures: they
     // only extend the fluid's field into its gradients (−ρg·height above the surface). Taken from
@@ -343,30 +369,59 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
     const auto fluid = [&](std::size_t j) { return is_continuum(j); };
     // Each wall node reads fluid values only, so the nodes are independent.
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::ptrdiff_t s = 0; s < static_cast<std::ptrdiff_t>(n); ++s) {
+    for (std::ptrdiff_t s = 0; s < count; ++s) {
       const auto i = static_cast<std::size_t>(s);
       if (kinds_[i] == NodeKind::wall || kinds_[i] == NodeKind::corner)
         new_pressure_[i] = extrapolated_pressure(i, new_pressure_, fluid, false);
     }
   }
-  for (std::size_t i = 0; i < n; ++i) increment_[i] = new_pressure_[i] - previous_pressure_[i];
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t s = 0; s < count; ++s) {
+    const auto i = static_cast<std::size_t>(s);
+    increment_[i] = new_pressure_[i] - previous_pressure_[i];
+  }
   increment_gradient_.resize(dim * n);
   gradient(nb, ops, increment_, increment_gradient_);
+  // The correction per node in parallel; the fastest continuum node per thread block, combined
+  // in block order (the first of equal speeds, as the serial loop): splash nodes fall
+  // ballistically (no operators) and do not limit the Courant number.
+  const int threads = omp_get_max_threads();
+  std::vector<double> block_speed2(static_cast<std::size_t>(threads), 0.0);
+  std::vector<std::size_t> block_fastest(static_cast<std::size_t>(threads), 0);
+  std::vector<char> block_finite(static_cast<std::size_t>(threads), 1);
+#pragma omp parallel num_threads(threads)
+  {
+    const auto blocks = static_cast<std::size_t>(omp_get_num_threads());
+    const auto t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t begin = n * t / blocks, end = n * (t + 1) / blocks;
+    double most = 0;
+    std::size_t fastest = 0;
+    bool finite = true;
+    for (std::size_t i = begin; i < end; ++i) {
+      if (is_continuum(i))
+        for (std::size_t d = 0; d < dim; ++d) new_velocity_[dim * i + d] -= dt / rho * increment_gradient_[dim * i + d];
+      double speed2 = 0;
+      for (std::size_t d = 0; d < dim; ++d) {
+        speed2 += new_velocity_[dim * i + d] * new_velocity_[dim * i + d];
+        if (!std::isfinite(new_velocity_[dim * i + d])) finite = false;
+      }
+      if (!std::isfinite(new_pressure_[i])) finite = false;
+      if (is_continuum(i) && speed2 > most) {
+        most = speed2;
+        fastest = i;
+      }
+    }
+    block_speed2[t] = most;
+    block_fastest[t] = fastest;
+    block_finite[t] = finite ? 1 : 0;
+  }
   Correction c;
   double max_speed_squared = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (is_continuum(i))
-      for (std::size_t d = 0; d < dim; ++d) new_velocity_[dim * i + d] -= dt / rho * increment_gradient_[dim * i + d];
-    double speed2 = 0;
-    for (std::size_t d = 0; d < dim; ++d) {
-      speed2 += new_velocity_[dim * i + d] * new_velocity_[dim * i + d];
-      if (!std::isfinite(new_velocity_[dim * i + d])) c.finite = false;
-    }
-    if (!std::isfinite(new_pressure_[i])) c.finite = false;
-    // Splash nodes fall ballistically (no operators): they do not limit the Courant number.
-    if (is_continuum(i) && speed2 > max_speed_squared) {
-      max_speed_squared = speed2;
-      c.fastest = i;
+  for (std::size_t t = 0; t < block_speed2.size(); ++t) {
+    if (!block_finite[t]) c.finite = false;
+    if (block_speed2[t] > max_speed_squared) {
+      max_speed_squared = block_speed2[t];
+      c.fastest = block_fastest[t];
     }
   }
   c.max_speed = std::sqrt(max_speed_squared);

@@ -169,8 +169,9 @@ class FreeSurfaceSolver final : public Solver {
   std::vector<double> transpose_stress_;  // ∇·(μ(∇u)ᵀ) − ∇·(μ∇u_{n−1}) on interior nodes (viscous_stress: full)
   double rest_density_ = 0;               // ρ₀ of the PBD constraint and the volume (kernel sum, dimensionless)
   std::vector<double> shift_;             // this step's PBD displacement per node
-  std::vector<double> pair_dw_;         // PBD: ∇W/(r ρ₀) per neighbour pair (apply_pbd)
-  std::vector<std::uint8_t> dry_wall_;  // this step's dry wall nodes (regradient_for_boundary_values)
+  std::vector<double> pbd_lambda_, pbd_step_;  // PBD: λ per node, each sweep's step per node (apply_pbd)
+  std::vector<double> pair_dw_;                // PBD: ∇W/(r ρ₀) per neighbour pair (apply_pbd)
+  std::vector<std::uint8_t> dry_wall_;         // this step's dry wall nodes (regradient_for_boundary_values)
 };
 
 }  // namespace rheosim::ldd
