@@ -4,7 +4,7 @@
 #
 #   bench/ldd_water_column.sh [BUILD_DIR] [OUT_DIR] [--spacing M] [--step S] [--gradient G]
 #                             [--pbd-velocity V] [--pbd-sweeps N] [--dry-walls include|exclude|extrapolate]
-#                             [--pbd-surface full|tangential]
+#                             [--pbd-surface full|tangential] [--surface-detection local|umbrella]
 #
 # Runs cases/ldd_water_column.yaml (a = 0.1 m, Δ = 2 mm, δt = 2.5e-4 s: about 15 s on two
 # threads) with the given overrides through bench_ldd run (the code of `rheosim run`).
@@ -12,7 +12,7 @@ set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_water_column}
 shift $(( $# > 2 ? 2 : $# )) || true
-spacing=0.002 step=2.5e-4 gradient=surface_anchored pbd_velocity=none pbd_sweeps=3 dry_walls=include pbd_surface=tangential
+spacing=0.002 step=2.5e-4 gradient=surface_anchored pbd_velocity=none pbd_sweeps=3 dry_walls=include pbd_surface=tangential surface_detection=local
 while [ $# -gt 0 ]; do
   case "$1" in
     --spacing) spacing=$2; shift 2 ;;
@@ -22,14 +22,15 @@ while [ $# -gt 0 ]; do
     --pbd-sweeps) pbd_sweeps=$2; shift 2 ;;
     --dry-walls) dry_walls=$2; shift 2 ;;
     --pbd-surface) pbd_surface=$2; shift 2 ;;
+    --surface-detection) surface_detection=$2; shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
 here=$(cd "$(dirname "$0")/.." && pwd)
-name="dx${spacing}_dt${step}_${gradient}_${pbd_velocity}_sweeps${pbd_sweeps}$([ "$dry_walls" = include ] || echo "_$dry_walls")$([ "$pbd_surface" = tangential ] || echo "_pbd_$pbd_surface")"
+name="dx${spacing}_dt${step}_${gradient}_${pbd_velocity}_sweeps${pbd_sweeps}$([ "$dry_walls" = include ] || echo "_$dry_walls")$([ "$pbd_surface" = tangential ] || echo "_pbd_$pbd_surface")$([ "$surface_detection" = local ] || echo "_$surface_detection")"
 mkdir -p "$out"
 sed -e "s/spacing: 0.002/spacing: ${spacing}/" -e "s/step: 2.5e-4/step: ${step}/" \
-    -e "s/gradient: surface_anchored, pbd_velocity: none, pbd_surface: tangential/gradient: ${gradient}, pbd_velocity: ${pbd_velocity}, pbd_sweeps: ${pbd_sweeps}, dry_walls: ${dry_walls}, pbd_surface: ${pbd_surface}/" \
+    -e "s/gradient: surface_anchored, pbd_velocity: none, pbd_surface: tangential/gradient: ${gradient}, pbd_velocity: ${pbd_velocity}, pbd_sweeps: ${pbd_sweeps}, dry_walls: ${dry_walls}, pbd_surface: ${pbd_surface}, surface_detection: ${surface_detection}/" \
     "$here/cases/ldd_water_column.yaml" > "$out/$name.yaml"
 rm -rf "${out:?}/$name"
 "$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true

@@ -227,6 +227,12 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       s.choice_or({"pbd_surface",
                    "free surface: PBD shift of surface nodes (full; tangential: its outward-normal part removed)", "-"},
                   "full", {"full", "tangential"}) == "tangential";
+  v.surface_umbrella =
+      s.choice_or({"surface_detection",
+                   "free surface: classification (local: the node's own neighbours; umbrella: a node flagged only "
+                   "by an empty cone or its centroid offset must also see an open void Δ beyond it)",
+                   "-"},
+                  "local", {"local", "umbrella"}) == "umbrella";
   v.dry_walls = choice_or(s,
                           {"dry_walls",
                            "free surface: pressure of the wall nodes above the surface (no interior fluid within h) "
@@ -254,8 +260,8 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
   v.pressure_amg_smoothed =
       s.choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed",
                   {"smoothed", "plain"}) == "smoothed";
-  for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "pbd_surface", "dry_walls", "moment_rcond",
-                          "surface_moment_rcond", "viscous_stress", "surface_stress"})
+  for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "pbd_surface", "surface_detection", "dry_walls",
+                          "moment_rcond", "surface_moment_rcond", "viscous_stress", "surface_stress"})
     if (cavity && s.has(key))
       s.fail(
           key,

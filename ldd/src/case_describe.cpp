@@ -59,9 +59,10 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
     out += fmt::format(
         "  free surface: {} PBD sweeps per step (velocity: {}, surface nodes: {}), moment-matrix rcond {} "
         "(pseudo-inverse), {} "
-        "(surface), dry walls {}, {} gradient, viscous force {}, surface pressure {}\n",
+        "(surface), surface detection {}, dry walls {}, {} gradient, viscous force {}, surface pressure {}\n",
         s.pbd_sweeps, s.pbd_velocity_correction ? "taylor" : "none",
         s.pbd_surface_tangential ? "tangential shift" : "full shift", s.moment_rcond, s.surface_moment_rcond,
+        s.surface_umbrella ? "umbrella" : "local",
         s.dry_walls == DryWalls::exclude       ? "at p = 0, excluded from gradients"
         : s.dry_walls == DryWalls::extrapolate ? "at the fluid's extrapolated pressure (walls unclipped)"
                                                : "at p = 0, in gradients",

@@ -75,37 +75,69 @@ double wall_projected_offset(Surroundings& at, std::size_t dim) {
   return std::sqrt(offset) / static_cast<double>(at.within_search);
 }
 
+// Whether the probe direction `probe` is covered: it points into a nearby wall (whose nodes may sit
+// up to ~1.5 Δ away on a sloped or curved boundary such as the Abrams mould), or a neighbour's
+// direction lies within the cone half-angle of it. The search starts at neighbour `hint` and
+// leaves it at the covering one (neighbouring probes are mostly covered by the same direction).
+bool probe_covered(const Surroundings& at, const double* probe, std::size_t dim, double cone_cosine,
+                   std::size_t& hint) {
+  for (std::size_t w = 0; w < at.walls_near; ++w) {
+    double dot = 0;
+    for (std::size_t d = 0; d < dim; ++d) dot -= probe[d] * at.wall_normals[w][d];
+    if (dot > 0.3) return true;
+  }
+  for (std::size_t tried = 0; tried < at.directions_seen; ++tried) {
+    const std::size_t m = (hint + tried) % at.directions_seen;
+    double dot = 0;
+    for (std::size_t d = 0; d < dim; ++d) dot += probe[d] * at.seen[3 * m + d];
+    if (dot > cone_cosine) {
+      hint = m;
+      return true;
+    }
+  }
+  return false;
+}
+
 // Empty-cone test: some probe direction with no neighbour (fluid or wall) within the cone
 // half-angle of it means a void beside the node — a surface, also under an overhang where the
 // centroid stays balanced (the dam-break toe).
 bool has_empty_cone(const Surroundings& at, std::span<const double> probe_directions, std::size_t dim,
                     double cone_cosine) {
-  const std::size_t directions_seen = at.directions_seen, walls_near = at.walls_near;
-  const double* seen = at.seen;
-  std::size_t last_cover = 0;  // neighbouring probes are mostly covered by the same direction
-  bool empty_cone = false;
-  for (std::size_t q = 0; q + dim <= probe_directions.size() && !empty_cone; q += dim) {
-    bool covered = false;
-    // Directions into a nearby wall are covered by the wall itself (its nodes may sit up to
-    // ~1.5 Δ away on a sloped or curved boundary such as the Abrams mould).
-    for (std::size_t w = 0; w < walls_near && !covered; ++w) {
-      double dot = 0;
-      for (std::size_t d = 0; d < dim; ++d) dot -= probe_directions[q + d] * at.wall_normals[w][d];
-      covered = dot > 0.3;
-    }
-    for (std::size_t tried = 0; tried < directions_seen && !covered; ++tried) {
-      const std::size_t m = (last_cover + tried) % directions_seen;
-      double dot = 0;
-      for (std::size_t d = 0; d < dim; ++d) dot += probe_directions[q + d] * seen[3 * m + d];
-      covered = dot > cone_cosine;
-      if (covered) last_cover = m;
-    }
-    empty_cone = !covered;
-  }
-  return empty_cone;
+  std::size_t hint = 0;
+  for (std::size_t q = 0; q + dim <= probe_directions.size(); q += dim)
+    if (!probe_covered(at, &probe_directions[q], dim, cone_cosine, hint)) return true;
+  return false;
+}
+
+// The uncovered probe directions (all of them), by their offsets into probe_directions, into `out`.
+void empty_probes(const Surroundings& at, std::span<const double> probe_directions, std::size_t dim, double cone_cosine,
+                  std::vector<std::size_t>& out) {
+  out.clear();
+  std::size_t hint = 0;
+  for (std::size_t q = 0; q + dim <= probe_directions.size(); q += dim)
+    if (!probe_covered(at, &probe_directions[q], dim, cone_cosine, hint)) out.push_back(q);
 }
 
 }  // namespace
+
+// Whether the void beside node i in the unit direction `direction` is open: no fluid neighbour
+// within 0.7 Δ of x_i + Δ·direction (SolverParams::surface_umbrella).
+bool FreeSurfaceSolver::void_is_open(std::size_t i, const double* direction) const {
+  const auto dim = static_cast<std::size_t>(dimension());
+  // 0.7 Δ, not ~Δ: a contact-line node a little below the surface row beside it must still see
+  // its void open (at 0.9 Δ viscous sloshing's contact-line nodes turned interior and lagged).
+  const double spacing = params_.spacing, reach2 = 0.49 * spacing * spacing;
+  double target[3] = {0, 0, 0};
+  for (std::size_t d = 0; d < dim; ++d) target[d] = positions_[dim * i + d] + spacing * direction[d];
+  for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1]; ++k) {
+    const std::size_t j = neighbours_.indices[k];
+    // Fluid occupants only: the wall above a contact line is not fluid, and a void reaching it
+    // is open (the cone and offset tests already discount directions into a wall).
+    if (!is_fluid(j) || kinds_[j] == NodeKind::splash) continue;
+    if (detail::squared_distance(target, &positions_[dim * j], dim) < reach2) return false;
+  }
+  return true;
+}
 
 // A fluid node's surroundings within the search radius (r2: its square; h2: the support's).
 void FreeSurfaceSolver::survey(std::size_t i, double r2, double h2, Surroundings& at) const {
@@ -175,7 +207,7 @@ void FreeSurfaceSolver::classify() {
       kinds_[i] = NodeKind::splash;
       continue;
     }
-    const double offset = wall_projected_offset(at, dim);
+    const double offset = wall_projected_offset(at, dim);  // leaves at.centroid wall-projected
     const bool empty_cone = has_empty_cone(at, probe_directions_, dim, cone_cosine);
     // Fluid support: wall pressures are extrapolated from the fluid (the PPE's wall rows), so a
     // node whose kernel sees mostly wall nodes has no pressure level of its own — as interior it
@@ -187,8 +219,26 @@ void FreeSurfaceSolver::classify() {
     const bool degenerate =
         operators_.conditioning.size() == kinds_.size() && operators_.conditioning[i] < params_.surface_moment_rcond;
     const bool thin_support = at.fluid_weight < weight_limit || degenerate;
-    const bool surface =
-        empty_cone || thin_support || offset > offset_limit || static_cast<double>(at.within_search) < count_limit;
+    const bool sparse = static_cast<double>(at.within_search) < count_limit;
+    bool surface = empty_cone || thin_support || offset > offset_limit || sparse;
+    if (surface && params_.surface_umbrella && !thin_support && !sparse) {
+      // Flagged by the cone or the offset alone: surface only if one of those voids is open.
+      bool open = false;
+      if (offset > offset_limit) {
+        double length = 0, away[3] = {0, 0, 0};
+        for (std::size_t d = 0; d < dim; ++d) length += at.centroid[d] * at.centroid[d];
+        length = std::sqrt(length);
+        for (std::size_t d = 0; d < dim; ++d) away[d] = length > 0 ? -at.centroid[d] / length : 0.0;
+        open = length > 0 && void_is_open(i, away);
+      }
+      if (!open && empty_cone) {
+        std::vector<std::size_t> probes;
+        empty_probes(at, probe_directions_, dim, cone_cosine, probes);
+        for (std::size_t q : probes)
+          if ((open = void_is_open(i, &probe_directions_[q]))) break;
+      }
+      surface = open;
+    }
     kinds_[i] = surface ? NodeKind::surface : NodeKind::interior;
   }
   classify_walls(h2);

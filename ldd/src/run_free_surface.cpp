@@ -428,6 +428,7 @@ SolverParams free_surface_params(const ldd::CaseSettings& l) {
   p.anchored_surface_gradient = l.solver.gradient == GradientChoice::surface_anchored;
   p.pbd_velocity_correction = l.solver.pbd_velocity_correction;
   p.pbd_surface_tangential = l.solver.pbd_surface_tangential;
+  p.surface_umbrella = l.solver.surface_umbrella;
   p.dry_walls = l.solver.dry_walls;
   p.transpose_stress = l.solver.full_viscous_stress;
   p.surface_normal_stress = l.solver.surface_normal_stress;

@@ -104,6 +104,46 @@ TEST(FreeSurface, JitteredColumnHasNoFalseSurfaceNodesInsideOrAlongWalls) {
   EXPECT_EQ(missed_surface, 0U);
 }
 
+// A strongly disordered column (±0.35 Δ jitter, as a sheared wedge beside a sloshing tank's wall
+// becomes): gaps between interior nodes open empty cones and centroid offsets, which the local
+// criteria take for surface; with the umbrella test (surface_detection: umbrella) those nodes stay
+// interior when the void they point to is occupied Δ further on (two thirds of them here), while
+// the top row, whose void is open, stays surface.
+TEST(FreeSurface, UmbrellaTestKeepsGapsInADisorderedBodyInterior) {
+  const double dx = 0.01;
+  FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
+  double top = -1e300;  // the lattice's top row, before the jitter
+  for (std::size_t i = 0; i < scene.cloud.size(); ++i)
+    if (!scene.cloud.is_wall(i)) top = std::max(top, scene.cloud.positions[2 * i + 1]);
+  std::vector<char> in_top_row(scene.cloud.size(), 0), deep(scene.cloud.size(), 0);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> jitter(-0.35 * dx, 0.35 * dx);
+  for (std::size_t i = 0; i < scene.cloud.size(); ++i) {
+    if (scene.cloud.is_wall(i)) continue;
+    in_top_row[i] = scene.cloud.positions[2 * i + 1] > top - 0.5 * dx;
+    deep[i] = scene.cloud.positions[2 * i + 1] < top - 2.5 * dx;
+    for (std::size_t d = 0; d < 2; ++d) scene.cloud.positions[2 * i + d] += jitter(random);
+  }
+  const auto count = [&](bool umbrella) {
+    SolverParams p = column_params(dx, 1e-3, 1.0);
+    p.surface_umbrella = umbrella;
+    FreeSurfaceSolver s(p, scene.boundaries, scene.cloud);
+    std::pair<std::size_t, std::size_t> false_and_missed{0, 0};
+    for (std::size_t i = 0; i < s.node_count(); ++i) {
+      if (deep[i] && s.kinds()[i] == NodeKind::surface) ++false_and_missed.first;
+      if (in_top_row[i] && s.kinds()[i] != NodeKind::surface) ++false_and_missed.second;
+    }
+    return false_and_missed;
+  };
+  const auto local = count(false), umbrella = count(true);
+  fmt::print(
+      "surface nodes 2.5 Δ or more below the top row: local {}, umbrella {}; top-row nodes not surface: {}, {}\n",
+      local.first, umbrella.first, local.second, umbrella.second);
+  EXPECT_GE(local.first, 10U);  // the defect the test guards against is there without the umbrella
+  EXPECT_LE(umbrella.first, local.first / 2);
+  EXPECT_EQ(umbrella.second, local.second);  // the top row is classified as before
+}
+
 // A column at rest from p = 0: the pressure must settle to ρ g h (h measured from the surface
 // row, where p = p_atm is imposed) and the velocities must die out.
 TEST(FreeSurface, RestingColumnReachesHydrostaticPressure) {

@@ -104,16 +104,19 @@ TEST(WaterColumn, ExtrapolatedWallPressuresHoldTheCollapse) {
   EXPECT_LT(summary["energy_gain"].get<double>(), energy_gain_tolerance);
 }
 
-// First sloshing mode, W = 0.1 m, H = 0.05 m, A = 1 mm, to t = 0.5 s: the left-wall elevation
-// crosses its mean three times (theory: T/4, 3T/4, 5T/4 with T = 2π/√(gk tanh kH) = 0.3737 s);
-// the period from them within 2 % (measured −0.1 %), the first crossing within 5 % (+3.6 %), and
-// each half period's kinetic-energy peak within 8 % of the wave's energy ρgA²W/4. With the
-// solver's default wall pressures (dry_walls: include) the run diverges at 0.24 s.
-TEST(Sloshing, FirstModeKeepsItsLinearPeriodForOneAndAHalfPeriods) {
+// First sloshing mode, W = 0.1 m, H = 0.05 m, A = 1 mm, to t = 0.69 s: the left-wall elevation
+// crosses its mean four times (theory: T/4, 3T/4, 5T/4, 7T/4 with T = 2π/√(gk tanh kH) =
+// 0.3737 s); the period from the first and last (1.5 T apart) within 2 % (measured −0.95 %), the
+// first crossing within 5 % (+3.6 %), and each half period's kinetic-energy peak within 8 % of
+// the wave's energy ρgA²W/4. The shipped case's umbrella test (surface_detection: umbrella) keeps
+// it linear that long: with the local criteria alone false surface nodes open in the disordered
+// wedge beside a wall and the run diverges at 0.6 s; with the solver's default wall pressures
+// (dry_walls: include) at 0.24 s.
+TEST(Sloshing, FirstModeKeepsItsLinearPeriodForFourZeroCrossings) {
   RunOutcome outcome;
   core::CsvTable column;
   const auto summary =
-      run(shipped_deck("ldd_sloshing_water.yaml", "end: 0.8", "end: 0.5"), "sloshing", outcome, &column);
+      run(shipped_deck("ldd_sloshing_water.yaml", "end: 0.8", "end: 0.69"), "sloshing", outcome, &column);
   ASSERT_EQ(outcome.status, "end_time") << outcome.message;
   const double width = 0.1, depth = 0.05, amplitude = 0.001, g = 9.81, k = std::numbers::pi / width;
   const double period = 2 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth));
@@ -123,23 +126,25 @@ TEST(Sloshing, FirstModeKeepsItsLinearPeriodForOneAndAHalfPeriods) {
   for (std::size_t i = 1; i < t.size(); ++i)
     if ((h[i - 1] - depth) * (h[i] - depth) < 0)
       crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * (depth - h[i - 1]) / (h[i] - h[i - 1]));
-  ASSERT_EQ(crossings.size(), 3u);
+  ASSERT_EQ(crossings.size(), 4u);
   // The run's own comparison (summary "sloshing") says the same.
   ASSERT_TRUE(summary.contains("sloshing"));
-  EXPECT_EQ(summary["sloshing"]["crossings"].get<std::size_t>(), 3u);
-  EXPECT_NEAR(summary["sloshing"]["measured_period"].get<double>(), crossings[2] - crossings[0], 1e-12);
+  EXPECT_EQ(summary["sloshing"]["crossings"].get<std::size_t>(), 4u);
+  const double measured = (crossings[3] - crossings[0]) / 1.5;
+  EXPECT_NEAR(summary["sloshing"]["measured_period"].get<double>(), measured, 1e-12);
   EXPECT_NEAR(summary["sloshing"]["period"].get<double>(), period, 1e-12);
-  EXPECT_NEAR((crossings[2] - crossings[0]) / period, 1.0, 0.02);
+  EXPECT_NEAR(measured / period, 1.0, 0.02);
   EXPECT_NEAR(crossings[0] / (period / 4), 1.0, 0.05);
-  // Each half period's kinetic-energy peak (measured 1.06, 1.00, 0.94 of the wave's energy).
+  // Each half period's kinetic-energy peak, of the wave's energy.
   const double wave_energy = 1000 * g * amplitude * amplitude * width / 4;
   for (int half = 0; half < 3; ++half) {
     double peak = 0;
     for (std::size_t i = 0; i < t.size(); ++i)
       if (t[i] >= half * period / 2 && t[i] < (half + 1) * period / 2) peak = std::max(peak, kinetic[i]);
     EXPECT_NEAR(peak / wave_energy, 1.0, 0.08) << "half period " << half;
+    std::printf("half period %d: kinetic-energy peak %.3f E\n", half, peak / wave_energy);
   }
-  EXPECT_LT(summary["volume_drift"].get<double>(), 0.01);
+  EXPECT_LT(summary["volume_drift"].get<double>(), 0.005);  // measured 0.09 %
 }
 
 }  // namespace

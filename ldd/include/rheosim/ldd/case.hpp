@@ -41,6 +41,9 @@ struct SolverSettings {
   // Free-surface scenes: surface nodes take a PBD shift's tangential part only (pbd_surface:
   // tangential) or all of it (full).
   bool pbd_surface_tangential = false;
+  // Free-surface scenes: nodes flagged only by the empty cone or the centroid offset stay interior
+  // when the void they point to is occupied (surface_detection: umbrella) or not (local).
+  bool surface_umbrella = false;
   bool full_viscous_stress = false;  // free-surface scenes: ∇·(2μE) (viscous_stress: full) or ∇·(μ∇u)
   // Free-surface scenes: the surface nodes' pressure, 2μ n·E·n (surface_stress: normal, the
   // traction-free condition's normal part) or p_atm = 0 (none, LDD eq. 17).

@@ -148,6 +148,7 @@ class FreeSurfaceSolver final : public Solver {
   [[nodiscard]] double extrapolated_pressure(std::size_t node, std::span<const double> pressure, const Use& use,
                                              bool clip) const;
   // classify()'s parts (free_surface_classify.cpp).
+  [[nodiscard]] bool void_is_open(std::size_t i, const double* direction) const;
   void survey(std::size_t node, double search_radius_squared, double support_radius_squared,
               detail::Surroundings& surroundings) const;
   void classify_walls(double support_radius_squared);

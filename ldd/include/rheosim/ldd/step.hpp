@@ -71,6 +71,11 @@ struct SolverParams {
   double surface_cone_angle = 35;      // [°] half-angle of the empty-cone test
   double surface_moment_rcond = 0.01;  // λ_min/λ_max below which the node counts as surface
   double surface_fluid_weight = 0.1;   // Σ_fluid W_ij / (ρ₀ − W(0)) below which a node is on the surface
+  // A node flagged only by the empty cone or the centroid offset stays interior when every void it
+  // points to is occupied: a fluid neighbour within 0.7 Δ of the point Δ beyond the node in that
+  // direction (the umbrella test of Marrone et al. 2010, Comput. Phys. Commun. 181, 1745). A gap
+  // in a disordered interior is not a free surface. Case key solver.surface_detection: umbrella.
+  bool surface_umbrella = false;
   // Free surface: the operators and boundary values.
   double min_moment_rcond = 0.03;  // λ_min/λ_max of eq. 13's moment matrix below which it is
                                    // pseudo-inverted (weak directions dropped)
