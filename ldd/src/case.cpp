@@ -219,35 +219,36 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
            "a cavity's wall rows impose n·∇p through the wall node's own gradient, which the centred gradient "
            "leaves out",
            "auto or renormalised");
-  v.pbd_velocity_correction =
-      s.choice_or(
-          {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
-          "taylor", {"taylor", "none"}) == "taylor";
-  v.pbd_surface_tangential =
-      s.choice_or({"pbd_surface",
-                   "free surface: PBD shift of surface nodes (full; tangential: its outward-normal part removed)", "-"},
-                  "full", {"full", "tangential"}) == "tangential";
-  v.surface_umbrella =
-      s.choice_or({"surface_detection",
-                   "free surface: classification (local: the node's own neighbours; umbrella: a node flagged only "
-                   "by an empty cone or its centroid offset must also see an open void Δ beyond it)",
-                   "-"},
-                  "local", {"local", "umbrella"}) == "umbrella";
+  // A key with two named values, the first the default: whether the case chose the second.
+  const auto second_of_two = [&](const KeyInfo& key, const char* first, const char* second) {
+    return s.choice_or(key, first, {first, second}) == second;
+  };
+  v.pbd_velocity_correction = !second_of_two(
+      {"pbd_velocity", "free surface: velocity after a PBD shift δx (taylor: u + ⟨∇u⟩·δx; none: unchanged)", "-"},
+      "taylor", "none");
+  v.pbd_surface_tangential = second_of_two(
+      {"pbd_surface", "free surface: PBD shift of surface nodes (full; tangential: its outward-normal part removed)",
+       "-"},
+      "full", "tangential");
+  v.surface_umbrella = second_of_two({"surface_detection",
+                                      "free surface: classification (local: the node's own neighbours; umbrella: a "
+                                      "node flagged only by an empty cone or its centroid offset must also see an "
+                                      "open void Δ beyond it)",
+                                      "-"},
+                                     "local", "umbrella");
   v.dry_walls = choice_or(s,
                           {"dry_walls",
                            "free surface: pressure of the wall nodes above the surface (no interior fluid within h) "
                            "and whether fluid gradients use it",
                            "-"},
                           v.dry_walls, dry_walls_names);
-  v.full_viscous_stress =
-      s.choice_or({"viscous_stress", "free surface: viscous force (laplacian: ∇·(μ∇u); full: ∇·(2μE))", "-"},
-                  "laplacian", {"laplacian", "full"}) == "full";
-  v.surface_normal_stress =
-      s.choice_or({"surface_stress",
-                   "free surface: pressure of surface nodes (none: p = 0; normal: p = 2μ n·E·n, the viscous normal "
-                   "stress)",
-                   "-"},
-                  "none", {"none", "normal"}) == "normal";
+  v.full_viscous_stress = second_of_two(
+      {"viscous_stress", "free surface: viscous force (laplacian: ∇·(μ∇u); full: ∇·(2μE))", "-"}, "laplacian", "full");
+  v.surface_normal_stress = second_of_two({"surface_stress",
+                                           "free surface: pressure of surface nodes (none: p = 0; normal: p = 2μ "
+                                           "n·E·n, the viscous normal stress)",
+                                           "-"},
+                                          "none", "normal");
   const auto preconditioner = [&](const KeyInfo& key) -> std::optional<Preconditioner> {
     std::vector<std::string> names = names_in(preconditioner_names);
     names.insert(names.begin(), "auto");
@@ -257,9 +258,8 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       preconditioner({"pressure_preconditioner", "preconditioner of the pressure solve (auto: the scene's)", "-"});
   v.velocity_preconditioner =
       preconditioner({"velocity_preconditioner", "preconditioner of the velocity solve (auto: the scene's)", "-"});
-  v.pressure_amg_smoothed =
-      s.choice_or({"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed",
-                  {"smoothed", "plain"}) == "smoothed";
+  v.pressure_amg_smoothed = !second_of_two(
+      {"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed", "plain");
   for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "pbd_surface", "surface_detection", "dry_walls",
                           "moment_rcond", "surface_moment_rcond", "viscous_stress", "surface_stress"})
     if (cavity && s.has(key))
