@@ -11,7 +11,9 @@
 #
 #   bench/ldd_floor.sh [BUILD_DIR] [OUT_DIR] [--repeat N] [--only dam2|slump|dam1]
 #
-# About 7 min on the 2-core machine; run it with the machine otherwise idle.
+# About 7 min on the 2-core machine; run it with the machine otherwise idle. It prints the host's
+# memory bandwidth (bench_ldd bandwidth) before and after: the floors of the memory-bound solves
+# scale with it, so two runs' tables compare only at the same bandwidth.
 set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_floor}
@@ -33,6 +35,11 @@ sed -e "s/spacing: 0.002/spacing: 0.001/" -e "s/step: 1.0e-3/step: 1.0e-4/" -e "
 grep -q "end: 0.3}" "$out/dam2.yaml" && grep -q "end: 0.02}" "$out/slump.yaml" &&
   grep -q "spacing: 0.001}" "$out/dam1.yaml" && grep -q "step: 1.0e-4, end: 0.005}" "$out/dam1.yaml" ||
   { echo "the case files no longer have the lines this script edits" >&2; exit 2; }
+bandwidth() {
+  echo "memory bandwidth ($1):"
+  "$build/bin/bench_ldd" bandwidth | tail -4
+}
+bandwidth before
 best_runs=()
 for deck in ${only:-dam2 slump dam1}; do
   best="" best_ms=""
@@ -59,3 +66,4 @@ for run in sys.argv[1:]:
 PY
 done
 OMP_NUM_THREADS=2 "$build/bin/bench_ldd" floor "${best_runs[@]}"
+bandwidth after
