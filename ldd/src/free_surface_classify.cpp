@@ -109,15 +109,6 @@ bool has_empty_cone(const Surroundings& at, std::span<const double> probe_direct
   return false;
 }
 
-// The uncovered probe directions (all of them), by their offsets into probe_directions, into `out`.
-void empty_probes(const Surroundings& at, std::span<const double> probe_directions, std::size_t dim, double cone_cosine,
-                  std::vector<std::size_t>& out) {
-  out.clear();
-  std::size_t hint = 0;
-  for (std::size_t q = 0; q + dim <= probe_directions.size(); q += dim)
-    if (!probe_covered(at, &probe_directions[q], dim, cone_cosine, hint)) out.push_back(q);
-}
-
 }  // namespace
 
 // Whether the void beside node i in the unit direction `direction` is open: no fluid neighbour
@@ -231,12 +222,10 @@ void FreeSurfaceSolver::classify() {
         for (std::size_t d = 0; d < dim; ++d) away[d] = length > 0 ? -at.centroid[d] / length : 0.0;
         open = length > 0 && void_is_open(i, away);
       }
-      if (!open && empty_cone) {
-        std::vector<std::size_t> probes;
-        empty_probes(at, probe_directions_, dim, cone_cosine, probes);
-        for (std::size_t q : probes)
-          if ((open = void_is_open(i, &probe_directions_[q]))) break;
-      }
+      std::size_t hint = 0;  // each uncovered probe direction in turn
+      for (std::size_t q = 0; !open && empty_cone && q + dim <= probe_directions_.size(); q += dim)
+        open =
+            !probe_covered(at, &probe_directions_[q], dim, cone_cosine, hint) && void_is_open(i, &probe_directions_[q]);
       surface = open;
     }
     kinds_[i] = surface ? NodeKind::surface : NodeKind::interior;

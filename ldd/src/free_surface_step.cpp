@@ -64,11 +64,7 @@ void FreeSurfaceSolver::update_viscosity() {
   velocity_gradient_.resize(dd * n);  // every entry written
   velocity_gradient_of(velocity_, velocity_gradient_);
   // γ̇ and μ(γ̇) per node, one contiguous block of nodes per thread (the law is stateless).
-#pragma omp parallel
-  {
-    const auto threads = static_cast<std::size_t>(omp_get_num_threads());
-    const auto t = static_cast<std::size_t>(omp_get_thread_num());
-    const std::size_t begin = n * t / threads, end = n * (t + 1) / threads;
+  numerics::for_blocks(n, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       const double* grad = &velocity_gradient_[dd * i];
       double e2 = 0;  // E:E
@@ -81,7 +77,7 @@ void FreeSurfaceSolver::update_viscosity() {
     }
     params_.rheology->viscosity(std::span<const double>(shear_rate_).subspan(begin, end - begin),
                                 std::span<double>(viscosity_).subspan(begin, end - begin));
-  }
+  });
   update_surface_pressure();
   // solver.viscous_stress: full (SolverParams::transpose_stress) adds ∇·(μ(∇u)ᵀ) on interior
   // nodes, making the viscous force ∇·(2μE). Explicit alone it is a viscous term far past an
@@ -389,11 +385,8 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
   std::vector<double> block_speed2(static_cast<std::size_t>(threads), 0.0);
   std::vector<std::size_t> block_fastest(static_cast<std::size_t>(threads), 0);
   std::vector<char> block_finite(static_cast<std::size_t>(threads), 1);
-#pragma omp parallel num_threads(threads)
-  {
-    const auto blocks = static_cast<std::size_t>(omp_get_num_threads());
+  numerics::for_blocks(n, [&](std::size_t begin, std::size_t end) {
     const auto t = static_cast<std::size_t>(omp_get_thread_num());
-    const std::size_t begin = n * t / blocks, end = n * (t + 1) / blocks;
     double most = 0;
     std::size_t fastest = 0;
     bool finite = true;
@@ -414,7 +407,7 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
     block_speed2[t] = most;
     block_fastest[t] = fastest;
     block_finite[t] = finite ? 1 : 0;
-  }
+  });
   Correction c;
   double max_speed_squared = 0;
   for (std::size_t t = 0; t < block_speed2.size(); ++t) {

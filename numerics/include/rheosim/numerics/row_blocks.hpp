@@ -1,9 +1,10 @@
 #pragma once
-// A static OpenMP split of a sparse pattern's rows (a NeighbourList's or a matrix's offsets) into
-// one contiguous block per thread, balanced by each row's work, 1 + its entries: the nodes of a
-// cloud differ in their neighbour counts (a base plate's wall rows ~8, the fluid's ~26 in 3D), and
-// `schedule(static)` over rows left one thread idle at the end of every such loop. The split
-// depends only on the pattern and the thread count.
+// Static OpenMP splits of n rows into one contiguous block per thread, which depend only on the
+// size (or pattern) and the thread count, so per-block results can be combined in block order:
+// even blocks of rows (for_blocks), and blocks of a sparse pattern's rows (a NeighbourList's or a
+// matrix's offsets) balanced by each row's work, 1 + its entries (for_balanced_rows): the nodes of
+// a cloud differ in their neighbour counts (a base plate's wall rows ~8, the fluid's ~26 in 3D),
+// and `schedule(static)` over rows left one thread idle at the end of every such loop.
 #include <omp.h>
 
 #include <cstddef>
@@ -12,6 +13,24 @@
 #include <vector>
 
 namespace rheosim::numerics {
+
+// [begin, end) of block `t` out of `blocks` over n entries.
+[[nodiscard]] inline std::pair<std::size_t, std::size_t> block_range(std::size_t n, int t, int blocks) {
+  const auto b = static_cast<std::size_t>(blocks);
+  const auto tt = static_cast<std::size_t>(t);
+  return {n * tt / b, n * (tt + 1) / b};
+}
+
+// Calls body(begin, end) on contiguous blocks, one per thread, in parallel (the block's thread is
+// omp_get_thread_num() inside body).
+template <class Body>
+void for_blocks(std::size_t n, Body&& body) {
+#pragma omp parallel
+  {
+    const auto [begin, end] = block_range(n, omp_get_thread_num(), omp_get_num_threads());
+    body(begin, end);
+  }
+}
 
 // [begin, end) of block `t` out of `blocks` over the rows of `offsets` (rows + 1 entries, any
 // unsigned or non-negative integer type: a NeighbourList's or an Eigen row-major matrix's).
