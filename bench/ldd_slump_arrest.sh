@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # 3D slumps of a Bingham material run to rest, against the yield-stress theories of their mould
 # (docs/ldd.md, "Arrest"): a cylinder against Pashias et al. (1996), s′ = s/H = 1 − 2τ′(1 − ln 2τ′)
-# with τ′ = τ₀/(ρgH) (ldd::pashias_slump); a cone against Roussel & Coussot's (2005) pancake
+# with τ′ = τ₀/(ρgH) (ldd::pashias_slump; also printed with the von Mises factor √3 in place of 2,
+# ldd::von_mises_cylinder_slump); a cone against Roussel & Coussot's (2005) pancake
 # spread, τ₀ = 225ρgΩ²/(128π²R⁵) (ldd::roussel_coussot_spread).
 #
 #   bench/ldd_slump_arrest.sh [BUILD_DIR] [OUT_DIR] [--case FILE] [--ratios "0.05 0.1 ..."]
@@ -73,7 +74,7 @@ for stress in $stresses; do
   runs+=("$out/$name")
 done
 python3 - "${runs[@]}" <<'PY'
-import csv, json, os, sys
+import csv, json, math, os, sys
 nan = float("nan")
 print(f"{'τ₀ Pa':>8} {'theory':>18} {'LDD':>8} {'diff':>8} {'last tenth: Δh, Δd':>20} {'yielded':>8} {'drift':>7} "
       f"{'ms/step':>8}  status")
@@ -89,7 +90,10 @@ for run in sys.argv[1:]:
     if "pashias" in s:
         p = s["pashias"]
         theory, value = f"s′ {p['slump']:.4f} (τ′ {p['yield_stress_ratio']:.3g})", p["measured_slump"]
-        diff = f"{p['difference']:+8.4f}"
+        # von Mises: s′ with √3τ′ for 2τ′ (computed here for runs reused from before the key)
+        k = min(1.0, math.sqrt(3) * p["yield_stress_ratio"])
+        vm = p.get("von_mises_slump", 1 - k * (1 - math.log(k)))
+        diff = f"{p['difference']:+8.4f} (von Mises s′ {vm:.4f}: {value - vm:+.4f})"
     elif "roussel_coussot" in s:
         r = s["roussel_coussot"]
         theory, value = f"spread {r['diameter']:.4f} m", s["final_spread"]

@@ -148,7 +148,8 @@ std::string header_html(const RunSummary& s) {
       row("arrested (yield criterion)", s.arrested ? "yes" : "no");
       if (const auto& p = s.pashias)
         row("cylinder slump (Pashias et al. 1996)",
-            fmt::format("τ′ = τ₀/(ρgH) = {:.3g}: s/H {:.3f} at rest; this run {}", p->yield_stress_ratio, p->slump,
+            fmt::format("τ′ = τ₀/(ρgH) = {:.3g}: s/H {:.3f} at rest ({:.3f} with the von Mises criterion); this run {}",
+                        p->yield_stress_ratio, p->slump, p->von_mises_slump,
                         p->measured_slump ? fmt::format("{:.3f} ({:+.3f})", *p->measured_slump, *p->difference)
                                           : std::string("—")));
       if (const auto& r = s.roussel_coussot)

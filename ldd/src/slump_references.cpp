@@ -8,10 +8,22 @@
 
 namespace rheosim::ldd {
 
+namespace {
+
+// s′ of a cylinder whose unyielded top is `plug` of its height (z₀/H = σ_y/(ρgH), σ_y the axial
+// stress at yield): the rest settles to z₀ ln(H/z₀) below it.
+double cylinder_slump(double plug) { return plug < 1.0 ? 1.0 - plug * (1.0 - std::log(plug)) : 0.0; }
+
+}  // namespace
+
 double pashias_slump(double yield_stress_ratio) {
   if (!(yield_stress_ratio > 0)) throw std::invalid_argument("pashias_slump: τ′ must be > 0");
-  const double twice = 2.0 * yield_stress_ratio;  // the unyielded plug's share of the height
-  return twice < 1.0 ? 1.0 - twice * (1.0 - std::log(twice)) : 0.0;
+  return cylinder_slump(2.0 * yield_stress_ratio);
+}
+
+double von_mises_cylinder_slump(double yield_stress_ratio) {
+  if (!(yield_stress_ratio > 0)) throw std::invalid_argument("von_mises_cylinder_slump: τ′ must be > 0");
+  return cylinder_slump(std::numbers::sqrt3 * yield_stress_ratio);
 }
 
 double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity) {
@@ -32,11 +44,13 @@ void compare_slump(const CaseSettings& l, RunSummary& summary, const core::Log& 
   if (scene.cone_top_diameter == scene.cone_bottom_diameter) {
     const double ratio = yield_stress / (l.fluid.density * g * height);
     const double theory = pashias_slump(ratio);
+    const double von_mises = von_mises_cylinder_slump(ratio);
     const double measured = 1.0 - *summary.final_height / height;
-    summary.pashias = CylinderSlumpComparison{ratio, theory, measured, measured - theory};
+    summary.pashias = CylinderSlumpComparison{ratio, theory, measured, measured - theory, von_mises};
     log.info(
-        "cylinder slump (Pashias et al. 1996): τ′ = τ₀/(ρgH) = {:.4g}, slump s/H {:.4f}; this run {:.4f} ({:+.4f})",
-        ratio, theory, measured, measured - theory);
+        "cylinder slump (Pashias et al. 1996): τ′ = τ₀/(ρgH) = {:.4g}, slump s/H {:.4f} ({:.4f} with the von "
+        "Mises criterion); this run {:.4f} ({:+.4f})",
+        ratio, theory, von_mises, measured, measured - theory);
     return;
   }
   const double big = 0.5 * scene.cone_bottom_diameter, small = 0.5 * scene.cone_top_diameter;

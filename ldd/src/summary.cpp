@@ -102,7 +102,8 @@ void add_free_surface_keys(const RunSummary& s, Json& j) {
     j["pashias"] = {{"yield_stress_ratio", p->yield_stress_ratio},
                     {"slump", p->slump},
                     {"measured_slump", value_or_null(p->measured_slump)},
-                    {"difference", value_or_null(p->difference)}};
+                    {"difference", value_or_null(p->difference)},
+                    {"von_mises_slump", p->von_mises_slump}};
   if (const auto& r = s.roussel_coussot)
     j["roussel_coussot"] = {{"diameter", r->diameter}, {"relative_error", value_or_null(r->relative_error)}};
   if (const auto& w = s.sloshing)
@@ -188,7 +189,8 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
       s.spread.push_back({p.number("t"), p.number("diameter"), p.number("height")});
     if (const auto p = r.optional_object("pashias"))
       s.pashias = CylinderSlumpComparison{p->number("yield_stress_ratio"), p->number("slump"),
-                                          p->number_or_null("measured_slump"), p->number_or_null("difference")};
+                                          p->number_or_null("measured_slump"), p->number_or_null("difference"),
+                                          p->number("von_mises_slump")};
     if (const auto c = r.optional_object("roussel_coussot"))
       s.roussel_coussot = ConeSpreadComparison{c->number("diameter"), c->number_or_null("relative_error")};
   }

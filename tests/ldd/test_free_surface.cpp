@@ -615,6 +615,25 @@ TEST(SlumpReferences, PashiasSlumpIsTheHeightAtWhichTheYieldStressHolds) {
   EXPECT_THROW((void)pashias_slump(0.0), std::invalid_argument);
 }
 
+// The tensor laws' yield criterion: uniaxial compression E = ε̇ diag(−1, ½, ½) has γ̇ = √(2E:E) =
+// √3 ε̇ (LDD eq. 5) and axial stress difference 2μ·(3/2)ε̇ = √3 μγ̇, which is √3 τ₀ at yield; the
+// unyielded top is √3 τ₀/(ρg) high and the slump follows as in Pashias' balance.
+TEST(SlumpReferences, VonMisesSlumpHoldsATopOfRootThreeYieldStressOverWeight) {
+  const double rate = 0.7, e2 = rate * rate * (1.0 + 0.25 + 0.25);  // E:E
+  const double shear_rate = std::sqrt(2 * e2), yield_stress = 50.0;
+  const double viscosity = yield_stress / shear_rate;  // at yield, μγ̇ = τ₀
+  EXPECT_NEAR(2 * viscosity * 1.5 * rate, std::sqrt(3.0) * yield_stress, 1e-12);
+  const double density = 1000, gravity = 9.81, height = 0.1;
+  for (const double ratio : {0.02, 0.05, 0.1, 0.2, 0.3, 0.5}) {
+    const double z0 = std::sqrt(3.0) * ratio * density * gravity * height / (density * gravity);
+    EXPECT_NEAR(von_mises_cylinder_slump(ratio), 1 - z0 * (1 + std::log(height / z0)) / height, 1e-12) << ratio;
+    EXPECT_GT(von_mises_cylinder_slump(ratio), pashias_slump(ratio)) << ratio;  // a weaker column slumps more
+  }
+  EXPECT_NEAR(von_mises_cylinder_slump(0.3), 0.140210, 1e-6);
+  EXPECT_EQ(von_mises_cylinder_slump(0.6), 0.0);
+  EXPECT_THROW((void)von_mises_cylinder_slump(-1.0), std::invalid_argument);
+}
+
 // Roussel & Coussot's pancake h(r) = √(2τ₀(R − r)/(ρg)) holds the volume it was given.
 // The first sloshing mode's period between its limits: deep water (tanh kH → 1) 2π/√(gk), shallow
 // water (kH → 0) 2W/√(gH), the long wave crossing the tank and back.

@@ -129,6 +129,11 @@ struct ThinFilmArrest {
 // 1996, J. Rheol. 40, 1179; the cylinder slump test). Throws std::invalid_argument
 // unless τ′ > 0.
 [[nodiscard]] double pashias_slump(double yield_stress_ratio);
+// The same one-dimensional balance with the yield criterion of the tensor laws rheosim solves
+// (|τ| = √(½τ:τ) = τ₀, von Mises): in the column's uniaxial compression the axial stress at
+// yield is √3 τ₀, where Pashias et al. took 2τ₀ (Tresca), so s′ = 1 − √3τ′(1 − ln √3τ′) for
+// τ′ < 1/√3, 0 above. Throws std::invalid_argument unless τ′ > 0.
+[[nodiscard]] double von_mises_cylinder_slump(double yield_stress_ratio);
 
 // The final spread diameter 2R of a yield-stress material of volume Ω spreading as a thin
 // axisymmetric pancake: τ₀ = 225ρgΩ²/(128π²R⁵) (Roussel & Coussot 2005, J. Rheol. 49, 705;

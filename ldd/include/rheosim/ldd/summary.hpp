@@ -67,6 +67,7 @@ struct CylinderSlumpComparison {           // Pashias et al. (1996), pashias_slu
   double yield_stress_ratio = 0;           // τ′ = τ₀/(ρgH)
   double slump = 0;                        // s′ = s/H at rest, theory
   MaybeNumber measured_slump, difference;  // this run's 1 − final height/H, and − theory
+  double von_mises_slump = 0;              // s′ with the axial yield stress √3 τ₀ (von_mises_cylinder_slump)
   friend bool operator==(const CylinderSlumpComparison&, const CylinderSlumpComparison&) = default;
 };
 
