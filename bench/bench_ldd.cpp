@@ -439,12 +439,19 @@ int main(int argc, char** argv) {
     return 0;
   }
   if ((argc == 4 || (argc == 6 && std::string(argv[4]) == "--stability-probe")) && std::string(argv[1]) == "run") {
-    const ldd::Case c = ldd::load_case(argv[2]);
-    const auto log = core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
-    ldd::RunControl control;
-    if (argc == 6) control.stability_probe_iterations = std::stoi(argv[5]);
-    const auto outcome = ldd::run_case(c, argv[3], log, control);
-    return outcome.status == "diverged" ? 1 : 0;
+    // A refused deck or folder (a ConfigError names file, line and key) is a message, not an abort.
+    try {
+      const ldd::Case c = ldd::load_case(argv[2]);
+      const auto log =
+          core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
+      ldd::RunControl control;
+      if (argc == 6) control.stability_probe_iterations = std::stoi(argv[5]);
+      const auto outcome = ldd::run_case(c, argv[3], log, control);
+      return outcome.status == "diverged" ? 1 : 0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_ldd run: %s\n", e.what());
+      return 2;
+    }
   }
   if (argc >= 2 && std::string(argv[1]) == "accuracy") {
     AccuracyOptions o;
