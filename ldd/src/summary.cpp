@@ -6,6 +6,7 @@
 #include "rheosim/core/output.hpp"
 #include "rheosim/core/report_page.hpp"
 #include "rheosim/core/run_summary.hpp"
+#include "rheosim/ldd/run.hpp"
 
 namespace rheosim::ldd {
 
@@ -187,10 +188,13 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
   } else {
     for (const auto& p : r.objects("spread"))
       s.spread.push_back({p.number("t"), p.number("diameter"), p.number("height")});
-    if (const auto p = r.optional_object("pashias"))
-      s.pashias = CylinderSlumpComparison{p->number("yield_stress_ratio"), p->number("slump"),
-                                          p->number_or_null("measured_slump"), p->number_or_null("difference"),
-                                          p->number("von_mises_slump")};
+    if (const auto p = r.optional_object("pashias")) {
+      // von_mises_slump is a function of τ′ alone: summaries written without it get it computed.
+      const double ratio = p->number("yield_stress_ratio");
+      s.pashias = CylinderSlumpComparison{
+          ratio, p->number("slump"), p->number_or_null("measured_slump"), p->number_or_null("difference"),
+          p->optional_number("von_mises_slump").value_or(ratio > 0 ? von_mises_cylinder_slump(ratio) : 0.0)};
+    }
     if (const auto c = r.optional_object("roussel_coussot"))
       s.roussel_coussot = ConeSpreadComparison{c->number("diameter"), c->number_or_null("relative_error")};
   }
