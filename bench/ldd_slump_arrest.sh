@@ -74,7 +74,7 @@ for stress in $stresses; do
   runs+=("$out/$name")
 done
 python3 - "${runs[@]}" <<'PY'
-import csv, json, math, os, sys
+import csv, json, os, sys
 nan = float("nan")
 print(f"{'τ₀ Pa':>8} {'theory':>18} {'LDD':>8} {'diff':>8} {'last tenth: Δh, Δd':>20} {'yielded':>8} {'drift':>7} "
       f"{'ms/step':>8}  status")
@@ -90,10 +90,10 @@ for run in sys.argv[1:]:
     if "pashias" in s:
         p = s["pashias"]
         theory, value = f"s′ {p['slump']:.4f} (τ′ {p['yield_stress_ratio']:.3g})", p["measured_slump"]
-        # von Mises: s′ with √3τ′ for 2τ′ (computed here for runs reused from before the key)
-        k = min(1.0, math.sqrt(3) * p["yield_stress_ratio"])
-        vm = p.get("von_mises_slump", 1 - k * (1 - math.log(k)))
-        diff = f"{p['difference']:+8.4f} (von Mises s′ {vm:.4f}: {value - vm:+.4f})"
+        # von Mises: s′ with √3τ′ for 2τ′ (ldd::von_mises_cylinder_slump; absent from runs reused
+        # from a build before it)
+        vm = p.get("von_mises_slump")
+        diff = f"{p['difference']:+8.4f}" + (f" (von Mises s′ {vm:.4f}: {value - vm:+.4f})" if vm is not None else "")
     elif "roussel_coussot" in s:
         r = s["roussel_coussot"]
         theory, value = f"spread {r['diameter']:.4f} m", s["final_spread"]
