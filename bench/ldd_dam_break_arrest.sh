@@ -51,6 +51,10 @@ speed = (last[-1][col["front"]] - last[0][col["front"]]) / max(1e-12, last[-1][0
 print(f"front speed over the last tenth of the run: {speed:.3g} m/s")
 print(f"final front {s['final_spread']:.4f} m; thin-film arrest {arrest['front']:.4f} m past the gate "
       f"(length {arrest['length']:.4f} m from the back wall); runout {100 * arrest['relative_error']:+.1f} %")
+if arrest.get("fitted_yield_stress") is not None:  # runs of older builds have no fit
+    print(f"final surface read as a shallow arrest: yield stress {arrest['fitted_yield_stress']:.2f} Pa, "
+          f"runout {arrest['fitted_length']:.4f} m from the back wall "
+          f"({100 * (arrest['fitted_length'] / arrest['length'] - 1):+.1f} %)")
 # The final profile (profile.csv: the top of the fluid nodes per Δ column) beside the theory's.
 shape = list(csv.reader(open(os.path.join(run, "profile.csv"))))[1:]
 print("final profile, x from the gate:")

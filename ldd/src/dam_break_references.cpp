@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -123,7 +126,8 @@ bool is_table1_release(const CaseSettings& l, const DamBreakScene& scene) {
 void compare_with_thin_film_arrest(const ThinFilmArrest& arrest, const DamBreakScene& scene,
                                    const std::vector<double>& front, RunSummary& summary, const core::Log& log) {
   const double length = scene.reservoir[0];
-  ThinFilmArrestComparison entry{arrest.length, arrest.length - length, arrest.wall_height, std::nullopt};
+  ThinFilmArrestComparison entry{arrest.length, arrest.length - length, arrest.wall_height,
+                                 std::nullopt,  std::nullopt,           std::nullopt};
   if (!front.empty()) {
     const double runout = front.back() + length;  // from the back wall
     entry.relative_error = runout / arrest.length - 1.0;
@@ -183,6 +187,36 @@ ThinFilmArrest thin_film_arrest(double area, double yield_stress, double density
 
 double ThinFilmArrest::height_at(double s) const {
   return s < length ? std::sqrt(stress_scale * (length - std::max(s, 0.0))) : 0.0;
+}
+
+std::optional<ThinFilmFit> fit_thin_film_deposit(std::span<const double> distance_from_back_wall,
+                                                 std::span<const double> height, double spacing, double density,
+                                                 double gravity) {
+  if (distance_from_back_wall.size() != height.size())
+    throw std::invalid_argument("fit_thin_film_deposit: distances and heights differ in size");
+  if (!(spacing > 0 && density > 0 && gravity > 0))
+    throw std::invalid_argument("fit_thin_film_deposit: spacing, density and gravity must be > 0");
+  // h² = a + b s by least squares; then 2τ/(ρg) = −b and ℓ = −a/b.
+  double n = 0, sum_s = 0, sum_q = 0, sum_ss = 0, sum_sq = 0;
+  for (std::size_t k = 0; k < height.size(); ++k) {
+    const double s = distance_from_back_wall[k], h = height[k];
+    if (!(s >= 2.0 * spacing && h >= 2.0 * spacing)) continue;
+    const double q = h * h;
+    n += 1;
+    sum_s += s;
+    sum_q += q;
+    sum_ss += s * s;
+    sum_sq += s * q;
+  }
+  const double spread = n * sum_ss - sum_s * sum_s;
+  if (n < 3 || !(spread > 0)) return std::nullopt;
+  const double slope = (n * sum_sq - sum_s * sum_q) / spread;
+  const double intercept = (sum_q - slope * sum_s) / n;
+  // A surface that does not fall towards the front (beyond rounding of h² over the columns' span):
+  // no arrest shape to read.
+  const double span = std::sqrt(spread) / n * 2.0;  // of order the fitted columns' extent
+  if (!(-slope * span > 1e-9 * sum_q / n)) return std::nullopt;
+  return ThinFilmFit{-0.5 * slope * density * gravity, -intercept / slope, static_cast<std::size_t>(n)};
 }
 
 }  // namespace rheosim::ldd

@@ -156,10 +156,16 @@ std::string header_html(const RunSummary& s) {
         row("yield-stress pancake (Roussel &amp; Coussot 2005)",
             fmt::format("spread {:.4g} m; this run {}", r->diameter,
                         r->relative_error ? fmt::format("{:+.1f} %", 100 * *r->relative_error) : std::string("—")));
-      if (const auto& a = s.thin_film_arrest)
+      if (const auto& a = s.thin_film_arrest) {
         row("shallow arrest (thin film)",
             fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", a->length, a->front,
                         a->relative_error ? fmt::format("{:+.1f} %", 100 * *a->relative_error) : std::string("—")));
+        if (a->fitted_yield_stress && a->fitted_length)
+          row("final surface read as a shallow arrest",
+              fmt::format("yield stress {:.4g} Pa, runout {:.4g} m from the back wall (a fit of h² to the columns "
+                          "two spacings high; meaningful at rest)",
+                          *a->fitted_yield_stress, *a->fitted_length));
+      }
     }
   } else {
     row("Reynolds number", fmt::format("{:.4g}", s.reynolds_number));

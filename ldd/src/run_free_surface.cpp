@@ -37,7 +37,11 @@ double mass_front(const FreeSurfaceSolver& s) {
 
 // Dam break: the free surface at the end, the top of the fluid nodes (non-splash) in each Δ-wide
 // column plus half a cell, at the columns' centres, ascending in x.
-core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) {
+struct FinalProfile {
+  std::vector<double> x, height;  // [m]
+};
+
+FinalProfile final_profile(const FreeSurfaceSolver& s) {
   const double dx = s.params().spacing;
   std::map<long, double> top;
   for (std::size_t i = 0; i < s.node_count(); ++i)
@@ -47,19 +51,49 @@ core::CsvTable final_profile(const FreeSurfaceSolver& s, const CaseSettings& l) 
       const auto [it, fresh] = top.emplace(column, y);
       if (!fresh) it->second = std::max(it->second, y);
     }
+  FinalProfile profile;
+  for (const auto& [column, height] : top) {
+    profile.x.push_back((static_cast<double>(column) + 0.5) * dx);
+    profile.height.push_back(height);
+  }
+  return profile;
+}
+
+// profile.csv: the final free surface, and a yield-stress law's shallow arrest beside it.
+core::CsvTable profile_table(const FinalProfile& profile, const CaseSettings& l) {
   const std::optional<ThinFilmArrest> arrest = detail::dam_break_thin_film_arrest(l);
   std::vector<core::CsvTable::Column> columns{{"x", "m"}, {"height", "m"}};
   if (arrest) columns.push_back({"thin_film_arrest", "m"});
   core::CsvTable table(columns);
   const double back_wall = std::get<DamBreakScene>(l.scene).reservoir[0];  // distance from the gate
-  for (const auto& [column, height] : top) {
-    const double x = (static_cast<double>(column) + 0.5) * dx;
+  for (std::size_t k = 0; k < profile.x.size(); ++k) {
     if (arrest)
-      table.add_row({x, height, arrest->height_at(x + back_wall)});
+      table.add_row({profile.x[k], profile.height[k], arrest->height_at(profile.x[k] + back_wall)});
     else
-      table.add_row({x, height});
+      table.add_row({profile.x[k], profile.height[k]});
   }
   return table;
+}
+
+// The yield stress and runout the final shape implies as a shallow arrest (summary
+// thin_film_arrest.fitted_*), logged beside the law's τ₀.
+void fit_final_profile(const FinalProfile& profile, const CaseSettings& l, RunSummary& summary, const core::Log& log) {
+  if (!summary.thin_film_arrest) return;
+  const double back_wall = std::get<DamBreakScene>(l.scene).reservoir[0];
+  std::vector<double> distance(profile.x.size());
+  for (std::size_t k = 0; k < distance.size(); ++k) distance[k] = profile.x[k] + back_wall;
+  const auto fit = fit_thin_film_deposit(distance, profile.height, l.spacing, l.fluid.density, l.gravity_magnitude());
+  if (!fit) {
+    log.info("final free surface: fewer than three columns two spacings high, no shallow-arrest fit");
+    return;
+  }
+  summary.thin_film_arrest->fitted_yield_stress = fit->yield_stress;
+  summary.thin_film_arrest->fitted_length = fit->length;
+  log.info(
+      "final free surface read as a shallow arrest ({} columns): yield stress {:.4g} Pa (the law's {:.4g} Pa, "
+      "{:+.1f} %), runout {:.4g} m from the back wall",
+      fit->columns, fit->yield_stress, l.fluid.rheology->yield_stress(),
+      1e2 * (fit->yield_stress / l.fluid.rheology->yield_stress() - 1.0), fit->length);
 }
 
 // Slump spread diameter and height (3D, axis z).
@@ -255,7 +289,9 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
     if (dam_break) {
       summary.final_spread = mass_front(solver);
       summary.final_height = top_height(solver);
-      core::write_csv(out_dir / "profile.csv", final_profile(solver, l));
+      const FinalProfile profile = final_profile(solver);
+      core::write_csv(out_dir / "profile.csv", profile_table(profile, l));
+      fit_final_profile(profile, l, summary, log);
     } else {
       const auto [diameter, height] = spread(solver);
       summary.final_spread = diameter;

@@ -47,7 +47,9 @@ void add_dam_break_references(const RunSummary& s, Json& j) {
     j["thin_film_arrest"] = {{"length", a->length},
                              {"front", a->front},
                              {"wall_height", a->wall_height},
-                             {"relative_error", value_or_null(a->relative_error)}};
+                             {"relative_error", value_or_null(a->relative_error)},
+                             {"fitted_yield_stress", value_or_null(a->fitted_yield_stress)},
+                             {"fitted_length", value_or_null(a->fitted_length)}};
   if (const auto& t = s.table1) {
     auto rows = Json::array();
     for (const auto& r : t->rows)
@@ -136,8 +138,13 @@ void read_cavity_keys(const SummaryReader& r, RunSummary& s) {
 void read_dam_break_references(const SummaryReader& r, RunSummary& s) {
   if (s.yielded_fraction) {  // a yield-stress law: its shallow arrest
     const SummaryReader a = r.object("thin_film_arrest");
-    s.thin_film_arrest = ThinFilmArrestComparison{a.number("length"), a.number("front"), a.number("wall_height"),
-                                                  a.number_or_null("relative_error")};
+    // No fit: the keys are null, or absent (summaries of older revisions).
+    s.thin_film_arrest = ThinFilmArrestComparison{a.number("length"),
+                                                  a.number("front"),
+                                                  a.number("wall_height"),
+                                                  a.number_or_null("relative_error"),
+                                                  a.optional_number("fitted_yield_stress"),
+                                                  a.optional_number("fitted_length")};
   }
   if (const auto t = r.optional_object("table1")) {
     Table1Comparison table;

@@ -581,6 +581,16 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   EXPECT_NEAR(profile.row(0)[0], -0.2 + 0.01, 1e-9);  // the back wall's column
   EXPECT_NEAR(profile.row(profile.row_count() - 1)[0] + 0.01, summary["final_spread"].get<double>(), 0.02);
   EXPECT_NEAR(area / (0.2 * 0.08), 1.0, 0.1);  // the columns hold the reservoir's area
+  // The final surface read as a shallow arrest: the summary's fit is profile.csv's.
+  std::vector<double> distance, height;
+  for (std::size_t i = 0; i < profile.row_count(); ++i) {
+    distance.push_back(profile.row(i)[0] + 0.2);
+    height.push_back(profile.row(i)[1]);
+  }
+  const auto fit = fit_thin_film_deposit(distance, height, 0.02, 1200, 9.81);
+  ASSERT_TRUE(fit.has_value());
+  EXPECT_NEAR(arrest["fitted_yield_stress"].get<double>(), fit->yield_stress, 1e-9 * fit->yield_stress);
+  EXPECT_NEAR(arrest["fitted_length"].get<double>(), fit->length, 1e-9);
   std::filesystem::remove_all(dir);
 }
 
@@ -603,6 +613,38 @@ TEST(ThinFilmArrest, HoldsTheAreaAndBalancesTheYieldStress) {
   EXPECT_NEAR(a.wall_height, a.height_at(0.0), 1e-15);
   EXPECT_EQ(a.height_at(a.length + 0.01), 0.0);
   EXPECT_THROW((void)thin_film_arrest(area, 0.0, density, gravity), std::invalid_argument);
+}
+
+// The fit reads τ and ℓ back from a shallow arrest's columns, ignoring the columns beside the back
+// wall and those thinner than two spacings.
+TEST(ThinFilmFit, ReadsTheYieldStressAndRunoutOfAnArrestShape) {
+  const double density = 1000, gravity = 9.81, spacing = 0.0025;
+  for (const double yield_stress : {20.0, 35.0}) {
+    const ThinFilmArrest a = thin_film_arrest(0.1 * 0.1, yield_stress, density, gravity);
+    std::vector<double> distance, height;
+    for (int k = 0; (k + 0.5) * spacing < a.length; ++k) {
+      const double s = (k + 0.5) * spacing;
+      distance.push_back(s);
+      height.push_back(a.height_at(s));
+    }
+    height[0] = height[1] = 0.097;  // columns held by the back wall: not fitted
+    const double tip = 1.5 * spacing;
+    for (std::size_t k = 0; k < height.size(); ++k)
+      if (height[k] < 2 * spacing) height[k] = tip;  // a blunt tip thinner than two nodes: not fitted
+    const auto fit = fit_thin_film_deposit(distance, height, spacing, density, gravity);
+    ASSERT_TRUE(fit.has_value());
+    EXPECT_NEAR(fit->yield_stress, yield_stress, 1e-9 * yield_stress);
+    EXPECT_NEAR(fit->length, a.length, 1e-9);
+    EXPECT_GT(fit->columns, 100u);
+    EXPECT_LT(fit->columns, distance.size() - 2);
+  }
+  // A surface that does not fall towards the front, or too few columns: no fit.
+  const std::vector<double> s{0.01, 0.02, 0.03, 0.04}, flat{0.03, 0.03, 0.03, 0.03};
+  EXPECT_FALSE(fit_thin_film_deposit(s, flat, 0.0025, density, gravity).has_value());
+  EXPECT_FALSE(
+      fit_thin_film_deposit(std::span(s).first(2), std::span(flat).first(2), 0.0025, density, gravity).has_value());
+  EXPECT_THROW((void)fit_thin_film_deposit(s, std::span(flat).first(3), 0.0025, density, gravity),
+               std::invalid_argument);
 }
 
 // Pashias et al.'s cylinder slump: the top 2τ₀/(ρg) of the cylinder stays unyielded, the rest

@@ -75,6 +75,8 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   EXPECT_NE(html.find("dam_break (2D)"), std::string::npos);
   EXPECT_NE(html.find("<td>0.103</td>"), std::string::npos);  // LDD Table 1's experiment at 0.09 s
   EXPECT_NE(html.find("shallow arrest (thin film)"), std::string::npos);
+  ASSERT_TRUE(s.thin_film_arrest->fitted_yield_stress.has_value());  // the 0.1 m layer is five spacings high
+  EXPECT_NE(html.find("final surface read as a shallow arrest"), std::string::npos);
   EXPECT_EQ(html.find("nan"), std::string::npos);  // no missing value rendered as a number
 }
 
@@ -100,6 +102,14 @@ TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
   } catch (const core::ConfigError& e) {
     EXPECT_EQ(e.details().key_path, "thin_film_arrest.length");
   }
+  // A summary without the final surface's fit (older revisions) is read, the fit empty.
+  json = core::read_json(dir() / "summary.json");
+  json["thin_film_arrest"].erase("fitted_yield_stress");
+  json["thin_film_arrest"].erase("fitted_length");
+  core::write_json(folder / "summary.json", json);
+  const RunSummary without_fit = read_run_summary(folder / "summary.json");
+  ASSERT_TRUE(without_fit.thin_film_arrest.has_value());
+  EXPECT_FALSE(without_fit.thin_film_arrest->fitted_yield_stress.has_value());
   json = core::read_json(dir() / "summary.json");
   json["kind"] = "sweep";
   core::write_json(folder / "summary.json", json);

@@ -42,14 +42,22 @@ TEST(ArrestValidation, BinghamDamBreakStopsNearTheShallowYieldStressArrest) {
   const double speed = (final_front - front_two_seconds_before) / 2.0;
   const auto& arrest = summary["thin_film_arrest"];
   const double length = arrest["length"].get<double>(), error = arrest["relative_error"].get<double>();
+  const double fitted_yield_stress = arrest["fitted_yield_stress"].get<double>();
   std::printf(
       "[ measured ] arrest: front %.4f m at %.3g s (%.3g mm/s over the last 2 s), shallow arrest %.4f m "
-      "past the gate: runout %+.1f %%, volume drift %.3g %%, %.3g ms/step\n",
+      "past the gate: runout %+.1f %%, volume drift %.3g %%, %.3g ms/step; final surface as a shallow arrest: "
+      "%.4g Pa, runout %.4f m\n",
       final_front, end, 1e3 * speed, arrest["front"].get<double>(), 1e2 * error,
-      1e2 * summary["volume_drift"].get<double>(), outcome.ms_per_step);
+      1e2 * summary["volume_drift"].get<double>(), outcome.ms_per_step, fitted_yield_stress,
+      arrest["fitted_length"].get<double>());
   EXPECT_NEAR(length, 0.3807, 5e-4);  // A = 0.01 m², 2τ₀/(ρg) = 4.08 mm
   EXPECT_LT(std::abs(speed), 5e-4);   // stopped: under 0.5 mm/s (it moved ~1 m/s at 0.2 s)
   EXPECT_LT(std::abs(error), 0.15);   // runout within 15 % of the shallow arrest length
+  // The deposit's body holds at least the law's τ₀ = 20 Pa, and the cloud adds under a third
+  // (measured 25.7 Pa; a material without its yield stress would flatten towards 0 Pa, one that
+  // never yielded would keep a flat-topped block, which has no fit).
+  EXPECT_GT(fitted_yield_stress, 0.95 * 20.0);
+  EXPECT_LT(fitted_yield_stress, 1.35 * 20.0);
   EXPECT_LT(summary["volume_drift"].get<double>(), 0.02);
   std::filesystem::remove_all(dir);
 }

@@ -28,6 +28,7 @@
 // run stops, the last good state is written as a frame and summary.json says "diverged".
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -122,6 +123,23 @@ struct ThinFilmArrest {
 };
 // Throws std::invalid_argument unless area, yield stress, density and gravity are > 0.
 [[nodiscard]] ThinFilmArrest thin_film_arrest(double area, double yield_stress, double density, double gravity);
+
+// The yield stress a 2D deposit's shape implies, read as the shallow arrest reads it: a least-
+// squares fit of h² = (2τ/(ρg))(ℓ − s) to the final free surface, s from the back wall, over the
+// columns at least two spacings from the back wall and at least two spacings high (resolved by
+// two nodes or more). τ and ℓ measure the deposit itself, independently of where its thin tip
+// ends. Meaningful for a deposit at rest in the shallow limit.
+struct ThinFilmFit {
+  double yield_stress = 0;  // τ [Pa]
+  double length = 0;        // ℓ, where the fitted h² reaches 0 [m from the back wall]
+  std::size_t columns = 0;  // fitted
+};
+// Empty with fewer than three such columns or a surface that does not fall towards the front.
+// Throws std::invalid_argument unless the spans have equal sizes and spacing, density and
+// gravity are > 0.
+[[nodiscard]] std::optional<ThinFilmFit> fit_thin_film_deposit(std::span<const double> distance_from_back_wall,
+                                                               std::span<const double> height, double spacing,
+                                                               double density, double gravity);
 
 // The slump s′ = s/H of a cylinder of height H of a yield-stress material lifted off its mould,
 // at rest, against τ′ = τ₀/(ρgH): the material yields where the weight above exceeds the yield
