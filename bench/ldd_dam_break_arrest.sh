@@ -54,7 +54,8 @@ print(f"final front {s['final_spread']:.4f} m; thin-film arrest {arrest['front']
 if arrest.get("fitted_yield_stress") is not None:  # runs of older builds have no fit
     print(f"final surface read as a shallow arrest: yield stress {arrest['fitted_yield_stress']:.2f} Pa, "
           f"runout {arrest['fitted_length']:.4f} m from the back wall "
-          f"({100 * (arrest['fitted_length'] / arrest['length'] - 1):+.1f} %)")
+          f"({100 * (arrest['fitted_length'] / arrest['length'] - 1):+.1f} %), "
+          f"rms height error {1e3 * arrest['fitted_rms_height_error']:.2f} mm")
 # The final profile (profile.csv: the top of the fluid nodes per Δ column) beside the theory's.
 shape = list(csv.reader(open(os.path.join(run, "profile.csv"))))[1:]
 print("final profile, x from the gate:")

@@ -126,8 +126,10 @@ bool is_table1_release(const CaseSettings& l, const DamBreakScene& scene) {
 void compare_with_thin_film_arrest(const ThinFilmArrest& arrest, const DamBreakScene& scene,
                                    const std::vector<double>& front, RunSummary& summary, const core::Log& log) {
   const double length = scene.reservoir[0];
-  ThinFilmArrestComparison entry{arrest.length, arrest.length - length, arrest.wall_height,
-                                 std::nullopt,  std::nullopt,           std::nullopt};
+  ThinFilmArrestComparison entry;  // the fit of the final surface comes later (run_free_surface.cpp)
+  entry.length = arrest.length;
+  entry.front = arrest.length - length;
+  entry.wall_height = arrest.wall_height;
   if (!front.empty()) {
     const double runout = front.back() + length;  // from the back wall
     entry.relative_error = runout / arrest.length - 1.0;
@@ -216,7 +218,16 @@ std::optional<ThinFilmFit> fit_thin_film_deposit(std::span<const double> distanc
   // no arrest shape to read.
   const double span = std::sqrt(spread) / n * 2.0;  // of order the fitted columns' extent
   if (!(-slope * span > 1e-9 * sum_q / n)) return std::nullopt;
-  return ThinFilmFit{-0.5 * slope * density * gravity, -intercept / slope, static_cast<std::size_t>(n)};
+  ThinFilmFit fit{-0.5 * slope * density * gravity, -intercept / slope, static_cast<std::size_t>(n), 0.0};
+  double squares = 0;
+  for (std::size_t k = 0; k < height.size(); ++k) {
+    const double s = distance_from_back_wall[k], h = height[k];
+    if (!(s >= 2.0 * spacing && h >= 2.0 * spacing)) continue;
+    const double error = h - std::sqrt(std::max(0.0, -slope * (fit.length - s)));
+    squares += error * error;
+  }
+  fit.rms_height_error = std::sqrt(squares / n);
+  return fit;
 }
 
 }  // namespace rheosim::ldd

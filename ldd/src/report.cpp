@@ -162,9 +162,11 @@ std::string header_html(const RunSummary& s) {
                         a->relative_error ? fmt::format("{:+.1f} %", 100 * *a->relative_error) : std::string("—")));
         if (a->fitted_yield_stress && a->fitted_length)
           row("final surface read as a shallow arrest",
-              fmt::format("yield stress {:.4g} Pa, runout {:.4g} m from the back wall (a fit of h² to the columns "
-                          "two spacings high; meaningful at rest)",
-                          *a->fitted_yield_stress, *a->fitted_length));
+              fmt::format("yield stress {:.4g} Pa, runout {:.4g} m from the back wall, rms height error {} (a fit "
+                          "of h² to the columns two spacings high; meaningful at rest)",
+                          *a->fitted_yield_stress, *a->fitted_length,
+                          a->fitted_rms_height_error ? fmt::format("{:.3g} m", *a->fitted_rms_height_error)
+                                                     : std::string("—")));
       }
     }
   } else {

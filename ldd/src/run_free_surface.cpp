@@ -89,10 +89,11 @@ void fit_final_profile(const FinalProfile& profile, const CaseSettings& l, RunSu
   }
   summary.thin_film_arrest->fitted_yield_stress = fit->yield_stress;
   summary.thin_film_arrest->fitted_length = fit->length;
+  summary.thin_film_arrest->fitted_rms_height_error = fit->rms_height_error;
   log.info(
-      "final free surface read as a shallow arrest ({} columns): yield stress {:.4g} Pa (the law's {:.4g} Pa, "
-      "{:+.1f} %), runout {:.4g} m from the back wall",
-      fit->columns, fit->yield_stress, l.fluid.rheology->yield_stress(),
+      "final free surface read as a shallow arrest ({} columns, rms height error {:.3g} m): yield stress {:.4g} Pa "
+      "(the law's {:.4g} Pa, {:+.1f} %), runout {:.4g} m from the back wall",
+      fit->columns, fit->rms_height_error, fit->yield_stress, l.fluid.rheology->yield_stress(),
       1e2 * (fit->yield_stress / l.fluid.rheology->yield_stress() - 1.0), fit->length);
 }
 

@@ -49,7 +49,8 @@ void add_dam_break_references(const RunSummary& s, Json& j) {
                              {"wall_height", a->wall_height},
                              {"relative_error", value_or_null(a->relative_error)},
                              {"fitted_yield_stress", value_or_null(a->fitted_yield_stress)},
-                             {"fitted_length", value_or_null(a->fitted_length)}};
+                             {"fitted_length", value_or_null(a->fitted_length)},
+                             {"fitted_rms_height_error", value_or_null(a->fitted_rms_height_error)}};
   if (const auto& t = s.table1) {
     auto rows = Json::array();
     for (const auto& r : t->rows)
@@ -144,7 +145,8 @@ void read_dam_break_references(const SummaryReader& r, RunSummary& s) {
                                                   a.number("wall_height"),
                                                   a.number_or_null("relative_error"),
                                                   a.optional_number("fitted_yield_stress"),
-                                                  a.optional_number("fitted_length")};
+                                                  a.optional_number("fitted_length"),
+                                                  a.optional_number("fitted_rms_height_error")};
   }
   if (const auto t = r.optional_object("table1")) {
     Table1Comparison table;

@@ -591,6 +591,7 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   ASSERT_TRUE(fit.has_value());
   EXPECT_NEAR(arrest["fitted_yield_stress"].get<double>(), fit->yield_stress, 1e-9 * fit->yield_stress);
   EXPECT_NEAR(arrest["fitted_length"].get<double>(), fit->length, 1e-9);
+  EXPECT_NEAR(arrest["fitted_rms_height_error"].get<double>(), fit->rms_height_error, 1e-12);
   std::filesystem::remove_all(dir);
 }
 
@@ -635,8 +636,22 @@ TEST(ThinFilmFit, ReadsTheYieldStressAndRunoutOfAnArrestShape) {
     ASSERT_TRUE(fit.has_value());
     EXPECT_NEAR(fit->yield_stress, yield_stress, 1e-9 * yield_stress);
     EXPECT_NEAR(fit->length, a.length, 1e-9);
+    EXPECT_LT(fit->rms_height_error, 1e-12);
     EXPECT_GT(fit->columns, 100u);
     EXPECT_LT(fit->columns, distance.size() - 2);
+  }
+  // Heights off the profile by ±1 mm alternately: an rms height error of about 1 mm.
+  {
+    const ThinFilmArrest a = thin_film_arrest(0.1 * 0.1, 20.0, density, gravity);
+    std::vector<double> distance, height;
+    for (int k = 2; (k + 0.5) * spacing < 0.3; ++k) {
+      distance.push_back((k + 0.5) * spacing);
+      height.push_back(a.height_at(distance.back()) + (k % 2 == 0 ? 1e-3 : -1e-3));
+    }
+    const auto fit = fit_thin_film_deposit(distance, height, spacing, density, gravity);
+    ASSERT_TRUE(fit.has_value());
+    EXPECT_NEAR(fit->rms_height_error, 1e-3, 1e-4);
+    EXPECT_NEAR(fit->yield_stress, 20.0, 0.5);
   }
   // A surface that does not fall towards the front, or too few columns: no fit.
   const std::vector<double> s{0.01, 0.02, 0.03, 0.04}, flat{0.03, 0.03, 0.03, 0.03};

@@ -130,9 +130,10 @@ struct ThinFilmArrest {
 // two nodes or more). τ and ℓ measure the deposit itself, independently of where its thin tip
 // ends. Meaningful for a deposit at rest in the shallow limit.
 struct ThinFilmFit {
-  double yield_stress = 0;  // τ [Pa]
-  double length = 0;        // ℓ, where the fitted h² reaches 0 [m from the back wall]
-  std::size_t columns = 0;  // fitted
+  double yield_stress = 0;      // τ [Pa]
+  double length = 0;            // ℓ, where the fitted h² reaches 0 [m from the back wall]
+  std::size_t columns = 0;      // fitted
+  double rms_height_error = 0;  // of the fitted columns' h against √((2τ/(ρg))(ℓ − s)) [m]
 };
 // Empty with fewer than three such columns or a surface that does not fall towards the front.
 // Throws std::invalid_argument unless the spans have equal sizes and spacing, density and
