@@ -8,6 +8,8 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "rheosim/core/output.hpp"
 #include "rheosim/ldd/run.hpp"
@@ -198,31 +200,32 @@ std::optional<ThinFilmFit> fit_thin_film_deposit(std::span<const double> distanc
     throw std::invalid_argument("fit_thin_film_deposit: distances and heights differ in size");
   if (!(spacing > 0 && density > 0 && gravity > 0))
     throw std::invalid_argument("fit_thin_film_deposit: spacing, density and gravity must be > 0");
+  // The columns resolved by two nodes or more, away from the back wall's.
+  std::vector<std::pair<double, double>> columns;  // (s, h)
+  for (std::size_t k = 0; k < height.size(); ++k)
+    if (distance_from_back_wall[k] >= 2.0 * spacing && height[k] >= 2.0 * spacing)
+      columns.emplace_back(distance_from_back_wall[k], height[k]);
   // h² = a + b s by least squares; then 2τ/(ρg) = −b and ℓ = −a/b.
-  double n = 0, sum_s = 0, sum_q = 0, sum_ss = 0, sum_sq = 0;
-  for (std::size_t k = 0; k < height.size(); ++k) {
-    const double s = distance_from_back_wall[k], h = height[k];
-    if (!(s >= 2.0 * spacing && h >= 2.0 * spacing)) continue;
+  const auto n = static_cast<double>(columns.size());
+  double sum_s = 0, sum_q = 0, sum_ss = 0, sum_sq = 0;
+  for (const auto& [s, h] : columns) {
     const double q = h * h;
-    n += 1;
     sum_s += s;
     sum_q += q;
     sum_ss += s * s;
     sum_sq += s * q;
   }
   const double spread = n * sum_ss - sum_s * sum_s;
-  if (n < 3 || !(spread > 0)) return std::nullopt;
+  if (columns.size() < 3 || !(spread > 0)) return std::nullopt;
   const double slope = (n * sum_sq - sum_s * sum_q) / spread;
   const double intercept = (sum_q - slope * sum_s) / n;
   // A surface that does not fall towards the front (beyond rounding of h² over the columns' span):
   // no arrest shape to read.
-  const double span = std::sqrt(spread) / n * 2.0;  // of order the fitted columns' extent
+  const double span = 2.0 * std::sqrt(spread) / n;  // twice the columns' standard deviation in s
   if (!(-slope * span > 1e-9 * sum_q / n)) return std::nullopt;
-  ThinFilmFit fit{-0.5 * slope * density * gravity, -intercept / slope, static_cast<std::size_t>(n), 0.0};
+  ThinFilmFit fit{-0.5 * slope * density * gravity, -intercept / slope, columns.size(), 0.0};
   double squares = 0;
-  for (std::size_t k = 0; k < height.size(); ++k) {
-    const double s = distance_from_back_wall[k], h = height[k];
-    if (!(s >= 2.0 * spacing && h >= 2.0 * spacing)) continue;
+  for (const auto& [s, h] : columns) {
     const double error = h - std::sqrt(std::max(0.0, -slope * (fit.length - s)));
     squares += error * error;
   }

@@ -60,7 +60,7 @@ struct MartinMoyceComparison {
 struct ThinFilmArrestComparison {                 // the shallow yield-stress arrest of the reservoir (run.hpp)
   double length = 0, front = 0, wall_height = 0;  // [m]: from the back wall, from the gate
   MaybeNumber relative_error;                     // of the final runout against length
-  // The final free surface read as a shallow arrest (fit_thin_film_deposit): τ and ℓ.
+  // The final free surface read as a shallow arrest (fit_thin_film_deposit): τ, ℓ, rms error of h.
   MaybeNumber fitted_yield_stress, fitted_length, fitted_rms_height_error;
   friend bool operator==(const ThinFilmArrestComparison&, const ThinFilmArrestComparison&) = default;
 };
