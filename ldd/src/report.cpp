@@ -151,11 +151,15 @@ std::string header_html(const RunSummary& s) {
             fmt::format("τ′ = τ₀/(ρgH) = {:.3g}: s/H {:.3f} at rest ({:.3f} with the von Mises criterion); this run {}",
                         p->yield_stress_ratio, p->slump, p->von_mises_slump,
                         p->measured_slump ? fmt::format("{:.3f} ({:+.3f})", *p->measured_slump, *p->difference)
-                                          : std::string("—")));
+                                          : std::string("—")) +
+                (p->implied_yield_stress ? fmt::format(", read as τ₀ = {:.4g} Pa", *p->implied_yield_stress)
+                                         : std::string()));
       if (const auto& r = s.roussel_coussot)
         row("yield-stress pancake (Roussel &amp; Coussot 2005)",
             fmt::format("spread {:.4g} m; this run {}", r->diameter,
-                        r->relative_error ? fmt::format("{:+.1f} %", 100 * *r->relative_error) : std::string("—")));
+                        r->relative_error ? fmt::format("{:+.1f} %", 100 * *r->relative_error) : std::string("—")) +
+                (r->implied_yield_stress ? fmt::format(", read as τ₀ = {:.4g} Pa", *r->implied_yield_stress)
+                                         : std::string()));
       if (const auto& a = s.thin_film_arrest) {
         row("shallow arrest (thin film)",
             fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", a->length, a->front,

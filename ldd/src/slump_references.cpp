@@ -1,8 +1,12 @@
 #include "slump_references.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "rheosim/ldd/run.hpp"
 
@@ -26,11 +30,29 @@ double von_mises_cylinder_slump(double yield_stress_ratio) {
   return cylinder_slump(std::numbers::sqrt3 * yield_stress_ratio);
 }
 
+std::optional<double> pashias_yield_stress_ratio(double slump) {
+  if (!(slump > 0 && slump < 1)) return std::nullopt;
+  // s′(τ′) decreases strictly on (0, 1/2): bisection to rounding.
+  double low = 0, high = 0.5;
+  for (int k = 0; k < 200 && high - low > 1e-15; ++k) {
+    const double mid = 0.5 * (low + high);
+    (pashias_slump(mid) > slump ? low : high) = mid;
+  }
+  return 0.5 * (low + high);
+}
+
 double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity) {
   if (!(volume > 0 && yield_stress > 0 && density > 0 && gravity > 0))
     throw std::invalid_argument("roussel_coussot_spread: volume, yield stress, density and gravity must be > 0");
   const double pi2 = std::numbers::pi * std::numbers::pi;
   return 2.0 * std::pow(225.0 * density * gravity * volume * volume / (128.0 * pi2 * yield_stress), 0.2);
+}
+
+double roussel_coussot_yield_stress(double volume, double spread, double density, double gravity) {
+  if (!(volume > 0 && spread > 0 && density > 0 && gravity > 0))
+    throw std::invalid_argument("roussel_coussot_yield_stress: volume, spread, density and gravity must be > 0");
+  const double pi2 = std::numbers::pi * std::numbers::pi, radius = 0.5 * spread;
+  return 225.0 * density * gravity * volume * volume / (128.0 * pi2 * std::pow(radius, 5));
 }
 
 namespace detail {
@@ -46,20 +68,29 @@ void compare_slump(const CaseSettings& l, RunSummary& summary, const core::Log& 
     const double theory = pashias_slump(ratio);
     const double von_mises = von_mises_cylinder_slump(ratio);
     const double measured = 1.0 - *summary.final_height / height;
-    summary.pashias = CylinderSlumpComparison{ratio, theory, measured, measured - theory, von_mises};
+    CylinderSlumpComparison entry{ratio, theory, measured, measured - theory, von_mises, std::nullopt};
+    if (const auto read = pashias_yield_stress_ratio(measured))
+      entry.implied_yield_stress = *read * l.fluid.density * g * height;
+    summary.pashias = entry;
     log.info(
         "cylinder slump (Pashias et al. 1996): τ′ = τ₀/(ρgH) = {:.4g}, slump s/H {:.4f} ({:.4f} with the von "
-        "Mises criterion); this run {:.4f} ({:+.4f})",
-        ratio, theory, von_mises, measured, measured - theory);
+        "Mises criterion); this run {:.4f} ({:+.4f}), which the formula reads as τ₀ = {}",
+        ratio, theory, von_mises, measured, measured - theory,
+        entry.implied_yield_stress
+            ? fmt::format("{:.4g} Pa (the law's {:.4g} Pa)", *entry.implied_yield_stress, yield_stress)
+            : std::string("— (no slump in (0, 1))"));
     return;
   }
   const double big = 0.5 * scene.cone_bottom_diameter, small = 0.5 * scene.cone_top_diameter;
   const double volume = std::numbers::pi * height * (big * big + big * small + small * small) / 3.0;
   const double diameter = roussel_coussot_spread(volume, yield_stress, l.fluid.density, g);
   const double error = *summary.final_spread / diameter - 1.0;
-  summary.roussel_coussot = ConeSpreadComparison{diameter, error};
-  log.info("yield-stress pancake (Roussel & Coussot 2005): spread {:.4g} m; this run {:.4g} m ({:+.1f} %)", diameter,
-           *summary.final_spread, 1e2 * error);
+  const double implied = roussel_coussot_yield_stress(volume, *summary.final_spread, l.fluid.density, g);
+  summary.roussel_coussot = ConeSpreadComparison{diameter, error, implied};
+  log.info(
+      "yield-stress pancake (Roussel & Coussot 2005): spread {:.4g} m; this run {:.4g} m ({:+.1f} %), which the "
+      "formula reads as τ₀ = {:.4g} Pa (the law's {:.4g} Pa)",
+      diameter, *summary.final_spread, 1e2 * error, implied, yield_stress);
 }
 
 }  // namespace detail

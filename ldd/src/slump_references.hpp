@@ -4,7 +4,8 @@
 //   - a cylinder mould (top diameter = bottom diameter): Pashias et al.'s slump s′ = s/H against
 //     τ′ = τ₀/(ρgH) (pashias_slump, run.hpp), summary "pashias";
 //   - a cone: Roussel & Coussot's pancake spread for the cone's volume (roussel_coussot_spread),
-//     summary "roussel_coussot".
+//     summary "roussel_coussot";
+// each with the yield stress its formula reads from the run's final shape, as a slump test would.
 #include "rheosim/core/log.hpp"
 #include "rheosim/ldd/case.hpp"
 #include "rheosim/ldd/summary.hpp"

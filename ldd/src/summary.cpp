@@ -107,9 +107,12 @@ void add_free_surface_keys(const RunSummary& s, Json& j) {
                     {"slump", p->slump},
                     {"measured_slump", value_or_null(p->measured_slump)},
                     {"difference", value_or_null(p->difference)},
-                    {"von_mises_slump", p->von_mises_slump}};
+                    {"von_mises_slump", p->von_mises_slump},
+                    {"implied_yield_stress", value_or_null(p->implied_yield_stress)}};
   if (const auto& r = s.roussel_coussot)
-    j["roussel_coussot"] = {{"diameter", r->diameter}, {"relative_error", value_or_null(r->relative_error)}};
+    j["roussel_coussot"] = {{"diameter", r->diameter},
+                            {"relative_error", value_or_null(r->relative_error)},
+                            {"implied_yield_stress", value_or_null(r->implied_yield_stress)}};
   if (const auto& w = s.sloshing)
     j["sloshing"] = {{"period", w->period},
                      {"wave_energy", w->wave_energy},
@@ -201,11 +204,16 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
       // von_mises_slump is a function of τ′ alone: summaries written without it get it computed.
       const double ratio = p->number("yield_stress_ratio");
       s.pashias = CylinderSlumpComparison{
-          ratio, p->number("slump"), p->number_or_null("measured_slump"), p->number_or_null("difference"),
-          p->optional_number("von_mises_slump").value_or(ratio > 0 ? von_mises_cylinder_slump(ratio) : 0.0)};
+          ratio,
+          p->number("slump"),
+          p->number_or_null("measured_slump"),
+          p->number_or_null("difference"),
+          p->optional_number("von_mises_slump").value_or(ratio > 0 ? von_mises_cylinder_slump(ratio) : 0.0),
+          p->optional_number("implied_yield_stress")};  // absent in summaries of older revisions
     }
     if (const auto c = r.optional_object("roussel_coussot"))
-      s.roussel_coussot = ConeSpreadComparison{c->number("diameter"), c->number_or_null("relative_error")};
+      s.roussel_coussot = ConeSpreadComparison{c->number("diameter"), c->number_or_null("relative_error"),
+                                               c->optional_number("implied_yield_stress")};
   }
 }
 

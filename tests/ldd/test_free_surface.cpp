@@ -743,6 +743,24 @@ TEST(SlumpReferences, RousselCoussotPancakeHoldsTheVolume) {
   EXPECT_NEAR(integral / volume, 1.0, 1e-6);
   EXPECT_NEAR(2 * radius, 0.65, 0.005);  // docs/ldd.md: 0.65 m for LDD §4.4's concrete
   EXPECT_THROW((void)roussel_coussot_spread(volume, 0.0, density, gravity), std::invalid_argument);
+  // A spread test reads τ₀ back from the spread; 1 % more spread reads 5 % less yield stress.
+  EXPECT_NEAR(roussel_coussot_yield_stress(volume, 2 * radius, density, gravity), yield_stress, 1e-9);
+  EXPECT_NEAR(roussel_coussot_yield_stress(volume, 2.02 * radius, density, gravity), yield_stress / std::pow(1.01, 5),
+              1e-9);
+  EXPECT_THROW((void)roussel_coussot_yield_stress(volume, 0.0, density, gravity), std::invalid_argument);
+}
+
+// A slump test reads τ′ back from a slump by Pashias' formula, over its whole range.
+TEST(SlumpReferences, PashiasFormulaReadsTheYieldStressRatioBackFromASlump) {
+  for (const double ratio : {0.001, 0.05, 0.1, 0.2, 0.3, 0.45, 0.499}) {
+    const auto read = pashias_yield_stress_ratio(pashias_slump(ratio));
+    ASSERT_TRUE(read.has_value()) << ratio;
+    EXPECT_NEAR(*read, ratio, 1e-12) << ratio;
+  }
+  EXPECT_NEAR(*pashias_yield_stress_ratio(0.478), 0.1, 2e-4);  // docs/ldd.md: s′ = 0.478 at τ′ = 0.1
+  EXPECT_FALSE(pashias_yield_stress_ratio(0.0).has_value());   // no slump: any τ′ ≥ 1/2
+  EXPECT_FALSE(pashias_yield_stress_ratio(1.0).has_value());
+  EXPECT_FALSE(pashias_yield_stress_ratio(-0.1).has_value());
 }
 
 TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {

@@ -88,12 +88,15 @@ TEST(ArrestValidation, CylinderSlumpStopsNearPashiasSlump) {
   const auto& p = *summary.pashias;
   std::printf(
       "[ measured ] cylinder slump: τ′ %.3g, s′ %.4f against Pashias %.4f (%+.4f), height change %.3g mm over the "
-      "last 0.3 s, volume drift %.3g %%, %.3g ms/step\n",
+      "last 0.3 s, volume drift %.3g %%, %.3g ms/step; the formula reads the slump as τ₀ = %.4g Pa (law: 98.1)\n",
       p.yield_stress_ratio, p.measured_slump.value_or(NAN), p.slump, p.difference.value_or(NAN), 1e3 * settling,
-      1e2 * summary.volume_drift, outcome.ms_per_step);
+      1e2 * summary.volume_drift, outcome.ms_per_step, p.implied_yield_stress.value_or(NAN));
   EXPECT_NEAR(p.yield_stress_ratio, 0.1, 1e-6);
   EXPECT_LT(std::abs(settling), 3e-4);
   EXPECT_LT(std::abs(p.difference.value_or(1.0)), 0.03);
+  // What the slump test reads from this run: the τ′ whose Pashias slump is the measured one.
+  ASSERT_TRUE(p.implied_yield_stress.has_value());
+  EXPECT_NEAR(pashias_slump(*p.implied_yield_stress / (1000 * 9.81 * 0.1)), *p.measured_slump, 1e-9);
   EXPECT_LT(summary.volume_drift, 0.02);
   std::filesystem::remove_all(dir);
 }

@@ -153,12 +153,19 @@ struct ThinFilmFit {
 // yield is √3 τ₀, where Pashias et al. took 2τ₀ (Tresca), so s′ = 1 − √3τ′(1 − ln √3τ′) for
 // τ′ < 1/√3, 0 above. Throws std::invalid_argument unless τ′ > 0.
 [[nodiscard]] double von_mises_cylinder_slump(double yield_stress_ratio);
+// What a cylinder slump test reads from a measured slump: the τ′ at which Pashias' s′(τ′) equals
+// it (s′ falls from 1 to 0 as τ′ goes from 0 to 1/2). Empty for a slump outside (0, 1), where
+// the formula gives no single τ′.
+[[nodiscard]] std::optional<double> pashias_yield_stress_ratio(double slump);
 
 // The final spread diameter 2R of a yield-stress material of volume Ω spreading as a thin
 // axisymmetric pancake: τ₀ = 225ρgΩ²/(128π²R⁵) (Roussel & Coussot 2005, J. Rheol. 49, 705;
 // the m → ∞, spread ≫ height limit of a slump). Throws std::invalid_argument unless
 // every argument is > 0.
 [[nodiscard]] double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity);
+// What a spread test reads from a measured spread: the same relation solved for τ₀. Throws
+// std::invalid_argument unless every argument is > 0.
+[[nodiscard]] double roussel_coussot_yield_stress(double volume, double spread, double density, double gravity);
 
 // The first sloshing mode of a tank W wide and H deep in linear theory (Lamb 1932, §227):
 // ω² = g k tanh(kH), k = π/W, the surface H + A cos(πx/W) cos ωt, and the wave's energy

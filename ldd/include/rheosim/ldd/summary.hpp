@@ -70,12 +70,14 @@ struct CylinderSlumpComparison {           // Pashias et al. (1996), pashias_slu
   double slump = 0;                        // s′ = s/H at rest, theory
   MaybeNumber measured_slump, difference;  // this run's 1 − final height/H, and − theory
   double von_mises_slump = 0;              // s′ with the axial yield stress √3 τ₀ (von_mises_cylinder_slump)
+  MaybeNumber implied_yield_stress;        // τ₀ that Pashias' formula reads from measured_slump [Pa]
   friend bool operator==(const CylinderSlumpComparison&, const CylinderSlumpComparison&) = default;
 };
 
-struct ConeSpreadComparison {  // Roussel & Coussot (2005), roussel_coussot_spread (run.hpp)
-  double diameter = 0;         // the pancake's [m]
-  MaybeNumber relative_error;  // of the final spread
+struct ConeSpreadComparison {        // Roussel & Coussot (2005), roussel_coussot_spread (run.hpp)
+  double diameter = 0;               // the pancake's [m]
+  MaybeNumber relative_error;        // of the final spread
+  MaybeNumber implied_yield_stress;  // τ₀ that the relation reads from the final spread [Pa]
   friend bool operator==(const ConeSpreadComparison&, const ConeSpreadComparison&) = default;
 };
 
