@@ -18,6 +18,11 @@ namespace {
 // stress at yield): the rest settles to z₀ ln(H/z₀) below it.
 double cylinder_slump(double plug) { return plug < 1.0 ? 1.0 - plug * (1.0 - std::log(plug)) : 0.0; }
 
+// τ₀R⁵ of Roussel & Coussot's pancake of volume Ω: 225ρgΩ²/(128π²), read either way.
+double pancake_stress_times_radius5(double volume, double density, double gravity) {
+  return 225.0 * density * gravity * volume * volume / (128.0 * std::numbers::pi * std::numbers::pi);
+}
+
 }  // namespace
 
 double pashias_slump(double yield_stress_ratio) {
@@ -44,15 +49,13 @@ std::optional<double> pashias_yield_stress_ratio(double slump) {
 double roussel_coussot_spread(double volume, double yield_stress, double density, double gravity) {
   if (!(volume > 0 && yield_stress > 0 && density > 0 && gravity > 0))
     throw std::invalid_argument("roussel_coussot_spread: volume, yield stress, density and gravity must be > 0");
-  const double pi2 = std::numbers::pi * std::numbers::pi;
-  return 2.0 * std::pow(225.0 * density * gravity * volume * volume / (128.0 * pi2 * yield_stress), 0.2);
+  return 2.0 * std::pow(pancake_stress_times_radius5(volume, density, gravity) / yield_stress, 0.2);
 }
 
 double roussel_coussot_yield_stress(double volume, double spread, double density, double gravity) {
   if (!(volume > 0 && spread > 0 && density > 0 && gravity > 0))
     throw std::invalid_argument("roussel_coussot_yield_stress: volume, spread, density and gravity must be > 0");
-  const double pi2 = std::numbers::pi * std::numbers::pi, radius = 0.5 * spread;
-  return 225.0 * density * gravity * volume * volume / (128.0 * pi2 * std::pow(radius, 5));
+  return pancake_stress_times_radius5(volume, density, gravity) / std::pow(0.5 * spread, 5);
 }
 
 namespace detail {
