@@ -124,11 +124,13 @@ bool is_table1_release(const CaseSettings& l, const DamBreakScene& scene) {
   return plastic && yield;
 }
 
-// The front at the end of the run against the shallow yield-stress arrest (ThinFilmArrest).
-void compare_with_thin_film_arrest(const ThinFilmArrest& arrest, const DamBreakScene& scene,
-                                   const std::vector<double>& front, RunSummary& summary, const core::Log& log) {
+// The front at the end of the run against the shallow yield-stress arrest (ThinFilmArrest), and
+// the yield stress and runout the final surface implies as one (fit_thin_film_deposit).
+void compare_with_thin_film_arrest(const CaseSettings& l, const ThinFilmArrest& arrest, const DamBreakScene& scene,
+                                   const std::vector<double>& front, const FinalProfile& final_surface,
+                                   RunSummary& summary, const core::Log& log) {
   const double length = scene.reservoir[0];
-  ThinFilmArrestComparison entry;  // the fit of the final surface comes later (run_free_surface.cpp)
+  ThinFilmArrestComparison entry;
   entry.length = arrest.length;
   entry.front = arrest.length - length;
   entry.wall_height = arrest.wall_height;
@@ -139,6 +141,22 @@ void compare_with_thin_film_arrest(const ThinFilmArrest& arrest, const DamBreakS
         "thin-film arrest (shallow yield-stress limit): length {:.4g} m from the back wall (front {:.4g} m), wall "
         "height {:.4g} m; this run ends at {:.4g} m ({:+.1f} %)",
         arrest.length, arrest.length - length, arrest.wall_height, runout, 1e2 * (runout / arrest.length - 1.0));
+  }
+  std::vector<double> distance(final_surface.x.size());
+  for (std::size_t k = 0; k < distance.size(); ++k) distance[k] = final_surface.x[k] + length;
+  const double yield_stress = l.fluid.rheology->yield_stress();
+  if (const auto fit =
+          fit_thin_film_deposit(distance, final_surface.height, l.spacing, l.fluid.density, l.gravity_magnitude())) {
+    entry.fitted_yield_stress = fit->yield_stress;
+    entry.fitted_length = fit->length;
+    entry.fitted_rms_height_error = fit->rms_height_error;
+    log.info(
+        "final free surface read as a shallow arrest ({} columns, rms height error {:.3g} m): yield stress {:.4g} Pa "
+        "(the law's {:.4g} Pa, {:+.1f} %), runout {:.4g} m from the back wall",
+        fit->columns, fit->rms_height_error, fit->yield_stress, yield_stress,
+        1e2 * (fit->yield_stress / yield_stress - 1.0), fit->length);
+  } else {
+    log.info("final free surface: fewer than three columns two spacings high, no shallow-arrest fit");
   }
   summary.thin_film_arrest = entry;
 }
@@ -154,13 +172,13 @@ std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l) 
 }
 
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
-                             const std::vector<double>& front, const std::filesystem::path& out_dir,
-                             RunSummary& summary, const core::Log& log) {
+                             const std::vector<double>& front, const FinalProfile& final_surface,
+                             const std::filesystem::path& out_dir, RunSummary& summary, const core::Log& log) {
   const auto& scene = std::get<DamBreakScene>(l.scene);
   const std::string law(l.fluid.rheology->name());
   const double aspect = scene.reservoir[1] / scene.reservoir[0];
   if (const auto arrest = dam_break_thin_film_arrest(l))
-    compare_with_thin_film_arrest(*arrest, scene, front, summary, log);
+    compare_with_thin_film_arrest(l, *arrest, scene, front, final_surface, summary, log);
   if (is_table1_release(l, scene)) {
     compare_with_table1(l, front_time, front, out_dir, summary, log);
   } else if (law == "newtonian" && std::abs(aspect / WaterColumnReference::height_over_width - 1.0) < 1e-6) {

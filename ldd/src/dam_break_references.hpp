@@ -48,8 +48,17 @@ struct WaterColumnReference {
 // without a yield stress.
 [[nodiscard]] std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l);
 
+// A dam break's free surface at the end of the run: the top of each Δ-wide column, at the
+// columns' centres (x from the gate), ascending in x.
+struct FinalProfile {
+  std::vector<double> x, height;  // [m]
+};
+
+// The front over the run against the dam break's experiment, and for a yield-stress law the
+// final front and final surface against the shallow arrest (summary "thin_film_arrest", with
+// the fit of the final surface).
 void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& front_time,
-                             const std::vector<double>& front, const std::filesystem::path& out_dir,
-                             RunSummary& summary, const core::Log& log);
+                             const std::vector<double>& front, const FinalProfile& final_surface,
+                             const std::filesystem::path& out_dir, RunSummary& summary, const core::Log& log);
 
 }  // namespace rheosim::ldd::detail

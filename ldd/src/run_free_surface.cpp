@@ -35,12 +35,10 @@ double mass_front(const FreeSurfaceSolver& s) {
   return front + 0.5 * s.params().spacing;
 }
 
+using detail::FinalProfile;
+
 // Dam break: the free surface at the end, the top of the fluid nodes (non-splash) in each Δ-wide
 // column plus half a cell, at the columns' centres, ascending in x.
-struct FinalProfile {
-  std::vector<double> x, height;  // [m]
-};
-
 FinalProfile final_profile(const FreeSurfaceSolver& s) {
   const double dx = s.params().spacing;
   std::map<long, double> top;
@@ -73,28 +71,6 @@ core::CsvTable profile_table(const FinalProfile& profile, const CaseSettings& l)
       table.add_row({profile.x[k], profile.height[k]});
   }
   return table;
-}
-
-// The yield stress and runout the final shape implies as a shallow arrest (summary
-// thin_film_arrest.fitted_*), logged beside the law's τ₀.
-void fit_final_profile(const FinalProfile& profile, const CaseSettings& l, RunSummary& summary, const core::Log& log) {
-  if (!summary.thin_film_arrest) return;
-  const double back_wall = std::get<DamBreakScene>(l.scene).reservoir[0];
-  std::vector<double> distance(profile.x.size());
-  for (std::size_t k = 0; k < distance.size(); ++k) distance[k] = profile.x[k] + back_wall;
-  const auto fit = fit_thin_film_deposit(distance, profile.height, l.spacing, l.fluid.density, l.gravity_magnitude());
-  if (!fit) {
-    log.info("final free surface: fewer than three columns two spacings high, no shallow-arrest fit");
-    return;
-  }
-  summary.thin_film_arrest->fitted_yield_stress = fit->yield_stress;
-  summary.thin_film_arrest->fitted_length = fit->length;
-  summary.thin_film_arrest->fitted_rms_height_error = fit->rms_height_error;
-  log.info(
-      "final free surface read as a shallow arrest ({} columns, rms height error {:.3g} m): yield stress {:.4g} Pa "
-      "(the law's {:.4g} Pa, {:+.1f} %), runout {:.4g} m from the back wall",
-      fit->columns, fit->rms_height_error, fit->yield_stress, l.fluid.rheology->yield_stress(),
-      1e2 * (fit->yield_stress / l.fluid.rheology->yield_stress() - 1.0), fit->length);
 }
 
 // Slump spread diameter and height (3D, axis z).
@@ -283,7 +259,6 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
     if (dam_break) summary.front.push_back({row[0], row[1]});
     if (slump) summary.spread.push_back({row[0], row[1], row[2]});
   }
-  if (dam_break) detail::compare_dam_break_front(l, run.front_time, run.front, out_dir, summary, log);
   if (dam_break || slump) {
     // The final shape, and whether the material has stopped by the yield criterion.
     const double yield_stress = l.fluid.rheology->yield_stress();
@@ -292,7 +267,7 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
       summary.final_height = top_height(solver);
       const FinalProfile profile = final_profile(solver);
       core::write_csv(out_dir / "profile.csv", profile_table(profile, l));
-      fit_final_profile(profile, l, summary, log);
+      detail::compare_dam_break_front(l, run.front_time, run.front, profile, out_dir, summary, log);
     } else {
       const auto [diameter, height] = spread(solver);
       summary.final_spread = diameter;
