@@ -42,7 +42,7 @@ col = {h.split(" ")[0]: k for k, h in enumerate(rows[0])}
 rows = [[float(v) for v in r] for r in rows[1:]]
 print(f"{run}: status {s['status']} at t = {s['time']:.4g} s, {s['ms_per_step']:.1f} ms/step; "
       f"max volume drift {100 * s['volume_drift']:.2f} %; yielded fraction {s['yielded_fraction']:.3g}, "
-      f"arrested {s['arrested']}")
+      f"largest stress {s.get('largest_stress_ratio') or float('nan'):.4g} τ₀, arrested {s['arrested']}")
 for r in rows[:: max(1, len(rows) // 12)] + [rows[-1]]:
     print(f"  t = {r[0]:6.2f} s  front {r[col['front']]:.4f} m  KE {r[col['kinetic_energy']]:.3g} J/m")
 # The front's speed over the last tenth of the run: zero once it has stopped.

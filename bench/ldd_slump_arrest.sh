@@ -15,7 +15,8 @@
 # or as τ′ (τ₀ = τ′ρgH with the case's ρ and H), through bench_ldd run (the code of `rheosim run`,
 # OpenMP's default threads). A finished run in OUT_DIR is reused. Prints per run the theory and
 # the run's slump or spread, the height's and diameter's change over the last tenth of the run, the yielded
-# fraction, the volume drift and the cost.
+# fraction, the largest stress over τ₀ and whether the run ended arrested (summary.json
+# largest_stress_ratio, arrested), the volume drift and the cost.
 set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_slump_arrest}
@@ -76,8 +77,8 @@ done
 python3 - "${runs[@]}" <<'PY'
 import csv, json, os, sys
 nan = float("nan")
-print(f"{'τ₀ Pa':>8} {'theory':>18} {'LDD':>8} {'diff':>8} {'last tenth: Δh, Δd':>20} {'yielded':>8} {'drift':>7} "
-      f"{'ms/step':>8}  status")
+print(f"{'τ₀ Pa':>8} {'theory':>18} {'LDD':>8} {'diff':>8} {'last tenth: Δh, Δd':>20} {'yielded':>8} "
+      f"{'σmax/τ₀':>8} {'arrested':>8} {'drift':>7} {'ms/step':>8}  status")
 for run in sys.argv[1:]:
     s = json.load(open(os.path.join(run, "summary.json")))
     rows = list(csv.reader(open(os.path.join(run, "spread.csv"))))
@@ -105,6 +106,7 @@ for run in sys.argv[1:]:
     else:
         theory, value, diff = "none", nan, ""
     print(f"{yield_stress:8.4g} {theory:>18} {value:8.4f} {diff:>8} {1e3 * dh:+7.2f}, {1e3 * dd:+7.2f} mm "
-          f"{s['yielded_fraction'] or 0:8.3f} {100 * s['volume_drift']:6.2f}% {s['ms_per_step']:8.1f}  "
+          f"{s['yielded_fraction'] or 0:8.3f} {s.get('largest_stress_ratio') or nan:8.4f} {str(s['arrested']):>8} "
+          f"{100 * s['volume_drift']:6.2f}% {s['ms_per_step']:8.1f}  "
           f"{s['status']} at {s['time']:.3g} s")
 PY

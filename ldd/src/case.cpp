@@ -381,6 +381,12 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
        "slump: stop when the kinetic energy falls below this share of its peak after the mould has cleared; 0: never",
        "-"},
       out.settle_energy_ratio, Range::closed(0.0, 1.0));
+  out.arrest_stress_tolerance = time.number_or(
+      {"arrest_stress_tolerance",
+       "dam break, slump of a yield-stress law: the end state is arrested when no node's stress exceeds (1 + this) "
+       "times the yield stress",
+       "-"},
+      out.arrest_stress_tolerance, Range::closed(0.0, 1.0));
   if (const auto s = root.optional_section({"solver", "LDD solver settings", "-"}))
     out.solver = read_solver_settings(*s, out.scene_type);
   if (const auto o = root.optional_section({"output", "LDD output settings", "-"}))

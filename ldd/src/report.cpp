@@ -145,7 +145,10 @@ std::string header_html(const RunSummary& s) {
       row("final spread, height", fmt::format("{:.4g} m, {:.4g} m", *s.final_spread, *s.final_height));
       row("yielded fraction",
           s.yielded_fraction ? fmt::format("{:.3g}", *s.yielded_fraction) : std::string("— (no yield stress)"));
-      row("arrested (yield criterion)", s.arrested ? "yes" : "no");
+      row("arrested (yield criterion)",
+          std::string(s.arrested ? "yes" : "no") +
+              (s.largest_stress_ratio ? fmt::format(": the largest stress {:.4g} τ₀", *s.largest_stress_ratio)
+                                      : std::string()));
       if (const auto& p = s.pashias)
         row("cylinder slump (Pashias et al. 1996)",
             fmt::format("τ′ = τ₀/(ρgH) = {:.3g}: s/H {:.3f} at rest ({:.3f} with the von Mises criterion); this run {}",

@@ -85,17 +85,23 @@ std::pair<double, double> spread(const FreeSurfaceSolver& s) {
   return {2 * radius + s.params().spacing, top + 0.5 * s.params().spacing};
 }
 
-// The end state's yield test: the share of fluid nodes whose stress μ(γ̇)γ̇ reaches the yield
-// stress τ₀. None: every node sits on the regularised law's rigid branch, the material has
-// stopped by the yield criterion (not only slowed down).
-double yielded_fraction(const FreeSurfaceSolver& s, double yield_stress) {
+// The end state's yield test on the fluid nodes' stress μ(γ̇)γ̇ (LDD eq. 5): the share at or
+// above the yield stress τ₀, and the largest over τ₀.
+struct YieldTest {
+  double yielded_fraction = 0, largest_stress_ratio = 0;
+};
+
+YieldTest yield_test(const FreeSurfaceSolver& s, double yield_stress) {
   std::size_t fluid = 0, yielded = 0;
+  double largest = 0;
   for (std::size_t i = 0; i < s.node_count(); ++i)
     if (s.is_continuum(i)) {
       ++fluid;
-      if (s.viscosity()[i] * s.shear_rate()[i] >= yield_stress) ++yielded;
+      const double stress = s.viscosity()[i] * s.shear_rate()[i];
+      if (stress >= yield_stress) ++yielded;
+      largest = std::max(largest, stress / yield_stress);
     }
-  return fluid > 0 ? static_cast<double>(yielded) / static_cast<double>(fluid) : 0.0;
+  return {fluid > 0 ? static_cast<double>(yielded) / static_cast<double>(fluid) : 0.0, largest};
 }
 
 // Column: the surface height at the left wall, the top of the fluid nodes within the first cell
@@ -274,9 +280,20 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
       summary.final_height = height;
     }
     if (yield_stress > 0) {
-      const double share = yielded_fraction(solver, yield_stress);
-      summary.yielded_fraction = share;
-      summary.arrested = outcome.status != "diverged" && share == 0.0;
+      // At rest the yielded part of a deposit sits on the yield surface (the shallow arrest's
+      // basal stress is τ₀, so is the lower part of Pashias' column), where a regularised law's
+      // nodes carry τ₀ plus the stress of the cloud's jitter: arrested means no node above
+      // (1 + tolerance) τ₀, where a Bingham material flows no faster than tolerance·τ₀/μ_p.
+      const YieldTest test = yield_test(solver, yield_stress);
+      summary.yielded_fraction = test.yielded_fraction;
+      summary.largest_stress_ratio = test.largest_stress_ratio;
+      summary.arrested = outcome.status != "diverged" && test.largest_stress_ratio <= 1.0 + l.arrest_stress_tolerance;
+      log.info(
+          "yield test at the end: {:.3g} of the fluid nodes at or above τ₀, the largest stress {:.4g} τ₀: {}",
+          test.yielded_fraction, test.largest_stress_ratio,
+          summary.arrested
+              ? fmt::format("arrested (every node within {:g} % of τ₀ or below it)", 1e2 * l.arrest_stress_tolerance)
+              : fmt::format("not arrested (time.arrest_stress_tolerance {:g})", l.arrest_stress_tolerance));
     }  // else no yield stress: a liquid does not arrest
   }
   if (slump) detail::compare_slump(l, summary, log);

@@ -100,6 +100,7 @@ void add_free_surface_keys(const RunSummary& s, Json& j) {
     j["final_spread"] = value_or_null(s.final_spread);
     j["final_height"] = value_or_null(s.final_height);
     j["yielded_fraction"] = value_or_null(s.yielded_fraction);
+    j["largest_stress_ratio"] = value_or_null(s.largest_stress_ratio);
     j["arrested"] = s.arrested;
   }
   if (const auto& p = s.pashias)
@@ -193,6 +194,7 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
   s.final_spread = r.number("final_spread");
   s.final_height = r.number("final_height");
   s.yielded_fraction = r.number_or_null("yielded_fraction");
+  s.largest_stress_ratio = r.optional_number("largest_stress_ratio");
   s.arrested = r.boolean("arrested");
   if (s.scene == "dam_break") {
     for (const auto& p : r.objects("front")) s.front.push_back({p.number("t"), p.number("x")});

@@ -108,7 +108,8 @@ TEST(Case, LddGradientIsCheckedAgainstTheScene) {
 }
 
 // A slump's mould is a cone or, with equal diameters, a cylinder (Pashias' slump test); a mould
-// wider at the top is refused at its key. time.settle_energy_ratio: 0 runs a slump to its end.
+// wider at the top is refused at its key. time.settle_energy_ratio: 0 runs a slump to its end;
+// time.arrest_stress_tolerance (default 0.1) is a share of τ₀ in [0, 1].
 TEST(Case, LddSlumpMouldIsAConeOrACylinder) {
   const std::string slump =
       "kind: ldd\ndimension: 3\nscene: {type: slump, cone: {height: 0.1, bottom_diameter: 0.1, top_diameter: 0.1}, "
@@ -123,6 +124,13 @@ TEST(Case, LddSlumpMouldIsAConeOrACylinder) {
   const auto e = parse_error(replace(slump, "top_diameter: 0.1}", "top_diameter: 0.12}"));
   EXPECT_EQ(e.details().key_path, "scene.cone.top_diameter");
   EXPECT_THAT(e.details().expected, HasSubstr("<= 0.1 m"));
+  EXPECT_EQ(cylinder.arrest_stress_tolerance, 0.1);
+  const auto tolerant =
+      replace(slump, "settle_energy_ratio: 0}\n", "settle_energy_ratio: 0, arrest_stress_tolerance: ");
+  EXPECT_EQ(parse_case(tolerant + "0.01}\n", "tight.yaml").settings.arrest_stress_tolerance, 0.01);
+  const auto negative = parse_error(tolerant + "-0.1}\n");
+  EXPECT_EQ(negative.details().key_path, "time.arrest_stress_tolerance");
+  EXPECT_EQ(negative.details().where.line, 7);
 }
 
 // A cavity's nodes always return to the lattice: there is no reordering to choose.

@@ -549,11 +549,13 @@ TEST(FreeSurfaceRun, DamBreakCaseWritesFrontTableAndFrames) {
   EXPECT_GT(summary["front"].back()["x"].get<double>(), 0.0);  // the front left the gate
   EXPECT_LT(summary["volume_drift"].get<double>(), 0.01);
   EXPECT_FALSE(summary.contains("table1"));
-  // The final shape, and the yield test: still flowing at 0.1 s, so not arrested.
+  // The final shape, and the yield test: still flowing at 0.1 s, stresses well above τ₀, so not
+  // arrested.
   EXPECT_DOUBLE_EQ(summary["final_spread"].get<double>(), summary["front"].back()["x"].get<double>());
   EXPECT_GT(summary["final_height"].get<double>(), 0.0);
   EXPECT_LE(summary["final_height"].get<double>(), 0.08 + 0.02);
   EXPECT_GT(summary["yielded_fraction"].get<double>(), 0.0);
+  EXPECT_GT(summary["largest_stress_ratio"].get<double>(), 1.5);
   EXPECT_FALSE(summary["arrested"].get<bool>());
   // The shallow arrest of this reservoir (A = 0.016 m², 2τ₀/(ρg) = 4.247 mm): ℓ = 0.5138 m.
   const auto& arrest = summary["thin_film_arrest"];
@@ -783,9 +785,11 @@ TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
           "1.0e4, regularization: 1000}}\n",
           "never_yields");
   EXPECT_EQ(stiff["yielded_fraction"].get<double>(), 0.0);
+  EXPECT_LT(stiff["largest_stress_ratio"].get<double>(), 1.0);
   EXPECT_TRUE(stiff["arrested"].get<bool>());
   const auto liquid = run("fluid: {density: 1000, rheology: {model: newtonian, viscosity: 1.0}}\n", "newtonian_liquid");
   EXPECT_TRUE(liquid["yielded_fraction"].is_null());
+  EXPECT_TRUE(liquid["largest_stress_ratio"].is_null());
   EXPECT_FALSE(liquid["arrested"].get<bool>());
 }
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "rheosim/core/error.hpp"
@@ -77,6 +78,8 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   EXPECT_NE(html.find("shallow arrest (thin film)"), std::string::npos);
   ASSERT_TRUE(s.thin_film_arrest->fitted_yield_stress.has_value());  // the 0.1 m layer is five spacings high
   EXPECT_NE(html.find("final surface read as a shallow arrest"), std::string::npos);
+  ASSERT_TRUE(s.largest_stress_ratio.has_value());  // a yield-stress law: the end state's yield test
+  EXPECT_NE(html.find(fmt::format("the largest stress {:.4g} τ₀", *s.largest_stress_ratio)), std::string::npos);
   EXPECT_EQ(html.find("nan"), std::string::npos);  // no missing value rendered as a number
 }
 
@@ -102,14 +105,18 @@ TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
   } catch (const core::ConfigError& e) {
     EXPECT_EQ(e.details().key_path, "thin_film_arrest.length");
   }
-  // A summary without the final surface's fit (older revisions) is read, the fit empty.
+  // A summary without the final surface's fit or the largest stress (older revisions) is read,
+  // those values empty.
   json = core::read_json(dir() / "summary.json");
   json["thin_film_arrest"].erase("fitted_yield_stress");
   json["thin_film_arrest"].erase("fitted_length");
+  json.erase("largest_stress_ratio");
   core::write_json(folder / "summary.json", json);
   const RunSummary without_fit = read_run_summary(folder / "summary.json");
   ASSERT_TRUE(without_fit.thin_film_arrest.has_value());
   EXPECT_FALSE(without_fit.thin_film_arrest->fitted_yield_stress.has_value());
+  EXPECT_FALSE(without_fit.largest_stress_ratio.has_value());
+  EXPECT_TRUE(without_fit.yielded_fraction.has_value());
   json = core::read_json(dir() / "summary.json");
   json["kind"] = "sweep";
   core::write_json(folder / "summary.json", json);
@@ -119,6 +126,43 @@ TEST_F(LddReport, SummaryReaderNamesAMissingKeyAndRefusesAnotherKind) {
   } catch (const core::ConfigError& e) {
     EXPECT_EQ(e.details().key_path, "kind");
   }
+}
+
+// A slump's summary written before the slump formulas' implied yield stresses (or the end state's
+// largest stress) existed is read with those values empty; written with them, it round-trips.
+TEST(LddSummary, SlumpSummariesWithoutTheImpliedYieldStressAreRead) {
+  RunSummary s;
+  s.head = {"slump", "ldd", "0", "unknown", ""};
+  s.scene = "slump";
+  s.dimension = 3;
+  s.status = "end_time";
+  s.spread = {{0.0, 0.1, 0.1}, {1.0, 0.2, 0.05}};
+  s.final_spread = 0.2;
+  s.final_height = 0.05;
+  s.yielded_fraction = 0.5;
+  s.largest_stress_ratio = 1.01;
+  s.arrested = true;
+  s.pashias = CylinderSlumpComparison{
+      0.1, pashias_slump(0.1), 0.5, 0.5 - pashias_slump(0.1), von_mises_cylinder_slump(0.1), 106.4};
+  s.roussel_coussot = ConeSpreadComparison{0.21, -0.05, 120.0};
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_old_slump_summary";
+  std::filesystem::create_directories(dir);
+  core::write_json(dir / "summary.json", nlohmann::json::parse(to_json(s).dump()));
+  EXPECT_EQ(read_run_summary(dir / "summary.json"), s);
+  auto json = core::read_json(dir / "summary.json");
+  json["pashias"].erase("implied_yield_stress");
+  json["roussel_coussot"].erase("implied_yield_stress");
+  json.erase("largest_stress_ratio");
+  core::write_json(dir / "summary.json", json);
+  const RunSummary old = read_run_summary(dir / "summary.json");
+  ASSERT_TRUE(old.pashias.has_value());
+  ASSERT_TRUE(old.roussel_coussot.has_value());
+  EXPECT_FALSE(old.pashias->implied_yield_stress.has_value());
+  EXPECT_FALSE(old.roussel_coussot->implied_yield_stress.has_value());
+  EXPECT_FALSE(old.largest_stress_ratio.has_value());
+  EXPECT_EQ(old.pashias->measured_slump, s.pashias->measured_slump);
+  EXPECT_EQ(old.roussel_coussot->diameter, 0.21);
+  std::filesystem::remove_all(dir);
 }
 
 // A dam break is compared with the experiment of its material: a Newtonian liquid in a reservoir

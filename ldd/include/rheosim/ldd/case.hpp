@@ -86,6 +86,9 @@ struct CaseSettings {
   // Slump: stop ("settled") once the kinetic energy has fallen below this share of its peak
   // after the mould has cleared; 0: never (run to end_time, e.g. to reach arrest).
   double settle_energy_ratio = 1e-3;
+  // Dam breaks and slumps of a yield-stress law: the end state counts as arrested when no fluid
+  // node's stress μ(γ̇)γ̇ exceeds (1 + this) τ₀ (RunSummary::arrested).
+  double arrest_stress_tolerance = 0.1;
   SolverSettings solver;
   OutputSettings output;
   std::vector<WallSettings> walls;                 // scene.walls (slump only so far)

@@ -146,6 +146,9 @@ struct RunSummary {
   std::optional<MartinMoyceComparison> martin_moyce;         // a Newtonian column with H = 2L
   std::vector<SpreadSample> spread;                          // slump
   MaybeNumber final_spread, final_height, yielded_fraction;  // dam break and slump
+  // The largest μ(γ̇)γ̇/τ₀ over the fluid nodes at the end (a yield-stress law); arrested: at most
+  // 1 + time.arrest_stress_tolerance, and the run did not diverge.
+  MaybeNumber largest_stress_ratio;
   bool arrested = false;
   std::optional<CylinderSlumpComparison> pashias;       // slump of a yield-stress law, cylinder mould
   std::optional<ConeSpreadComparison> roussel_coussot;  // slump of a yield-stress law, cone mould
