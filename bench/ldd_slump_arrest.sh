@@ -95,16 +95,15 @@ for run in sys.argv[1:]:
         # from a build before it)
         vm = p.get("von_mises_slump")
         diff = f"{p['difference']:+8.4f}" + (f" (von Mises s′ {vm:.4f}: {value - vm:+.4f})" if vm is not None else "")
-        implied = p.get("implied_yield_stress")  # the τ₀ Pashias' formula reads from the slump
-        diff += f", read as τ₀ {implied:.4g} Pa" if implied is not None else ""
     elif "roussel_coussot" in s:
         r = s["roussel_coussot"]
         theory, value = f"spread {r['diameter']:.4f} m", s["final_spread"]
         diff = f"{100 * r['relative_error']:+7.1f}%"
-        implied = r.get("implied_yield_stress")  # the τ₀ the relation reads from the spread
-        diff += f", read as τ₀ {implied:.4g} Pa" if implied is not None else ""
     else:
         theory, value, diff = "none", nan, ""
+    # The τ₀ the mould's formula reads from the slump or spread, as a slump test would.
+    implied = s.get("pashias", s.get("roussel_coussot", {})).get("implied_yield_stress")
+    diff += f", read as τ₀ {implied:.4g} Pa" if implied is not None else ""
     print(f"{yield_stress:8.4g} {theory:>18} {value:8.4f} {diff:>8} {1e3 * dh:+7.2f}, {1e3 * dd:+7.2f} mm "
           f"{s['yielded_fraction'] or 0:8.3f} {s.get('largest_stress_ratio') or nan:8.4f} {str(s['arrested']):>8} "
           f"{100 * s['volume_drift']:6.2f}% {s['ms_per_step']:8.1f}  "
