@@ -142,6 +142,10 @@ std::string header_html(const RunSummary& s) {
                                      : std::string("— (nothing released: a resting column)"));
     row("repeated linear solves", fmt::format("{}", s.repeated_solves));
     if (s.final_spread) {
+      // The yield stress a slump formula reads from the run's final shape, when it gives one.
+      const auto read_as = [](const MaybeNumber& implied) {
+        return implied ? fmt::format(", read as τ₀ = {:.4g} Pa", *implied) : std::string();
+      };
       row("final spread, height", fmt::format("{:.4g} m, {:.4g} m", *s.final_spread, *s.final_height));
       row("yielded fraction",
           s.yielded_fraction ? fmt::format("{:.3g}", *s.yielded_fraction) : std::string("— (no yield stress)"));
@@ -155,14 +159,12 @@ std::string header_html(const RunSummary& s) {
                         p->yield_stress_ratio, p->slump, p->von_mises_slump,
                         p->measured_slump ? fmt::format("{:.3f} ({:+.3f})", *p->measured_slump, *p->difference)
                                           : std::string("—")) +
-                (p->implied_yield_stress ? fmt::format(", read as τ₀ = {:.4g} Pa", *p->implied_yield_stress)
-                                         : std::string()));
+                read_as(p->implied_yield_stress));
       if (const auto& r = s.roussel_coussot)
         row("yield-stress pancake (Roussel &amp; Coussot 2005)",
             fmt::format("spread {:.4g} m; this run {}", r->diameter,
                         r->relative_error ? fmt::format("{:+.1f} %", 100 * *r->relative_error) : std::string("—")) +
-                (r->implied_yield_stress ? fmt::format(", read as τ₀ = {:.4g} Pa", *r->implied_yield_stress)
-                                         : std::string()));
+                read_as(r->implied_yield_stress));
       if (const auto& a = s.thin_film_arrest) {
         row("shallow arrest (thin film)",
             fmt::format("length {:.4g} m from the back wall, front {:.4g} m; this run's runout {}", a->length, a->front,

@@ -288,13 +288,15 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
       summary.yielded_fraction = test.yielded_fraction;
       summary.largest_stress_ratio = test.largest_stress_ratio;
       summary.arrested = outcome.status != "diverged" && test.largest_stress_ratio <= 1.0 + l.arrest_stress_tolerance;
+      std::string verdict;
+      if (summary.arrested)
+        verdict = fmt::format("arrested (every node within {:g} % of τ₀ or below it)", 1e2 * l.arrest_stress_tolerance);
+      else if (outcome.status == "diverged")
+        verdict = "not arrested (the run diverged)";
+      else
+        verdict = fmt::format("not arrested (time.arrest_stress_tolerance {:g})", l.arrest_stress_tolerance);
       log.info("yield test at the end: {:.3g} of the fluid nodes at or above τ₀, the largest stress {:.4g} τ₀: {}",
-               test.yielded_fraction, test.largest_stress_ratio,
-               summary.arrested ? fmt::format("arrested (every node within {:g} % of τ₀ or below it)",
-                                              1e2 * l.arrest_stress_tolerance)
-               : outcome.status == "diverged"
-                   ? std::string("not arrested (the run diverged)")
-                   : fmt::format("not arrested (time.arrest_stress_tolerance {:g})", l.arrest_stress_tolerance));
+               test.yielded_fraction, test.largest_stress_ratio, verdict);
     }  // else no yield stress: a liquid does not arrest
   }
   if (slump) detail::compare_slump(l, summary, log);
