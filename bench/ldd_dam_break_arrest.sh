@@ -4,15 +4,16 @@
 # final front and the final profile beside the theory's, the kinetic energy and volume drift.
 #
 #   bench/ldd_dam_break_arrest.sh [BUILD_DIR] [OUT_DIR] [--spacing M] [--step S] [--end S]
-#                                 [--regularization S] [--solver "KEY: VALUE, ..."]
+#                                 [--regularization S] [--solver "KEY: VALUE, ..."] [--stop-at-arrest S]
 #
 # Runs cases/ldd_dam_break_arrest.yaml (Δ = 2.5 mm, δt = 1e-3 s, m = 1000 s, 12 s: about 2 min on
 # one thread) with the given overrides through bench_ldd run (the code of `rheosim run`).
+# --stop-at-arrest S sets time.stop_at_arrest: the run ends once the yield test has held for S seconds.
 set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_dam_break_arrest}
 shift $(( $# > 2 ? 2 : $# )) || true
-spacing=0.0025 step=1.0e-3 end=12.0 regularization=1000 solver=""
+spacing=0.0025 step=1.0e-3 end=12.0 regularization=1000 solver="" hold=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --spacing) spacing=$2; shift 2 ;;
@@ -20,13 +21,14 @@ while [ $# -gt 0 ]; do
     --end) end=$2; shift 2 ;;
     --regularization) regularization=$2; shift 2 ;;
     --solver) solver=$2; shift 2 ;;
+    --stop-at-arrest) hold=$2; shift 2 ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
 here=$(cd "$(dirname "$0")/.." && pwd)
-name="dx${spacing}_dt${step}_m${regularization}_end${end}$(echo "${solver:+_$solver}" | tr -d ' ,:' )"
+name="dx${spacing}_dt${step}_m${regularization}_end${end}${hold:+_hold$hold}$(echo "${solver:+_$solver}" | tr -d ' ,:' )"
 mkdir -p "$out"
-sed -e "s/spacing: 0.0025/spacing: ${spacing}/" -e "s/step: 1.0e-3, end: 12.0/step: ${step}, end: ${end}/" \
+sed -e "s/spacing: 0.0025/spacing: ${spacing}/" -e "s/step: 1.0e-3, end: 12.0/step: ${step}, end: ${end}${hold:+, stop_at_arrest: $hold}/" \
     -e "s/regularization: 1000}/regularization: ${regularization}}/" \
     -e "s/^solver: {velocity_tolerance: 1.0e-6}/solver: {velocity_tolerance: 1.0e-6, threads: 1${solver:+, $solver}}/" \
     "$here/cases/ldd_dam_break_arrest.yaml" > "$out/$name.yaml"

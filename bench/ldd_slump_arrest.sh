@@ -9,6 +9,7 @@
 #                             [--yield-stresses "20 50 ..."] [--spacing M] [--step S] [--end S]
 #                             [--regularization S] [--viscosity PA_S] [--lift-velocity M_S]
 #                             [--viscous-stress laplacian|full] [--solver "KEY: VALUE, ..."]
+#                             [--stop-at-arrest S]
 #
 # One run of the case (default cases/ldd_slump_pashias.yaml: H = D = 0.1 m, Δ = 5 mm, δt = 1e-3 s,
 # 2 s, m = 1000 s, μ_p 20 Pa·s, about 1.5 min on two threads) per yield stress, given as τ₀ [Pa]
@@ -16,7 +17,8 @@
 # OpenMP's default threads). A finished run in OUT_DIR is reused. Prints per run the theory and
 # the run's slump or spread, the height's and diameter's change over the last tenth of the run, the yielded
 # fraction, the largest stress over τ₀ and whether the run ended arrested (summary.json
-# largest_stress_ratio, arrested), the volume drift and the cost.
+# largest_stress_ratio, arrested), the volume drift and the cost. --stop-at-arrest S sets
+# time.stop_at_arrest: the run ends once the yield test has held for S seconds.
 set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_slump_arrest}
@@ -41,6 +43,10 @@ while [ $# -gt 0 ]; do
     --viscous-stress)  # solver.viscous_stress (a word, not a number)
       overrides+=("-e" "s/^solver: {/solver: {viscous_stress: $2, /")
       tag="${tag}_viscous_stress_$2"
+      shift 2 ;;
+    --stop-at-arrest)  # time.stop_at_arrest, after the deck's settle_energy_ratio: 0
+      overrides+=("-e" "s/settle_energy_ratio: 0}/settle_energy_ratio: 0, stop_at_arrest: $2}/")
+      tag="${tag}_stop_at_arrest$2"
       shift 2 ;;
     --solver)  # more solver keys, "KEY: VALUE, ..."
       overrides+=("-e" "s/^solver: {/solver: {$2, /")

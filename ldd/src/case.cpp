@@ -387,6 +387,19 @@ CaseSettings read_settings(const Section& root, const std::filesystem::path& cas
        "times the yield stress",
        "-"},
       out.arrest_stress_tolerance, Range::closed(0.0, 1.0));
+  out.arrest_hold_time = time.number_or(
+      {"stop_at_arrest",
+       "dam break, slump of a yield-stress law: stop once the end state's yield test has held over this long, after "
+       "the material has yielded; 0: never",
+       "s"},
+      out.arrest_hold_time, Range::non_negative());
+  if (out.arrest_hold_time > 0) {
+    const bool arrest_scene = out.scene_type == "dam_break" || out.scene_type == "slump";
+    if (!arrest_scene || !(out.fluid.rheology->yield_stress() > 0))
+      time.fail("stop_at_arrest",
+                fmt::format("a {} scene of a {} law never arrests", out.scene_type, out.fluid.rheology->name()),
+                "0 (never) unless the scene is a dam_break or slump of a law with a yield stress");
+  }
   if (const auto s = root.optional_section({"solver", "LDD solver settings", "-"}))
     out.solver = read_solver_settings(*s, out.scene_type);
   if (const auto o = root.optional_section({"output", "LDD output settings", "-"}))

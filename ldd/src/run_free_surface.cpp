@@ -183,8 +183,16 @@ RunRecord record_of(const detail::RunRecordContent& content, const std::filesyst
   return r;
 }
 
+// Dam breaks and slumps of a yield-stress law probe the yield test (yield_test) as they run.
+bool probes_yield_test(const ldd::CaseSettings& l) {
+  const bool arrest_scene =
+      std::holds_alternative<ldd::DamBreakScene>(l.scene) || std::holds_alternative<ldd::SlumpScene>(l.scene);
+  return arrest_scene && l.fluid.rheology->yield_stress() > 0;
+}
+
 // The probe file's columns: time, the scene's probe (front; diameter and height; left-wall
-// height), the stability probe's when asked for, then the energy, volume and solver records.
+// height), the stability probe's when asked for, then the energy, volume and solver records, and
+// a yield-stress law's largest stress over τ₀.
 std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bool probe_stability) {
   const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
   const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
@@ -210,6 +218,7 @@ std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bo
                                            {"courant", ""},
                                            {"max_pbd_shift", ""}})
     columns.push_back(col);
+  if (probes_yield_test(l)) columns.push_back({"largest_stress_ratio", ""});
   return columns;
 }
 
@@ -367,13 +376,21 @@ class FreeSurfaceRun final : public detail::SceneRun {
     }
     return true;
   }
-  [[nodiscard]] std::optional<std::string> probe(std::size_t step, core::Progress& progress, RunOutcome&) override {
+  [[nodiscard]] std::optional<std::string> probe(std::size_t step, core::Progress& progress,
+                                                 RunOutcome& outcome) override {
     const double energy = record(stats_);
     run_.peak_energy = std::max(run_.peak_energy, energy);
     progress.update(step,
                     fmt::format("t {:.3f} s, KE {:.3g}, {} surface", solver_.time(), energy, stats_.surface_nodes));
     if (slump_ && solver_.time() > mould_clear_time_ && energy < l_.settle_energy_ratio * run_.peak_energy)
       return "settled";
+    if (const std::optional<double> since = arrested_since()) {
+      outcome.message = fmt::format(
+          "arrested: no fluid node's stress above {:g} τ₀ at any probe from t = {:.4g} s to {:.4g} s "
+          "(time.stop_at_arrest {:g} s)",
+          1.0 + l_.arrest_stress_tolerance, *since, solver_.time(), l_.arrest_hold_time);
+      return "arrested";
+    }
     return std::nullopt;
   }
   void add_frame() override {
@@ -429,8 +446,28 @@ class FreeSurfaceRun final : public detail::SceneRun {
                      static_cast<double>(st.splash_nodes), static_cast<double>(st.pressure_iterations),
                      static_cast<double>(st.velocity_iterations), st.courant, st.max_pbd_shift})
       row.push_back(v);
+    if (probes_yield_test(l_))
+      row.push_back(yield_test(solver_, l_.fluid.rheology->yield_stress()).largest_stress_ratio);
     history_.add_row(row);
     return energy;
+  }
+
+  // time.stop_at_arrest: every probe over the last arrest_hold_time has passed the yield test, and
+  // one before them failed it (the material has yielded: a deposit still unyielded at the start
+  // has not arrested) after a slump's mould had cleared. Read from the probe history, which a
+  // resumed run restores. Returns when the passing probes began.
+  [[nodiscard]] std::optional<double> arrested_since() const {
+    if (!(l_.arrest_hold_time > 0)) return std::nullopt;
+    const std::size_t rows = history_.row_count(), ratio_column = history_.numeric_columns().size() - 1;
+    const auto time_at = [&](std::size_t r) { return history_.row(r)[0]; };
+    const double limit = 1.0 + l_.arrest_stress_tolerance;
+    std::size_t first_passing = rows;
+    while (first_passing > 0 && history_.row(first_passing - 1)[ratio_column] <= limit) --first_passing;
+    if (first_passing == 0 || first_passing == rows) return std::nullopt;  // never yielded, or flowing
+    if (slump_ && time_at(first_passing - 1) < mould_clear_time_) return std::nullopt;
+    const double since = time_at(first_passing);
+    if (time_at(rows - 1) - since < l_.arrest_hold_time) return std::nullopt;
+    return since;
   }
 
   const CaseSettings& l_;

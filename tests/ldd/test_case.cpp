@@ -131,6 +131,20 @@ TEST(Case, LddSlumpMouldIsAConeOrACylinder) {
   const auto negative = parse_error(tolerant + "-0.1}\n");
   EXPECT_EQ(negative.details().key_path, "time.arrest_stress_tolerance");
   EXPECT_EQ(negative.details().where.line, 7);
+  // time.stop_at_arrest (default 0: never) is a hold time in seconds, and only for a material
+  // that can arrest.
+  EXPECT_EQ(cylinder.arrest_hold_time, 0.0);
+  const auto holding = replace(slump, "settle_energy_ratio: 0}\n", "settle_energy_ratio: 0, stop_at_arrest: ");
+  EXPECT_EQ(parse_case(holding + "0.5}\n", "hold.yaml").settings.arrest_hold_time, 0.5);
+  const auto backwards = parse_error(holding + "-1}\n");
+  EXPECT_EQ(backwards.details().key_path, "time.stop_at_arrest");
+  EXPECT_EQ(backwards.details().where.line, 7);
+  const auto liquid = parse_error(replace(holding + "0.5}\n",
+                                          "rheology: {model: bingham, plastic_viscosity: 20.0, "
+                                          "yield_stress: 98.1, regularization: 1000}",
+                                          "rheology: {model: newtonian, viscosity: 20.0}"));
+  EXPECT_EQ(liquid.details().key_path, "time.stop_at_arrest");
+  EXPECT_THAT(liquid.details().problem, HasSubstr("never arrests"));
 }
 
 // A cavity's nodes always return to the lattice: there is no reordering to choose.

@@ -4,6 +4,7 @@
 // ballistically without upsetting the PPE, a viscous column released by a receding slip gate at
 // δt = 1e-2 without a pressure collapse, the Abrams mould geometry, and runs that stop and go on
 // from their checkpoint bit for bit.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -27,6 +29,7 @@
 #include "rheosim/ldd/scenes.hpp"
 
 namespace rheosim::ldd {
+using ::testing::HasSubstr;
 namespace {
 
 std::shared_ptr<const core::Rheology> newtonian(double viscosity) {
@@ -791,6 +794,50 @@ TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
   EXPECT_TRUE(liquid["yielded_fraction"].is_null());
   EXPECT_TRUE(liquid["largest_stress_ratio"].is_null());
   EXPECT_FALSE(liquid["arrested"].get<bool>());
+}
+
+// time.stop_at_arrest ends a run once the yield test has held over the given time after the
+// material yielded: τ₀ = 150 Pa yields at the release (ρgH = 942 Pa) and stops within 1.2 s; a
+// material that never yields (τ₀ = 300 Pa here) is not stopped for it: its unyielded start is not
+// an arrest.
+TEST(FreeSurfaceRun, StopAtArrestEndsTheRunOnceTheYieldTestHasHeldAfterYielding) {
+  const auto run = [](double yield_stress, const char* name) {
+    const std::string text = fmt::format(
+        "kind: ldd\ndimension: 2\nscene: {{type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}}\n"
+        "fluid: {{density: 1200, rheology: {{model: bingham, plastic_viscosity: 25.0, yield_stress: {}, "
+        "regularization: 1000}}}}\ngravity: [0, -9.81]\nresolution: {{spacing: 0.02}}\n"
+        "time: {{step: 1.0e-3, end: 3.0, stop_at_arrest: 0.1}}\n",
+        yield_stress);
+    const ldd::Case c = ldd::parse_case(text, std::string(name) + ".yaml");
+    const auto dir = std::filesystem::temp_directory_path() / (std::string("rheosim_ldd_") + name);
+    std::filesystem::remove_all(dir);
+    const RunOutcome outcome = run_case(c, dir, core::Log::null());
+    const auto summary = core::read_json(dir / "summary.json");
+    const core::CsvTable probes = core::read_csv(dir / "front.csv");
+    std::filesystem::remove_all(dir);
+    return std::tuple{outcome, summary, probes};
+  };
+  const auto [stopped, summary, probes] = run(150.0, "stop_at_arrest");
+  EXPECT_EQ(stopped.status, "arrested");
+  EXPECT_THAT(stopped.message, HasSubstr("time.stop_at_arrest 0.1 s"));
+  EXPECT_EQ(summary["status"], "arrested");
+  EXPECT_TRUE(summary["arrested"].get<bool>());
+  EXPECT_LT(summary["time"].get<double>(), 1.5);
+  // The probes' last column: yielded (above 1.1 τ₀) after the release, then 0.1 s within it.
+  ASSERT_EQ(probes.numeric_columns().back().name, "largest_stress_ratio");
+  const std::vector<double> time = probes.column("time"), ratio = probes.column("largest_stress_ratio");
+  EXPECT_GT(*std::max_element(ratio.begin(), ratio.end()), 1.5);
+  std::size_t first_within = ratio.size();
+  while (first_within > 0 && ratio[first_within - 1] <= 1.1) --first_within;
+  ASSERT_GT(first_within, 0u);
+  ASSERT_LT(first_within, ratio.size());
+  EXPECT_GE(time.back() - time[first_within], 0.1 - 1e-9);
+  EXPECT_LT(time.back() - time[first_within], 0.1 + 0.02);  // stopped at the first probe that could
+  const auto [unyielded, stiff, stiff_probes] = run(300.0, "stop_at_arrest_unyielded");
+  EXPECT_EQ(unyielded.status, "end_time");
+  EXPECT_TRUE(stiff["arrested"].get<bool>());  // the end state's test: every node below τ₀
+  const std::vector<double> stiff_ratio = stiff_probes.column("largest_stress_ratio");
+  EXPECT_LT(*std::max_element(stiff_ratio.begin(), stiff_ratio.end()), 1.0);
 }
 
 // A resting water column (μ = 1e-3 Pa·s, nothing to damp a spurious force) stays exactly at rest

@@ -89,6 +89,10 @@ struct CaseSettings {
   // Dam breaks and slumps of a yield-stress law: the end state counts as arrested when no fluid
   // node's stress μ(γ̇)γ̇ exceeds (1 + this) τ₀ (RunSummary::arrested).
   double arrest_stress_tolerance = 0.1;
+  // Dam breaks and slumps of a yield-stress law: stop ("arrested") once every probe over this
+  // long [s] has passed that test, after one that failed it (the material has yielded; a slump's
+  // mould has cleared); 0: never.
+  double arrest_hold_time = 0;
   SolverSettings solver;
   OutputSettings output;
   std::vector<WallSettings> walls;                 // scene.walls (slump only so far)
