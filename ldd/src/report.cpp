@@ -56,6 +56,7 @@ struct RunFolder {
   bool martin_moyce = false;  // a water column: martin_moyce.csv
   bool profile = false;       // a dam break's final free surface: profile.csv
   bool wall_height = false;   // a sloshing column's probe file has the height at the left wall
+  bool yield_test = false;    // a yield-stress law's probe file has the largest stress over τ₀
 };
 
 // The free-surface run's gnuplot scripts and plots: the scene's probe, energy, volume.
@@ -107,6 +108,14 @@ void write_free_surface_plots(const RunSummary& s, RunFolder& run, ReportFiles& 
          fmt::format("set xlabel 't [s]'\nset ylabel 'height [m]'\nplot '{}' using 1:{} with lines lw 2 title "
                      "'LDD'{}\n",
                      probes, col("left_wall_height"), theory));
+  }
+  if (column_of(table, "largest_stress_ratio") > 0) {
+    run.yield_test = true;
+    plot("yield_test", "Largest stress over the yield stress vs time",
+         fmt::format("set xlabel 't [s]'\nset ylabel 'max μ(γ̇)γ̇ / τ₀ [-]'\nset logscale y\nset yrange [0.5:*]\nplot "
+                     "'{}' using 1:{} "
+                     "with lines lw 2 title 'largest stress over τ₀', 1 with lines dt 2 lw 2 title 'yield stress'\n",
+                     probes, col("largest_stress_ratio")));
   }
   plot("energy", "Kinetic energy and released potential energy vs time",
        fmt::format("set xlabel 't [s]'\nset ylabel 'energy [{0}]'\nplot '{1}' using 1:{2} with lines lw 2 title "
@@ -273,6 +282,13 @@ std::string free_surface_html(const RunSummary& s, const RunFolder& run, const R
           w->relative_error ? fmt::format("{:+.2f} %", 100 * *w->relative_error) : std::string("—"), w->crossings,
           w->compared_until, number(w->first_crossing, "{:.4f}"), w->period / 4);
     }
+  }
+  if (run.yield_test) {
+    html += "<h2>Yield test</h2>\n";
+    html += figure_or_note(files, "yield_test",
+                           "The largest stress μ(γ̇)γ̇ among the fluid nodes over τ₀ at each probe "
+                           "(largest_stress_ratio in the probe file): the end state is arrested at most 1 + "
+                           "time.arrest_stress_tolerance, and time.stop_at_arrest stops once it has stayed there.");
   }
   html += "<h2>Energy and volume</h2>\n";
   html += figure_or_note(files, "energy",

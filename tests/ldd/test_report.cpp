@@ -68,8 +68,9 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   EXPECT_EQ(nlohmann::json::parse(to_json(s).dump()), json);  // every key read, and written back the same
 
   const ReportFiles files = write_report(dir());
-  EXPECT_EQ(files.plots.size() + files.missing_plots.size(), 4u);  // front, final profile, energy, volume
-  for (const char* script : {"front.gp", "profile.gp", "energy.gp", "volume.gp"})
+  // front, final profile, the yield test, energy, volume
+  EXPECT_EQ(files.plots.size() + files.missing_plots.size(), 5u);
+  for (const char* script : {"front.gp", "profile.gp", "yield_test.gp", "energy.gp", "volume.gp"})
     EXPECT_TRUE(std::filesystem::exists(dir() / script)) << script;
   const std::string html = read_text(files.html);
   EXPECT_NE(html.find("rheosim LDD report: report_dam_break"), std::string::npos);
@@ -80,6 +81,11 @@ TEST_F(LddReport, DamBreakRunGetsItsOwnReportFromItsTypedSummary) {
   EXPECT_NE(html.find("final surface read as a shallow arrest"), std::string::npos);
   ASSERT_TRUE(s.largest_stress_ratio.has_value());  // a yield-stress law: the end state's yield test
   EXPECT_NE(html.find(fmt::format("the largest stress {:.4g} τ₀", *s.largest_stress_ratio)), std::string::npos);
+  EXPECT_NE(html.find("<h2>Yield test</h2>"), std::string::npos);
+  const core::CsvTable probes = core::read_csv(dir() / "front.csv");  // the last column, 1-based for gnuplot
+  ASSERT_EQ(probes.numeric_columns().back().name, "largest_stress_ratio");
+  EXPECT_NE(read_text(dir() / "yield_test.gp").find(fmt::format("using 1:{} ", probes.numeric_columns().size())),
+            std::string::npos);
   EXPECT_EQ(html.find("nan"), std::string::npos);  // no missing value rendered as a number
 }
 
