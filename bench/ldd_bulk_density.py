@@ -29,8 +29,10 @@ KINDS = {"interior": 0, "surface": 1, "splash": 2, "wall": 3, "corner": 4, "idle
 FORMATS = {"float": ("f", 4), "double": ("d", 8), "int": ("i", 4), "unsigned_char": ("B", 1), "char": ("b", 1)}
 
 
-def read_vtk(path):
-    """Positions (x, y) and kinds of a legacy binary POLYDATA file as rheosim writes it."""
+def read_vtk_fields(path):
+    """Every array of a legacy binary POLYDATA file as rheosim writes it, by name ("points": x, y, z
+    per node; "velocity": three components per node; "kind", "pressure", ...: one per node), and
+    the node count."""
     data = open(path, "rb").read()
     pos = 0
     fields = {}
@@ -75,6 +77,12 @@ def read_vtk(path):
                 fields[name] = values(int(components) * int(count), type_name)
         else:
             sys.exit(f"{path}: unexpected VTK section {words[0]}")
+    return fields, n
+
+
+def read_vtk(path):
+    """Positions (x, y) and kinds of a legacy binary POLYDATA file as rheosim writes it."""
+    fields, n = read_vtk_fields(path)
     points = fields["points"]
     return [(points[3 * i], points[3 * i + 1]) for i in range(n)], [int(k) for k in fields["kind"]]
 

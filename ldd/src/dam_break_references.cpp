@@ -163,9 +163,13 @@ void compare_with_thin_film_arrest(const CaseSettings& l, const ThinFilmArrest& 
 
 }  // namespace
 
+bool floor_is_horizontal(const CaseSettings& l) {
+  return l.gravity.size() == 2 && l.gravity[1] < 0 && std::abs(l.gravity[0]) <= 1e-12 * l.gravity_magnitude();
+}
+
 std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l) {
   const double yield_stress = l.fluid.rheology->yield_stress();
-  if (!(yield_stress > 0)) return std::nullopt;
+  if (!(yield_stress > 0) || !floor_is_horizontal(l)) return std::nullopt;
   const auto& scene = std::get<DamBreakScene>(l.scene);
   return thin_film_arrest(scene.reservoir[0] * scene.reservoir[1], yield_stress, l.fluid.density,
                           l.gravity_magnitude());
@@ -177,6 +181,13 @@ void compare_dam_break_front(const CaseSettings& l, const std::vector<double>& f
   const auto& scene = std::get<DamBreakScene>(l.scene);
   const std::string law(l.fluid.rheology->name());
   const double aspect = scene.reservoir[1] / scene.reservoir[0];
+  if (!floor_is_horizontal(l)) {
+    log.info(
+        "no reference for this dam break: gravity [{:g}, {:g}] m/s² is not vertical, and the shallow arrest, "
+        "LDD Table 1 and Martin & Moyce are for a horizontal floor",
+        l.gravity[0], l.gravity[1]);
+    return;
+  }
   if (const auto arrest = dam_break_thin_film_arrest(l))
     compare_with_thin_film_arrest(l, *arrest, scene, front, final_surface, summary, log);
   if (is_table1_release(l, scene)) {

@@ -44,8 +44,11 @@ struct WaterColumnReference {
   return (1 - w) * v[k - 1] + w * v[k];
 }
 
+// Whether gravity points down the y axis: the references (shallow arrest, LDD Table 1, Martin &
+// Moyce) are for a horizontal floor; a tilted gravity (a layer on an incline) has none.
+[[nodiscard]] bool floor_is_horizontal(const CaseSettings& l);
 // The shallow arrest of a dam break's reservoir (ThinFilmArrest, run.hpp); none for a law
-// without a yield stress.
+// without a yield stress or a tilted gravity.
 [[nodiscard]] std::optional<ThinFilmArrest> dam_break_thin_film_arrest(const CaseSettings& l);
 
 // A dam break's free surface at the end of the run: the top of each Δ-wide column, at the

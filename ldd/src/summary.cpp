@@ -141,7 +141,8 @@ void read_cavity_keys(const SummaryReader& r, RunSummary& s) {
 }
 
 void read_dam_break_references(const SummaryReader& r, RunSummary& s) {
-  if (s.yielded_fraction) {  // a yield-stress law: its shallow arrest
+  // A yield-stress law on a horizontal floor: its shallow arrest (absent under a tilted gravity).
+  if (s.yielded_fraction && r.has("thin_film_arrest")) {
     const SummaryReader a = r.object("thin_film_arrest");
     // No fit: the keys are null, or absent (summaries of older revisions).
     s.thin_film_arrest = ThinFilmArrestComparison{a.number("length"),

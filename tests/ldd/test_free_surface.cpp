@@ -27,6 +27,7 @@
 #include "rheosim/ldd/free_surface.hpp"
 #include "rheosim/ldd/run.hpp"
 #include "rheosim/ldd/scenes.hpp"
+#include "rheosim/ldd/summary.hpp"
 
 namespace rheosim::ldd {
 using ::testing::HasSubstr;
@@ -794,6 +795,26 @@ TEST(FreeSurfaceRun, AMaterialThatNeverYieldsIsArrested) {
   EXPECT_TRUE(liquid["yielded_fraction"].is_null());
   EXPECT_TRUE(liquid["largest_stress_ratio"].is_null());
   EXPECT_FALSE(liquid["arrested"].get<bool>());
+}
+
+// A tilted gravity makes the dam-break scene a layer on an incline (bench/ldd_bingham_incline.sh):
+// the horizontal floor's references (the shallow arrest, Table 1, Martin & Moyce) are left out
+// and the summary is still read.
+TEST(FreeSurfaceRun, TiltedGravityHasNoHorizontalFloorReferences) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+      "regularization: 1000}}\ngravity: [2.0, -9.6]\nresolution: {spacing: 0.02}\ntime: {step: 1.0e-3, end: 0.02}\n";
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_tilted_gravity";
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(run_case(ldd::parse_case(text, "incline.yaml"), dir, core::Log::null()).status, "end_time");
+  const auto summary = core::read_json(dir / "summary.json");
+  EXPECT_FALSE(summary.contains("thin_film_arrest"));
+  EXPECT_TRUE(summary["largest_stress_ratio"].is_number());
+  EXPECT_EQ(core::read_csv(dir / "profile.csv").numeric_columns().size(), 2u);  // no shallow arrest beside it
+  const RunSummary read = read_run_summary(dir / "summary.json");
+  EXPECT_FALSE(read.thin_film_arrest.has_value());
+  std::filesystem::remove_all(dir);
 }
 
 // time.stop_at_arrest ends a run once the yield test has held over the given time after the
