@@ -112,9 +112,9 @@ void write_free_surface_plots(const RunSummary& s, RunFolder& run, ReportFiles& 
   if (column_of(table, "largest_stress_ratio") > 0) {
     run.yield_test = true;
     plot("yield_test", "Largest stress over the yield stress vs time",
-         fmt::format("set xlabel 't [s]'\nset ylabel 'max μ(γ̇)γ̇ / τ₀ [-]'\nset logscale y\nset yrange [0.5:*]\nplot "
-                     "'{}' using 1:{} "
-                     "with lines lw 2 title 'largest stress over τ₀', 1 with lines dt 2 lw 2 title 'yield stress'\n",
+         fmt::format("set xlabel 't [s]'\nset ylabel 'max μ(γ̇)γ̇ / τ₀ [-]'\nset logscale y\nset yrange [0.5:*]\n"
+                     "plot '{}' using 1:{} with lines lw 2 title 'largest stress over τ₀', "
+                     "1 with lines dt 2 lw 2 title 'yield stress'\n",
                      probes, col("largest_stress_ratio")));
   }
   plot("energy", "Kinetic energy and released potential energy vs time",

@@ -38,8 +38,8 @@ class SceneRun {
   // The next step, timed into the scene's records; false when it diverged (outcome says why,
   // the solver keeps the last good state). `probed`: the loop probes after it.
   [[nodiscard]] virtual bool step(bool probed, RunOutcome& outcome) = 0;
-  // Records the probes after `step`; a status ("steady", "settled", "arrested", "diverged") ends the run,
-  // outcome.message saying why where there is something to say.
+  // Records the probes after `step`; a status ("steady", "settled", "arrested", "diverged") ends
+  // the run, outcome.message saying why where there is something to say.
   [[nodiscard]] virtual std::optional<std::string> probe(std::size_t step, core::Progress& progress,
                                                          RunOutcome& outcome) = 0;
   // Writes a frame of the current state and its indexes.

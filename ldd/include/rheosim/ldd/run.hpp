@@ -41,8 +41,9 @@
 namespace rheosim::ldd {
 
 struct RunOutcome {
-  std::string status;             // "steady" | "end_time" | "diverged" | "settled" | "arrested" | "interrupted"
-  std::string message;            // why a diverged run stopped
+  // "steady" | "end_time" | "diverged" | "settled" | "arrested" | "interrupted"
+  std::string status;
+  std::string message;            // why a diverged or arrested run stopped
   std::filesystem::path summary;  // summary.json
   std::size_t steps = 0;
   double ms_per_step = 0;
@@ -62,7 +63,8 @@ struct RunControl {
 
 // Throws core::RunError for a scene in a dimension it is not built for (dam_break and column are
 // 2D), core::ConfigError when out_dir holds the checkpoint of another input deck; never throws
-// for divergence (see RunOutcome::status: also "settled" for a slump, "arrested" under time.stop_at_arrest).
+// for divergence (see RunOutcome::status: also "settled" for a slump, "arrested" under
+// time.stop_at_arrest).
 // The probe file a free-surface scene writes beside summary.json: front.csv (dam_break),
 // spread.csv (slump), column.csv (column).
 [[nodiscard]] std::string probe_file_name(std::string_view scene_type);
