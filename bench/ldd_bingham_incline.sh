@@ -74,11 +74,11 @@ for run in sys.argv[3:]:
         top = max(points[3 * i + 1] for i in middle)
         row = [velocity[3 * i] for i in middle if points[3 * i + 1] > top - 0.5 * spacing]
         plug.append(sum(row) / len(row))
-        # The bottom row's stress μ(γ̇)γ̇ against the exact ρ g_x (h − y) at its mean height.
-        bottom = [i for i in middle if points[3 * i + 1] < spacing]
-        y = sum(points[3 * i + 1] for i in bottom) / len(bottom)
-        stress = sum(fields["viscosity"][i] * fields["shear_rate"][i] for i in bottom) / len(bottom)
-        exact = rho * g_x * (height - y)
+    # The last frame's bottom row: its stress μ(γ̇)γ̇ against the exact ρ g_x (h − y) at its mean height.
+    bottom = [i for i in middle if points[3 * i + 1] < spacing]
+    y = sum(points[3 * i + 1] for i in bottom) / len(bottom)
+    stress = sum(fields["viscosity"][i] * fields["shear_rate"][i] for i in bottom) / len(bottom)
+    exact = rho * g_x * (height - y)
     u = plug[-1]
     implied = rho * g_x * (height - math.sqrt(2 * mu_p * max(u, 0.0) / (rho * g_x)))
     print(f"{height:8.4f} {(height - h_c) / spacing:11.2f} {1e3 * u_p:8.3f} "

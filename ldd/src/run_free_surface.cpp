@@ -458,6 +458,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
   // resumed run restores. Returns when the passing probes began.
   [[nodiscard]] std::optional<double> arrested_since() const {
     if (!(l_.arrest_hold_time > 0)) return std::nullopt;
+    // largest_stress_ratio is the probe file's last column (probe_columns).
     const std::size_t rows = history_.row_count(), ratio_column = history_.numeric_columns().size() - 1;
     const auto time_at = [&](std::size_t r) { return history_.row(r)[0]; };
     const double limit = 1.0 + l_.arrest_stress_tolerance;

@@ -74,12 +74,6 @@ TEST(ArrestValidation, BinghamDamBreakStopsNearTheShallowYieldStressArrest) {
   std::filesystem::remove_all(dir);
 }
 
-// The cylinder slump of cases/ldd_slump_pashias.yaml (τ′ = τ₀/(ρgH) = 0.1) at Δ = 10 mm, one
-// thread, 2 s: the run must come to rest (under 0.3 mm of height over its last 0.3 s, measured
-// 0.23 mm; it collapses at ~0.3 m/s) with a slump within 0.03 of Pashias et al.'s s′ = 0.478
-// (measured −0.020 here, −0.027 at Δ = 5 mm; docs/ldd.md "Arrest", where larger τ′ are not within
-// it). A material without its yield stress would flatten to a film (s′ → 1); one that never
-// yielded would keep s′ = 0.
 // A Bingham layer on an incline (the dam-break scene under gravity [2.0, −9.6]; the 2D arrest's
 // material, h_c = τ₀/(ρg_x) = 10 mm): four spacings thicker than h_c, its plug slides at
 // u_p = ρg_x(h − h_c)²/(2μ_p) = 10 mm/s (measured 9.85 mm/s at 0.3 s, −1.5 %; docs/ldd.md,
@@ -126,6 +120,12 @@ TEST(ArrestValidation, BinghamLayerOnAnInclineSlidesAtTheAnalyticPlugVelocity) {
   EXPECT_LT(thin, analytic(0.015));  // held back, not faster
 }
 
+// The cylinder slump of cases/ldd_slump_pashias.yaml (τ′ = τ₀/(ρgH) = 0.1) at Δ = 10 mm, one
+// thread, 2 s: the run must come to rest (under 0.3 mm of height over its last 0.3 s, measured
+// 0.23 mm; it collapses at ~0.3 m/s) with a slump within 0.03 of Pashias et al.'s s′ = 0.478
+// (measured −0.020 here, −0.027 at Δ = 5 mm; docs/ldd.md "Arrest", where larger τ′ are not within
+// it). A material without its yield stress would flatten to a film (s′ → 1); one that never
+// yielded would keep s′ = 0.
 TEST(ArrestValidation, CylinderSlumpStopsNearPashiasSlump) {
   Case c = load_case(std::string(RHEOSIM_SOURCE_DIR) + "/cases/ldd_slump_pashias.yaml");
   c.settings.solver.threads = 1;
