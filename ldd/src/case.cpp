@@ -249,6 +249,11 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
                                            "n·E·n, the viscous normal stress)",
                                            "-"},
                                           "none", "normal");
+  v.wall_face_shear_rate = second_of_two({"wall_viscosity",
+                                          "free surface: viscosity between a fluid and a wall node (mean: the mean of "
+                                          "the two; face_shear_rate: the law at the mean of their shear rates)",
+                                          "-"},
+                                         "mean", "face_shear_rate");
   const auto preconditioner = [&](const KeyInfo& key) -> std::optional<Preconditioner> {
     std::vector<std::string> names = names_in(preconditioner_names);
     names.insert(names.begin(), "auto");
@@ -261,7 +266,7 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
   v.pressure_amg_smoothed = !second_of_two(
       {"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed", "plain");
   for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "pbd_surface", "surface_detection", "dry_walls",
-                          "moment_rcond", "surface_moment_rcond", "viscous_stress", "surface_stress"})
+                          "moment_rcond", "surface_moment_rcond", "viscous_stress", "surface_stress", "wall_viscosity"})
     if (cavity && s.has(key))
       s.fail(
           key,

@@ -95,11 +95,23 @@ void FreeSurfaceSolver::update_viscosity() {
     }
     for (std::size_t k = nb.offsets[i]; k < nb.offsets[i + 1]; ++k) {
       const std::size_t j = nb.indices[k];
-      const double c = 0.5 * (viscosity_[i] + viscosity_[j]) * ops.laplacian[k];
+      const double c = face_viscosity(i, j) * ops.laplacian[k];
       for (std::size_t d = 0; d < dim; ++d)
         transpose_stress_[dim * i + d] -= c * (velocity_[dim * j + d] - velocity_[dim * i + d]);
     }
   });
+}
+
+// The viscosity of the coupling of fluid node i to node j in ∇·(μ∇u): the mean of the two
+// nodes' viscosities, or with solver.wall_viscosity: face_shear_rate, between a fluid and a wall
+// node, the law at the mean of their shear rates (SolverParams::wall_face_shear_rate).
+double FreeSurfaceSolver::face_viscosity(std::size_t i, std::size_t j) const {
+  double viscosity = 0.5 * (viscosity_[i] + viscosity_[j]);
+  if (params_.wall_face_shear_rate && !is_fluid(j)) {
+    const double face_rate = 0.5 * (shear_rate_[i] + shear_rate_[j]);
+    params_.rheology->viscosity(std::span<const double>(&face_rate, 1), std::span<double>(&viscosity, 1));
+  }
+  return viscosity;
 }
 
 // 3. Semi-implicit momentum (eq. 19), one solve per component, into new_velocity_. Returns
@@ -131,7 +143,7 @@ bool FreeSurfaceSolver::solve_momentum(double next_time, StepStats& stats) {
       // 2L on interior rows under solver.viscous_stress: full (update_viscosity).
       const double implicit = params_.transpose_stress && kind == NodeKind::interior ? 2.0 : 1.0;
       for (std::size_t k = begin; k < end; ++k) {
-        const double c = implicit * dt * 0.5 * (viscosity_[i] + viscosity_[nb.indices[k]]) * ops.laplacian[k];
+        const double c = implicit * dt * face_viscosity(i, nb.indices[k]) * ops.laplacian[k];
         momentum_matrix_.off_diagonal[k] = -c;
         sum += c;
       }

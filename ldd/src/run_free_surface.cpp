@@ -502,6 +502,7 @@ SolverParams free_surface_params(const ldd::CaseSettings& l) {
   p.dry_walls = l.solver.dry_walls;
   p.transpose_stress = l.solver.full_viscous_stress;
   p.surface_normal_stress = l.solver.surface_normal_stress;
+  p.wall_face_shear_rate = l.solver.wall_face_shear_rate;
   // auto: AMG (docs/performance.md: 3.4× faster than the per-step LU in the 2 mm dam break, 1.7×
   // faster than Jacobi in the slump). Measured choices: in 2D both hierarchies kept for 50 steps
   // raised the velocity iterations 10 → 16.5 and the coarse dam break diverged with 1e-9

@@ -164,6 +164,7 @@ TEST(Case, LddCavityRefusesTheFreeSurfaceSolverKeys) {
   expect_cavity_refuses("surface_stress", "normal", "leave it out");
   expect_cavity_refuses("pbd_surface", "tangential", "leave it out");
   expect_cavity_refuses("surface_detection", "umbrella", "leave it out");
+  expect_cavity_refuses("wall_viscosity", "face_shear_rate", "leave it out");
 }
 
 TEST(Case, LddChoicesArriveAsEnums) {
@@ -183,7 +184,7 @@ TEST(Case, LddChoicesArriveAsEnums) {
                                         "solver: {gradient: surface_anchored, pbd_velocity: none, dry_walls: exclude, "
                                         "pressure_amg: plain, velocity_preconditioner: lu, viscous_stress: full, "
                                         "surface_stress: normal, pbd_surface: tangential, surface_detection: "
-                                        "umbrella}\n",
+                                        "umbrella, wall_viscosity: face_shear_rate}\n",
                                     "d.yaml")
                              .settings;
   EXPECT_EQ(d.solver.gradient, GradientChoice::surface_anchored);
@@ -197,6 +198,8 @@ TEST(Case, LddChoicesArriveAsEnums) {
   EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.pbd_surface_tangential);  // full
   EXPECT_TRUE(d.solver.surface_umbrella);
   EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.surface_umbrella);  // local
+  EXPECT_TRUE(d.solver.wall_face_shear_rate);
+  EXPECT_FALSE(parse_case(dam_break, "d.yaml").settings.solver.wall_face_shear_rate);  // mean
   EXPECT_EQ(parse_case(dam_break, "d.yaml").settings.solver.dry_walls, DryWalls::include);
   EXPECT_EQ(parse_case(dam_break + "solver: {dry_walls: extrapolate}\n", "e.yaml").settings.solver.dry_walls,
             DryWalls::extrapolate);

@@ -79,15 +79,15 @@ TEST(ArrestValidation, BinghamDamBreakStopsNearTheShallowYieldStressArrest) {
 // u_p = ρg_x(h − h_c)²/(2μ_p) = 10 mm/s (measured 9.85 mm/s at 0.3 s, −1.5 %; docs/ldd.md,
 // "Where the excess strength comes from"). A law that ignored τ₀ would slide at ρg_x h²/(2μ_p) =
 // 40 mm/s, one that froze not at all. Thinner layers are held back (printed: −29 % two
-// spacings above h_c), the deposits' extra strength.
-double plug_velocity(double height) {
+// spacings above h_c), the deposits' extra strength. `extra_solver_keys` join the case's solver keys.
+double plug_velocity(double height, const std::string& extra_solver_keys = "") {
   omp_set_num_threads(1);
   const std::string text = fmt::format(
       "kind: ldd\ndimension: 2\nscene: {{type: dam_break, reservoir: [0.3, {}], channel_length: 0.4}}\n"
       "fluid: {{density: 1000, rheology: {{model: bingham, plastic_viscosity: 10.0, yield_stress: 20.0, "
       "regularization: 1000}}}}\ngravity: [2.0, -9.6]\nresolution: {{spacing: 0.0025}}\n"
-      "time: {{step: 1.0e-3, end: 0.3}}\nsolver: {{velocity_tolerance: 1.0e-6, threads: 1}}\n",
-      height);
+      "time: {{step: 1.0e-3, end: 0.3}}\nsolver: {{velocity_tolerance: 1.0e-6, threads: 1{}}}\n",
+      height, extra_solver_keys.empty() ? "" : ", " + extra_solver_keys);
   const CaseSettings l = parse_case(text, "incline.yaml").settings;
   FreeSurfaceScene scene = dam_break_scene(std::get<DamBreakScene>(l.scene), l.spacing);
   FreeSurfaceSolver solver(free_surface_params(l), std::move(scene.boundaries), std::move(scene.cloud));
@@ -118,6 +118,27 @@ TEST(ArrestValidation, BinghamLayerOnAnInclineSlidesAtTheAnalyticPlugVelocity) {
   EXPECT_NEAR(thick / analytic(0.02), 1.0, 0.03);
   EXPECT_GT(thin, 0.0);
   EXPECT_LT(thin, analytic(0.015));  // held back, not faster
+}
+
+// solver.wall_viscosity: face_shear_rate on the same incline, two spacings above h_c: the law at
+// the mean shear rate of each fluid–wall coupling holds the layer back less than the mean of the
+// two viscosities. The plug velocity implies τ₀ = ρg_x(h − √(2μ_p u/(ρg_x))): +5.2 % here, +8.0 %
+// with the mean (docs/ldd.md, "Where the excess strength comes from"), and the thick layer
+// stays at u_p (−0.9 %).
+TEST(ArrestValidation, WallFaceShearRateHoldsAThinInclineLayerBackLess) {
+  const double rho = 1000, slope_gravity = 2.0, plastic_viscosity = 10, yield_stress = 20;
+  const double critical = yield_stress / (rho * slope_gravity);
+  const std::string option = "wall_viscosity: face_shear_rate";
+  const double thin = plug_velocity(0.015, option), thick = plug_velocity(0.02, option);
+  const double implied =
+      rho * slope_gravity * (0.015 - std::sqrt(2 * plastic_viscosity * thin / (rho * slope_gravity)));
+  const double analytic_thick = rho * slope_gravity * std::pow(0.02 - critical, 2) / (2 * plastic_viscosity);
+  std::printf(
+      "[ measured ] face_shear_rate: h = 15 mm plug %.3f mm/s, implied τ₀ %.3f Pa; h = 20 mm %.3f mm/s (u_p %.3f)\n",
+      1e3 * thin, implied, 1e3 * thick, 1e3 * analytic_thick);
+  EXPECT_GT(implied, yield_stress);  // still held back, not faster than the exact layer
+  EXPECT_LT(implied, 1.065 * yield_stress);
+  EXPECT_NEAR(thick / analytic_thick, 1.0, 0.03);
 }
 
 // The cylinder slump of cases/ldd_slump_pashias.yaml (τ′ = τ₀/(ρgH) = 0.1) at Δ = 10 mm, one

@@ -48,6 +48,9 @@ struct SolverSettings {
   // Free-surface scenes: the surface nodes' pressure, 2μ n·E·n (surface_stress: normal, the
   // traction-free condition's normal part) or p_atm = 0 (none, LDD eq. 17).
   bool surface_normal_stress = false;
+  // Free-surface scenes: the viscosity between a fluid and a wall node, the mean of the two
+  // (wall_viscosity: mean) or the law at the mean of their shear rates (face_shear_rate).
+  bool wall_face_shear_rate = false;
   DryWalls dry_walls = DryWalls::include;  // free-surface scenes: wall nodes above the surface (dry_walls.hpp)
   // Empty: auto, the scene's default (lu: free-surface scenes only).
   std::optional<Preconditioner> pressure_preconditioner, velocity_preconditioner;

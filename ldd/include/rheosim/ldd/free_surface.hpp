@@ -122,6 +122,7 @@ class FreeSurfaceSolver final : public Solver {
   void update_operators(StepStats& stats) override;
   void update_viscosity() override;
   bool solve_momentum(double next_time, StepStats& stats) override;
+  [[nodiscard]] double face_viscosity(std::size_t fluid_node, std::size_t neighbour) const;
   numerics::KrylovResult solve_pressure(StepStats& stats) override;
   Correction correct_velocity() override;
   void commit_and_advect(double next_time) override;

@@ -95,6 +95,14 @@ struct SolverParams {
   // σ·n = 0, with u_{n−1}'s E and the outward normal of the fluid neighbours) instead of p_atm = 0
   // (LDD eq. 17); the no-tension clip keeps it ≥ 0. Case key solver.surface_stress: normal.
   bool surface_normal_stress = false;
+  // The viscosity of the momentum equation's coupling between a fluid node and a wall node: the
+  // law at the mean of their shear rates (true), or the mean of their viscosities (false, as
+  // between fluid nodes). Next to a no-slip wall the shear rate varies linearly across the sheared
+  // layer, and a yield-stress or shear-thinning μ(γ̇) is convex, so the mean viscosity is larger
+  // than the viscosity at the mean rate and holds a thin yielded layer back (docs/ldd.md, "Where
+  // the excess strength comes from"). Identical for a Newtonian fluid. Case key
+  // solver.wall_viscosity: face_shear_rate.
+  bool wall_face_shear_rate = false;
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
   // this, and each step keeps those now within the search radius (the same list a fresh search
   // gives) until some node has moved half of it. 0: a fresh search every step.
