@@ -123,8 +123,8 @@ TEST(ArrestValidation, BinghamLayerOnAnInclineSlidesAtTheAnalyticPlugVelocity) {
 // solver.wall_viscosity: face_shear_rate on the same incline, two spacings above h_c: the law at
 // the mean shear rate of each fluid–wall coupling holds the layer back less than the mean of the
 // two viscosities. The plug velocity implies τ₀ = ρg_x(h − √(2μ_p u/(ρg_x))): +5.2 % here, +8.0 %
-// with the mean (docs/ldd.md, "Where the excess strength comes from"), and the thick layer
-// stays at u_p (−0.9 %).
+// with the mean (docs/ldd.md, "The wall's coupling viscosity"), and the thick layer stays at u_p
+// (−0.9 %).
 TEST(ArrestValidation, WallFaceShearRateHoldsAThinInclineLayerBackLess) {
   const double rho = 1000, slope_gravity = 2.0, plastic_viscosity = 10, yield_stress = 20;
   const double critical = yield_stress / (rho * slope_gravity);

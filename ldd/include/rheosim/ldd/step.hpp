@@ -99,8 +99,8 @@ struct SolverParams {
   // law at the mean of their shear rates (true), or the mean of their viscosities (false, as
   // between fluid nodes). Next to a no-slip wall the shear rate varies linearly across the sheared
   // layer, and a yield-stress or shear-thinning μ(γ̇) is convex, so the mean viscosity is larger
-  // than the viscosity at the mean rate and holds a thin yielded layer back (docs/ldd.md, "Where
-  // the excess strength comes from"). Identical for a Newtonian fluid. Case key
+  // than the viscosity at the mean rate and holds a thin yielded layer back (docs/ldd.md, "The
+  // wall's coupling viscosity"). Identical for a Newtonian fluid. Case key
   // solver.wall_viscosity: face_shear_rate.
   bool wall_face_shear_rate = false;
   // Verlet skin [Δ] of the neighbour list: candidates are searched within the search radius +
