@@ -42,6 +42,8 @@ constexpr std::array<Named<GradientChoice>, 4> gradient_names{{{"auto", Gradient
                                                                {"surface_anchored", GradientChoice::surface_anchored}}};
 constexpr std::array<Named<DryWalls>, 3> dry_walls_names{
     {{"include", DryWalls::include}, {"exclude", DryWalls::exclude}, {"extrapolate", DryWalls::extrapolate}}};
+constexpr std::array<Named<AmgAggregation>, 3> aggregation_names{
+    {{"smoothed", AmgAggregation::smoothed}, {"plain", AmgAggregation::plain}, {"auto", AmgAggregation::automatic}}};
 
 template <class Value, std::size_t N>
 std::optional<Value> value_named(const std::array<Named<Value>, N>& table, std::string_view name) {
@@ -263,8 +265,8 @@ SolverSettings read_solver_settings(const Section& s, std::string_view scene_typ
       preconditioner({"pressure_preconditioner", "preconditioner of the pressure solve (auto: the scene's)", "-"});
   v.velocity_preconditioner =
       preconditioner({"velocity_preconditioner", "preconditioner of the velocity solve (auto: the scene's)", "-"});
-  v.pressure_amg_smoothed = !second_of_two(
-      {"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"}, "smoothed", "plain");
+  v.pressure_amg = choice_or(s, {"pressure_amg", "aggregation of the pressure solve's AMG (free-surface scenes)", "-"},
+                             v.pressure_amg, aggregation_names);
   for (const char* key : {"pressure_amg", "pbd_sweeps", "pbd_velocity", "pbd_surface", "surface_detection", "dry_walls",
                           "moment_rcond", "surface_moment_rcond", "viscous_stress", "surface_stress", "wall_viscosity"})
     if (cavity && s.has(key))

@@ -70,6 +70,13 @@ std::string describe_solver(const SolverSettings& s, bool cavity) {
         : s.gradient == GradientChoice::surface_anchored ? "centred, eq. 14 on free-surface nodes,"
                                                          : "centred",
         s.full_viscous_stress ? "∇·(2μE)" : "∇·(μ∇u)", s.surface_normal_stress ? "2μ n·E·n" : "0");
+  if (!cavity && s.pressure_amg != AmgAggregation::smoothed)
+    out += s.pressure_amg == AmgAggregation::plain
+               ? "  PPE AMG: plain aggregation\n"
+               : fmt::format(
+                     "  PPE AMG: smoothed aggregation until a fresh hierarchy needs more than {} iterations, "
+                     "then plain\n",
+                     auto_aggregation_switch_iterations);
   if (!cavity && s.wall_face_shear_rate)
     out += "  wall viscosity: the law at the mean shear rate of each fluid node and wall node it couples to\n";
   return out;

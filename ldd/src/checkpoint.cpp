@@ -101,7 +101,7 @@ void write_checkpoint(const std::filesystem::path& path, const Case& c, SolverSt
     add(group + "/columns", as_doubles(amg.columns), 1, "");
     add(group + "/counters",
         {static_cast<double>(amg.calls_since_setup), static_cast<double>(amg.reference_iterations),
-         amg.setup_due ? 1.0 : 0.0},
+         amg.setup_due ? 1.0 : 0.0, amg.smoothed.value_or(true) ? 1.0 : 0.0},
         1, "");
   }
   const std::size_t columns = history.numeric_columns().size();
@@ -170,11 +170,13 @@ StoredCheckpoint read_checkpoint(const std::filesystem::path& path, const Case& 
     amg.offsets = from_doubles<std::size_t>(data(group + "/offsets"));
     amg.columns = from_doubles<std::size_t>(data(group + "/columns"));
     const std::vector<double> counters = data(group + "/counters");
-    if (counters.size() != 3)
-      throw core::RunError(fmt::format("checkpoint '{}': {}/counters is not 3 numbers", path.string(), group));
+    // The fourth, the aggregation in use, is absent from checkpoints written before it was kept.
+    if (counters.size() != 3 && counters.size() != 4)
+      throw core::RunError(fmt::format("checkpoint '{}': {}/counters is not 3 or 4 numbers", path.string(), group));
     amg.calls_since_setup = static_cast<int>(counters[0]);
     amg.reference_iterations = static_cast<int>(counters[1]);
     amg.setup_due = counters[2] != 0;
+    if (counters.size() == 4) amg.smoothed.emplace(counters.back() != 0);
   }
   for (const std::string& name : core::hdf5_dataset_names(path, "run"))
     if (name != "history") out.record.series[name] = data("run/" + name);

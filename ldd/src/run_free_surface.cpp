@@ -144,7 +144,8 @@ struct RunRecord {
   double step_seconds = 0;                                  // over all processes that ran the case
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
-  detail::AcceptedSolves accepted;  // solves accepted above their tolerance
+  double pressure_amg_plain_from = -1;  // [s]; < 0: not switched (solver.pressure_amg: auto)
+  detail::AcceptedSolves accepted;      // solves accepted above their tolerance
 };
 
 // RunRecord's numbers and series in the checkpoint, by name.
@@ -160,7 +161,8 @@ constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
     {"pressure_iterations", &RunRecord::pressure_iterations},
     {"velocity_iterations", &RunRecord::velocity_iterations},
     {"repeated_solves", &RunRecord::repeated_solves},
-    {"repeated_with_lu", &RunRecord::repeated_with_lu}};
+    {"repeated_with_lu", &RunRecord::repeated_with_lu},
+    {"pressure_amg_plain_from", &RunRecord::pressure_amg_plain_from}};
 constexpr std::pair<const char*, std::vector<double> RunRecord::*> record_series[] = {
     {"front_time", &RunRecord::front_time},
     {"front", &RunRecord::front},
@@ -177,7 +179,10 @@ detail::RunRecordContent content_of(const RunRecord& r) {
 
 RunRecord record_of(const detail::RunRecordContent& content, const std::filesystem::path& checkpoint) {
   RunRecord r;
-  for (const auto& [name, member] : record_numbers) r.*member = content.number(name, checkpoint);
+  for (const auto& [name, member] : record_numbers)
+    // Checkpoints written before solver.pressure_amg: auto existed do not hold its switch time.
+    if (std::string_view(name) != "pressure_amg_plain_from" || content.numbers.contains(name))
+      r.*member = content.number(name, checkpoint);
   for (const auto& [name, member] : record_series) r.*member = content.values(name, checkpoint);
   r.accepted = detail::accepted_solves_of(content);
   return r;
@@ -261,6 +266,7 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
                                            run.repeated_solves, run.repeated_with_lu));
   for (const auto& w : summary.warnings) log.warn("{}", w);
   summary.repeated_with_lu = static_cast<std::size_t>(run.repeated_with_lu);
+  if (run.pressure_amg_plain_from >= 0) summary.pressure_amg_plain_from = run.pressure_amg_plain_from;
   // Krylov iterations per step (velocity: all components), to compare preconditioners.
   const double steps_done = std::max(1.0, static_cast<double>(solver.steps()));
   summary.pressure_iterations_per_step = run.pressure_iterations / steps_done;
@@ -369,6 +375,13 @@ class FreeSurfaceRun final : public detail::SceneRun {
           "the pressure matrix's sparse LU)",
           solver_.time(), stats_.repeated_solves, stats_.repeated_solves - stats_.repeated_with_lu,
           stats_.repeated_with_lu);
+    }
+    if (stats_.pressure_amg_to_plain) {
+      run_.pressure_amg_plain_from = solver_.time();
+      log_.info(
+          "t = {:.6g} s: a fresh smoothed-aggregation hierarchy needed {} pressure iterations (more than {}): "
+          "plain aggregation from here on (solver.pressure_amg: auto)",
+          solver_.time(), stats_.pressure_iterations, solver_.params().pressure_amg_switch_iterations);
     }
     if (dam_break_) {
       run_.front_time.push_back(solver_.time());
@@ -512,7 +525,9 @@ SolverParams free_surface_params(const ldd::CaseSettings& l) {
   p.pressure_preconditioner = l.solver.pressure_preconditioner.value_or(Preconditioner::amg);
   p.velocity_preconditioner = l.solver.velocity_preconditioner.value_or(Preconditioner::amg);
   p.pressure_amg.unit_diagonal = l.dimension == 3;
-  p.pressure_amg.smoothed = l.solver.pressure_amg_smoothed;
+  p.pressure_amg.smoothed = l.solver.pressure_amg != AmgAggregation::plain;
+  if (l.solver.pressure_amg == AmgAggregation::automatic)
+    p.pressure_amg_switch_iterations = auto_aggregation_switch_iterations;
   // 2D: the velocity hierarchy is rebuilt every step (μ(γ̇) changes fast; reused, its iterations
   // rose 8.7 → 12 per step and the saving vanished), the PPE's is kept for 4 steps (the Δ = 2 mm
   // dam break's first 0.3 s: pressure 85 → 58 ms/step, 6.6 → 7.4 iterations, front equal to

@@ -80,6 +80,7 @@ void add_free_surface_keys(const RunSummary& s, Json& j) {
   j["repeated_solves"] = s.repeated_solves;
   j["warnings"] = s.warnings;
   j["repeated_with_lu"] = s.repeated_with_lu;  // of which; the rest with a fresh AMG hierarchy
+  j["pressure_amg_plain_from"] = value_or_null(s.pressure_amg_plain_from);
   j["iterations_per_step"] = {{"pressure", s.pressure_iterations_per_step},
                               {"velocity", s.velocity_iterations_per_step}};
   j["neighbour_searches"] = s.neighbour_searches;
@@ -179,6 +180,7 @@ void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
   s.energy_gain = r.number_or_null("energy_gain");
   s.repeated_solves = r.count("repeated_solves");
   s.repeated_with_lu = r.count("repeated_with_lu");
+  s.pressure_amg_plain_from = r.optional_number("pressure_amg_plain_from");
   const SummaryReader iterations = r.object("iterations_per_step");
   s.pressure_iterations_per_step = iterations.number("pressure");
   s.velocity_iterations_per_step = iterations.number("velocity");

@@ -561,6 +561,11 @@ void AmgPreconditioner::record_iterations(int iterations) {
   if (static_cast<double>(iterations) > settings_.reuse_growth * std::max(reference_iterations_, 1)) setup_due_ = true;
 }
 
+void AmgPreconditioner::use_plain_aggregation() {
+  settings_.smoothed = false;
+  setup_due_ = true;
+}
+
 void AmgPreconditioner::apply(std::span<const double> r, std::span<double> z) {
   if (!hierarchy_) throw std::logic_error("AMG: apply() before setup()");
   if (r.size() != z.size() || r.size() != hierarchy_->levels.front().a.size())
@@ -581,11 +586,13 @@ AmgState AmgPreconditioner::state() const {
   s.calls_since_setup = calls_since_setup_;
   s.reference_iterations = reference_iterations_;
   s.setup_due = setup_due_;
+  s.smoothed = settings_.smoothed;
   return s;
 }
 
 void AmgPreconditioner::restore(const AmgState& state) {
   hierarchy_.reset();
+  if (state.smoothed) settings_.smoothed = *state.smoothed;
   kept_ = AmgState{};
   if (!state.empty()) {
     NeighbourList pattern;

@@ -203,7 +203,18 @@ TEST(Case, LddChoicesArriveAsEnums) {
   EXPECT_EQ(parse_case(dam_break, "d.yaml").settings.solver.dry_walls, DryWalls::include);
   EXPECT_EQ(parse_case(dam_break + "solver: {dry_walls: extrapolate}\n", "e.yaml").settings.solver.dry_walls,
             DryWalls::extrapolate);
-  EXPECT_FALSE(d.solver.pressure_amg_smoothed);
+  EXPECT_EQ(d.solver.pressure_amg, AmgAggregation::plain);
+  EXPECT_EQ(parse_case(dam_break, "d.yaml").settings.solver.pressure_amg, AmgAggregation::smoothed);
+  EXPECT_EQ(parse_case(dam_break + "solver: {pressure_amg: auto}\n", "a.yaml").settings.solver.pressure_amg,
+            AmgAggregation::automatic);
+  try {
+    (void)parse_case(dam_break + "solver: {pressure_amg: smooth}\n", "s.yaml");
+    ADD_FAILURE() << "pressure_amg: smooth was accepted";
+  } catch (const core::ConfigError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("s.yaml:8:24: solver.pressure_amg"));
+    EXPECT_THAT(e.what(), HasSubstr("one of: smoothed, plain, auto"));
+    EXPECT_THAT(e.what(), HasSubstr("did you mean 'smoothed'"));
+  }
   EXPECT_EQ(d.solver.velocity_preconditioner, Preconditioner::sparse_lu);
   EXPECT_FALSE(d.solver.pressure_preconditioner.has_value());  // auto: the scene's own
   // The names the benchmarks' command lines use are the case file's, and nothing else.

@@ -297,6 +297,45 @@ TEST(FreeSurface, BulkDensityRatioSeesACompressedBody) {
   EXPECT_GT(solver.bulk_density_ratio(), 1.02);
 }
 
+// solver.pressure_amg: auto (SolverParams::pressure_amg_switch_iterations): a pressure solve on a
+// hierarchy set up in the same step that needs more iterations than the limit turns the PPE's AMG
+// to plain aggregation for the rest of the run, once; the choice is part of the state, so a
+// restored solver continues on plain aggregation bit for bit. A limit of 1 switches at the first
+// step of a column started from p = 0; 0 never switches.
+TEST(FreeSurface, AutoAggregationTurnsThePressureAmgPlainOnceAndKeepsItThroughARestore) {
+  const double dx = 0.01;
+  const auto params = [&](int switch_iterations) {
+    SolverParams p = column_params(dx, 1e-3, 1.0);
+    p.pressure_preconditioner = p.velocity_preconditioner = Preconditioner::amg;
+    p.pressure_amg.reuse_steps = 4;
+    p.pressure_amg_switch_iterations = switch_iterations;
+    return p;
+  };
+  FreeSurfaceScene scene = column_scene(column(0.2, 0.3), dx);
+  FreeSurfaceSolver never(params(0), scene.boundaries, scene.cloud);
+  EXPECT_FALSE(never.step().pressure_amg_to_plain);
+  ASSERT_TRUE(never.state().pressure_amg.smoothed.has_value());
+  EXPECT_TRUE(*never.state().pressure_amg.smoothed);
+
+  FreeSurfaceSolver switched(params(1), scene.boundaries, scene.cloud);
+  const StepStats first = switched.step();
+  EXPECT_GT(first.pressure_iterations, 1);
+  EXPECT_TRUE(first.pressure_amg_to_plain);
+  EXPECT_FALSE(*switched.state().pressure_amg.smoothed);
+  EXPECT_FALSE(switched.step().pressure_amg_to_plain);  // once
+  const SolverState state = switched.state();
+  FreeSurfaceSolver restored(params(1), scene.boundaries, scene.cloud);
+  restored.restore(state);
+  EXPECT_FALSE(*restored.state().pressure_amg.smoothed);
+  for (int k = 0; k < 3; ++k) {
+    const StepStats a = switched.step(), b = restored.step();
+    EXPECT_EQ(a.pressure_iterations, b.pressure_iterations);
+    EXPECT_FALSE(b.pressure_amg_to_plain);
+  }
+  EXPECT_TRUE(std::ranges::equal(switched.positions(), restored.positions()));
+  EXPECT_TRUE(std::ranges::equal(switched.pressure(), restored.pressure()));
+}
+
 TEST(FreeSurface, AmgPreconditionersMatchTheSparseLuRun) {
   const double dx = 0.005;
   const auto run = [&](Preconditioner preconditioner) {

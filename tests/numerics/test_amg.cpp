@@ -247,6 +247,43 @@ TEST(Amg, RestoredStateRebuildsTheKeptHierarchy) {
   EXPECT_TRUE(fresh.state().empty());  // nothing set up yet
 }
 
+// use_plain_aggregation() makes the next prepare() a set-up with plain aggregation (the hierarchy
+// of a fresh plain preconditioner, bit for bit), and the choice travels with state().
+TEST(Amg, PlainAggregationFromTheNextSetUpTravelsWithTheState) {
+  const Problem before = meshless_laplacian(jittered(60, 0.2, 3));
+  const Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+  AmgSettings settings;
+  settings.reuse_steps = 3;
+  AmgPreconditioner switched(settings);
+  EXPECT_TRUE(switched.prepare(before.a));
+  EXPECT_TRUE(switched.smoothed());
+  EXPECT_TRUE(switched.state().smoothed.value_or(false));
+  switched.use_plain_aggregation();
+  EXPECT_FALSE(switched.smoothed());
+  EXPECT_TRUE(switched.prepare(after.a));  // due at once, not after reuse_steps
+  AmgSettings plain_settings = settings;
+  plain_settings.smoothed = false;
+  AmgPreconditioner plain(plain_settings);
+  plain.setup(after.a);
+  std::vector<double> z_switched(after.b.size()), z_plain(after.b.size()), z_smoothed(after.b.size());
+  switched.apply(after.b, z_switched);
+  plain.apply(after.b, z_plain);
+  EXPECT_EQ(z_switched, z_plain);
+  AmgPreconditioner smoothed(settings);
+  smoothed.setup(after.a);
+  smoothed.apply(after.b, z_smoothed);
+  EXPECT_NE(z_switched, z_smoothed);  // the two aggregations differ on this matrix
+  const AmgState state = switched.state();
+  ASSERT_TRUE(state.smoothed.has_value());
+  EXPECT_FALSE(*state.smoothed);
+  AmgPreconditioner restored(settings);  // configured smoothed, restored plain
+  restored.restore(state);
+  EXPECT_FALSE(restored.smoothed());
+  std::vector<double> z_restored(after.b.size());
+  restored.apply(after.b, z_restored);
+  EXPECT_EQ(z_restored, z_plain);
+}
+
 // Strong connections are symmetrised whether or not the pattern is: a matrix whose zero entries
 // (i, i+1) are explicit (structurally symmetric: the parallel reverse-entry lookup) and the same
 // matrix with those entries left out (a strong (i+1, i) without its reverse: the serial scatter)

@@ -21,6 +21,13 @@ namespace rheosim::ldd {
 // solver.gradient: the gradient operator (auto: centred for free-surface scenes, LDD eq. 14 for
 // cavities; surface_anchored: centred in the interior, eq. 14 on free-surface nodes).
 enum class GradientChoice { automatic, centred, renormalised, surface_anchored };
+enum class AmgAggregation { smoothed, plain, automatic };  // solver.pressure_amg
+// pressure_amg: auto turns to plain aggregation once a pressure solve on a smoothed hierarchy set
+// up in the same step needs more iterations than this. Smoothed aggregation needs fewer on compact
+// flows (the 2 mm dam break's first 0.3 s: 7.2 against plain's 12.8), plain on thinned layers,
+// where smoothed climbs past 40 and to ~100 a step (the 1.25 mm arrest by 1.5 s) while plain stays
+// near 10 (docs/ldd.md, "Linear solvers").
+constexpr int auto_aggregation_switch_iterations = 30;
 
 // solver: — numerical settings of the LDD solver (all optional; step.hpp, cavity_solver.hpp and
 // free_surface.hpp document them).
@@ -54,10 +61,11 @@ struct SolverSettings {
   DryWalls dry_walls = DryWalls::include;  // free-surface scenes: wall nodes above the surface (dry_walls.hpp)
   // Empty: auto, the scene's default (lu: free-surface scenes only).
   std::optional<Preconditioner> pressure_preconditioner, velocity_preconditioner;
-  // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default) or plain
+  // Free-surface scenes, the pressure solve's AMG: smoothed aggregation (the default), plain
   // (piecewise-constant) aggregation, which keeps the PPE's iterations flat when the flow has
-  // thinned into a spread-out layer (docs/ldd.md, the dam break's late steps).
-  bool pressure_amg_smoothed = true;
+  // thinned into a spread-out layer (docs/ldd.md, the dam break's late steps), or smoothed until a
+  // fresh smoothed hierarchy needs more than AmgAggregation's switch count, then plain (auto).
+  AmgAggregation pressure_amg = AmgAggregation::smoothed;
 };
 
 // output: — what a run writes and how often (all optional).

@@ -44,6 +44,9 @@ struct SolverParams {
   Preconditioner pressure_preconditioner = Preconditioner::sparse_lu;
   Preconditioner velocity_preconditioner = Preconditioner::sparse_lu;
   numerics::AmgSettings pressure_amg, velocity_amg;  // when the preconditioner is amg
+  // Free surface, smoothed pressure AMG: plain aggregation from the next set-up on once a solve on
+  // a hierarchy set up in the same step needs more than this many iterations (0: never).
+  int pressure_amg_switch_iterations = 0;
 
   // Cavity: U [m/s] and L [m]: the PPE also stops when the RMS divergence left is
   // < pressure_tolerance·U/L; how the velocity returns to the lattice (node_reordering.hpp).
@@ -153,6 +156,8 @@ struct StepStats {
   // preconditioner (the failed iterations are counted in the totals).
   int repeated_solves = 0;
   int repeated_with_lu = 0;  // of which: pressure solves repeated with the sparse LU (the rest: fresh AMG)
+  // solver.pressure_amg: auto turned the pressure AMG to plain aggregation after this step's solve.
+  bool pressure_amg_to_plain = false;
   // SolverParams::stability_probe_iterations > 0: largest growth factor per step of the
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;

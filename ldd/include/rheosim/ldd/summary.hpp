@@ -138,6 +138,9 @@ struct RunSummary {
   MaybeNumber bulk_compression;
   MaybeNumber energy_gain;  // empty for a resting column
   std::size_t repeated_solves = 0, repeated_with_lu = 0;
+  // solver.pressure_amg: auto: the time from which the pressure AMG used plain aggregation (empty:
+  // smoothed throughout, or not auto).
+  MaybeNumber pressure_amg_plain_from;
   double pressure_iterations_per_step = 0, velocity_iterations_per_step = 0;
   std::size_t neighbour_searches = 0;
   std::vector<FrontSample> front;                            // dam break

@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -58,6 +59,7 @@ struct AmgState {
   int calls_since_setup = 0;
   int reference_iterations = -1;
   bool setup_due = true;
+  std::optional<bool> smoothed;  // the aggregation in use (empty: the settings')
   [[nodiscard]] bool empty() const { return diagonal.empty(); }
 };
 
@@ -75,6 +77,9 @@ class AmgPreconditioner {
   bool prepare(const StencilMatrix& a);
   // Iterations of the Krylov solve that used the hierarchy (drives the reuse policy).
   void record_iterations(int iterations);
+  // Plain aggregation from the next set-up on (which becomes due now).
+  void use_plain_aggregation();
+  [[nodiscard]] bool smoothed() const { return settings_.smoothed; }
 
   // z = M⁻¹ r, one V-cycle from z = 0.
   void apply(std::span<const double> r, std::span<double> z);
