@@ -169,8 +169,6 @@ TEST(Amg, MeshlessLaplacianOnAJitteredCloudMatchesTheJacobiSolve) {
   EXPECT_LT(difference, 1e-6 * largest) << difference << " of " << largest;
 }
 
-// A hierarchy built on one cloud still preconditions the matrix of the cloud moved a little
-// (what the free-surface solver relies on between set-ups), and prepare() rebuilds when due.
 // A jittered(cells, ...) cloud one Lagrangian step later: every interior node moved by up to
 // ±0.05 Δ more.
 Cloud moved_on(Cloud c, std::size_t cells) {
@@ -179,9 +177,18 @@ Cloud moved_on(Cloud c, std::size_t cells) {
   return c;
 }
 
+// The meshless Laplacians of a 60² jittered cloud and of the same cloud one step later.
+struct CloudStep {
+  Problem before = meshless_laplacian(jittered(60, 0.2, 3));
+  Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+};
+
+// A hierarchy built on one cloud still preconditions the matrix of the cloud moved a little
+// (what the free-surface solver relies on between set-ups), and prepare() rebuilds when due.
 TEST(Amg, ReusedHierarchyPreconditionsAMovedCloud) {
-  const Problem before = meshless_laplacian(jittered(60, 0.2, 3));
-  const Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+  const CloudStep cloud;
+  const Problem& before = cloud.before;
+  const Problem& after = cloud.after;
 
   AmgSettings settings;
   settings.reuse_steps = 2;
@@ -216,8 +223,9 @@ TEST(Amg, RepeatedApplicationsAreBitIdentical) {
 // the moved cloud the restored one, reusing its coarse levels like the original, preconditions
 // bit for bit the same, and its reuse counters carry on (the next prepare() is a set-up in both).
 TEST(Amg, RestoredStateRebuildsTheKeptHierarchy) {
-  const Problem before = meshless_laplacian(jittered(60, 0.2, 3));
-  const Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+  const CloudStep cloud;
+  const Problem& before = cloud.before;
+  const Problem& after = cloud.after;
   AmgSettings settings;
   settings.reuse_steps = 3;
   AmgPreconditioner original(settings);
@@ -250,28 +258,27 @@ TEST(Amg, RestoredStateRebuildsTheKeptHierarchy) {
 // use_plain_aggregation() makes the next prepare() a set-up with plain aggregation (the hierarchy
 // of a fresh plain preconditioner, bit for bit), and the choice travels with state().
 TEST(Amg, PlainAggregationFromTheNextSetUpTravelsWithTheState) {
-  const Problem before = meshless_laplacian(jittered(60, 0.2, 3));
-  const Problem after = meshless_laplacian(moved_on(jittered(60, 0.2, 3), 60));
+  const CloudStep cloud;
   AmgSettings settings;
   settings.reuse_steps = 3;
   AmgPreconditioner switched(settings);
-  EXPECT_TRUE(switched.prepare(before.a));
+  EXPECT_TRUE(switched.prepare(cloud.before.a));
   EXPECT_TRUE(switched.smoothed());
   EXPECT_TRUE(switched.state().smoothed.value_or(false));
   switched.use_plain_aggregation();
   EXPECT_FALSE(switched.smoothed());
-  EXPECT_TRUE(switched.prepare(after.a));  // due at once, not after reuse_steps
+  EXPECT_TRUE(switched.prepare(cloud.after.a));  // due at once, not after reuse_steps
   AmgSettings plain_settings = settings;
   plain_settings.smoothed = false;
   AmgPreconditioner plain(plain_settings);
-  plain.setup(after.a);
-  std::vector<double> z_switched(after.b.size()), z_plain(after.b.size()), z_smoothed(after.b.size());
-  switched.apply(after.b, z_switched);
-  plain.apply(after.b, z_plain);
+  plain.setup(cloud.after.a);
+  std::vector<double> z_switched(cloud.after.b.size()), z_plain(cloud.after.b.size()), z_smoothed(cloud.after.b.size());
+  switched.apply(cloud.after.b, z_switched);
+  plain.apply(cloud.after.b, z_plain);
   EXPECT_EQ(z_switched, z_plain);
   AmgPreconditioner smoothed(settings);
-  smoothed.setup(after.a);
-  smoothed.apply(after.b, z_smoothed);
+  smoothed.setup(cloud.after.a);
+  smoothed.apply(cloud.after.b, z_smoothed);
   EXPECT_NE(z_switched, z_smoothed);  // the two aggregations differ on this matrix
   const AmgState state = switched.state();
   ASSERT_TRUE(state.smoothed.has_value());
@@ -279,8 +286,8 @@ TEST(Amg, PlainAggregationFromTheNextSetUpTravelsWithTheState) {
   AmgPreconditioner restored(settings);  // configured smoothed, restored plain
   restored.restore(state);
   EXPECT_FALSE(restored.smoothed());
-  std::vector<double> z_restored(after.b.size());
-  restored.apply(after.b, z_restored);
+  std::vector<double> z_restored(cloud.after.b.size());
+  restored.apply(cloud.after.b, z_restored);
   EXPECT_EQ(z_restored, z_plain);
 }
 
