@@ -320,9 +320,11 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
                        params_.max_iterations,
                        {}};
   const bool pressure_amg = params_.pressure_preconditioner == Preconditioner::amg;
-  bool pressure_hierarchy_fresh = set_preconditioner(params_.pressure_preconditioner, dimension(), pressure_matrix_,
-                                                     solves.pressure_lu, pressure_amg_, pressure_settings);
+  const bool pressure_hierarchy_fresh =
+      set_preconditioner(params_.pressure_preconditioner, dimension(), pressure_matrix_, solves.pressure_lu,
+                         pressure_amg_, pressure_settings);
   auto pressure_result = numerics::bicgstab(pressure_matrix_, rhs_, increment_, pressure_settings, krylov_);
+  int fresh_hierarchy_iterations = pressure_hierarchy_fresh ? pressure_result.iterations : 0;
   const auto repeat_pressure_solve = [&] {
     ++stats.repeated_solves;
     increment_.assign(n, 0.0);
@@ -333,8 +335,9 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
   if (!pressure_result.converged && pressure_amg && !pressure_hierarchy_fresh) {
     // As for the velocity: the kept hierarchy was built for an older cloud and classification.
     pressure_amg_.setup(pressure_matrix_);
-    pressure_hierarchy_fresh = true;
+    const int failed_iterations = pressure_result.iterations;
     repeat_pressure_solve();
+    fresh_hierarchy_iterations = pressure_result.iterations - failed_iterations;
   }
   if (!pressure_result.converged && !(pressure_result.relative_residual < 1e3 * params_.pressure_tolerance) &&
       dimension() == 2 && params_.pressure_preconditioner != Preconditioner::sparse_lu &&
@@ -345,11 +348,10 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
     repeat_pressure_solve();
   }
   if (pressure_amg) pressure_amg_.record_iterations(pressure_result.iterations);
-  if (pressure_amg && pressure_hierarchy_fresh && params_.pressure_amg_switch_iterations > 0 &&
-      pressure_amg_.smoothed() && stats.repeated_with_lu == 0 &&
-      pressure_result.iterations > params_.pressure_amg_switch_iterations) {
+  if (pressure_amg && params_.pressure_amg_switch_iterations > 0 && pressure_amg_.smoothed() &&
+      stats.repeated_with_lu == 0 && fresh_hierarchy_iterations > params_.pressure_amg_switch_iterations) {
     pressure_amg_.use_plain_aggregation();
-    stats.pressure_amg_to_plain = true;
+    stats.pressure_amg_to_plain = fresh_hierarchy_iterations;
   }
   stats.pressure_iterations = pressure_result.iterations;
   stats.pressure_residual = pressure_result.relative_residual;

@@ -376,12 +376,12 @@ class FreeSurfaceRun final : public detail::SceneRun {
           solver_.time(), stats_.repeated_solves, stats_.repeated_solves - stats_.repeated_with_lu,
           stats_.repeated_with_lu);
     }
-    if (stats_.pressure_amg_to_plain) {
+    if (stats_.pressure_amg_to_plain > 0) {
       run_.pressure_amg_plain_from = solver_.time();
       log_.info(
           "t = {:.6g} s: a fresh smoothed-aggregation hierarchy needed {} pressure iterations (more than {}): "
           "plain aggregation from here on (solver.pressure_amg: auto)",
-          solver_.time(), stats_.pressure_iterations, solver_.params().pressure_amg_switch_iterations);
+          solver_.time(), stats_.pressure_amg_to_plain, solver_.params().pressure_amg_switch_iterations);
     }
     if (dam_break_) {
       run_.front_time.push_back(solver_.time());

@@ -156,8 +156,9 @@ struct StepStats {
   // preconditioner (the failed iterations are counted in the totals).
   int repeated_solves = 0;
   int repeated_with_lu = 0;  // of which: pressure solves repeated with the sparse LU (the rest: fresh AMG)
-  // solver.pressure_amg: auto turned the pressure AMG to plain aggregation after this step's solve.
-  bool pressure_amg_to_plain = false;
+  // solver.pressure_amg: auto turned the pressure AMG to plain aggregation after this step's solve:
+  // the iterations of the solve on the step's fresh smoothed hierarchy that did it (0: no switch).
+  int pressure_amg_to_plain = 0;
   // SolverParams::stability_probe_iterations > 0: largest growth factor per step of the
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;
