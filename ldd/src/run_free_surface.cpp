@@ -161,7 +161,10 @@ constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
     {"pressure_iterations", &RunRecord::pressure_iterations},
     {"velocity_iterations", &RunRecord::velocity_iterations},
     {"repeated_solves", &RunRecord::repeated_solves},
-    {"repeated_with_lu", &RunRecord::repeated_with_lu},
+    {"repeated_with_lu", &RunRecord::repeated_with_lu}};
+// Numbers that checkpoints of earlier rheosim revisions do not hold: absent, the member keeps its
+// default.
+constexpr std::pair<const char*, double RunRecord::*> later_record_numbers[] = {
     {"pressure_amg_plain_from", &RunRecord::pressure_amg_plain_from}};
 constexpr std::pair<const char*, std::vector<double> RunRecord::*> record_series[] = {
     {"front_time", &RunRecord::front_time},
@@ -172,6 +175,7 @@ constexpr std::pair<const char*, std::vector<double> RunRecord::*> record_series
 detail::RunRecordContent content_of(const RunRecord& r) {
   detail::RunRecordContent content;
   for (const auto& [name, member] : record_numbers) content.numbers[name] = r.*member;
+  for (const auto& [name, member] : later_record_numbers) content.numbers[name] = r.*member;
   for (const auto& [name, member] : record_series) content.series[name] = r.*member;
   detail::add_accepted_solves(r.accepted, content);
   return content;
@@ -179,10 +183,9 @@ detail::RunRecordContent content_of(const RunRecord& r) {
 
 RunRecord record_of(const detail::RunRecordContent& content, const std::filesystem::path& checkpoint) {
   RunRecord r;
-  for (const auto& [name, member] : record_numbers)
-    // Checkpoints written before solver.pressure_amg: auto existed do not hold its switch time.
-    if (std::string_view(name) != "pressure_amg_plain_from" || content.numbers.contains(name))
-      r.*member = content.number(name, checkpoint);
+  for (const auto& [name, member] : record_numbers) r.*member = content.number(name, checkpoint);
+  for (const auto& [name, member] : later_record_numbers)
+    if (const auto it = content.numbers.find(name); it != content.numbers.end()) r.*member = it->second;
   for (const auto& [name, member] : record_series) r.*member = content.values(name, checkpoint);
   r.accepted = detail::accepted_solves_of(content);
   return r;
