@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The compression of an LDD free-surface run's bulk, from its node frames (docs/ldd.md, "Water column").
 
-    bench/ldd_bulk_density.py RUN_DIR [--smoothing-ratio R]
+    bench/ldd_bulk_density.py RUN_DIR [--smoothing-ratio R] [--disk-radius N]
 
 RUN_DIR is a finished `rheosim run` (or bench_ldd run) folder of a 2D free-surface case: its
 case.yaml (resolution.spacing) and frames/nodes_*.vtk (legacy binary VTK: positions, kind). For
@@ -15,7 +15,10 @@ whether and where the bulk is compressed. How much, it prints the area under the
 free surface (in each Δ-wide column, the top fluid node plus Δ/2 above the lowest fluid node less
 Δ/2), which is the fluid's area while the surface is single-valued (no overturning jet, no splash
 above a void). The run's own `volume_drift` counts every node near the surface too, where the
-truncated sums read as expansion.
+truncated sums read as expansion. Last, the bulk's nodes per Δ², counted in disks of
+--disk-radius spacings (default 4) that hold no free-surface, splash or wall node: a count that,
+unlike the kernel sum, does not depend on the nodes' arrangement (the first frame's lattice reads
+1.000).
 """
 import argparse
 import glob
@@ -110,10 +113,47 @@ def kernel_sums(points, h):
     return sums, neighbours
 
 
+def bulk_number_density(points, kinds, spacing, radius):
+    """Nodes per Δ² in disks of the bulk: disks of `radius` centred on a grid of step 1.37 Δ (not
+    commensurate with the initial lattice, so the centres sample every offset within a cell and a
+    lattice reads 1), those that hold no free-surface, splash or wall node and at least one
+    interior node. Unlike a kernel sum, a count over a disk does not depend on how the nodes are
+    arranged, only on how many there are. Returns (density, disks)."""
+    grid = {}
+    for i, (x, y) in enumerate(points):
+        grid.setdefault((math.floor(x / radius), math.floor(y / radius)), []).append(i)
+    xs = [x for x, _ in points]
+    ys = [y for _, y in points]
+    step = 1.37 * spacing
+    total, disks = 0, 0
+    y = min(ys)
+    while y < max(ys):
+        x = min(xs)
+        while x < max(xs):
+            cx, cy = math.floor(x / radius), math.floor(y / radius)
+            count, open_disk = 0, False
+            for gx in (cx - 1, cx, cx + 1):
+                for gy in (cy - 1, cy, cy + 1):
+                    for j in grid.get((gx, gy), ()):
+                        if math.hypot(points[j][0] - x, points[j][1] - y) < radius:
+                            if kinds[j] != KINDS["interior"]:
+                                open_disk = True
+                            count += 1
+            if count > 0 and not open_disk:
+                total += count
+                disks += 1
+            x += step
+        y += step
+    if disks == 0:
+        return None, 0
+    return total / disks * spacing * spacing / (math.pi * radius * radius), disks
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run_dir")
     parser.add_argument("--smoothing-ratio", type=float, default=1.6)
+    parser.add_argument("--disk-radius", type=float, default=4.0, help="in spacings (the disk count's radius)")
     args = parser.parse_args()
     case = open(os.path.join(args.run_dir, "case.yaml")).read()
     match = re.search(r"spacing:\s*([0-9.eE+-]+)", case)
@@ -127,11 +167,13 @@ def main():
     fluid_kinds = (KINDS["interior"], KINDS["surface"], KINDS["splash"])
     open_kinds = (KINDS["surface"], KINDS["splash"])
     rest = None
+    radius = args.disk_radius * spacing
     print(f"{args.run_dir}: bulk kernel density, Δ = {spacing} m, h = {h:.4g} m")
     print(
-        "| frame | fluid nodes | bulk nodes | bulk ρ̄/ρ₀ − 1 | largest |ρ/ρ₀ − 1| | area under the surface, vs first frame |"
+        "| frame | fluid nodes | bulk nodes | bulk ρ̄/ρ₀ − 1 | largest |ρ/ρ₀ − 1| | area under the surface, vs first frame "
+        "| bulk nodes per Δ² (disks) |"
     )
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
     area0 = None
     worst = 0.0
     for path in frames:
@@ -154,15 +196,17 @@ def main():
         if area0 is None:
             area0 = area
         area_change = f"{100 * (area / area0 - 1):+.2f} %"
+        density, disks = bulk_number_density(points, kinds, spacing, radius)
+        disk_change = "" if density is None else f"{density:.3f} ({disks} disks)"
         if not bulk:
-            print(f"| {os.path.basename(path)} | {len(fluid)} | 0 | | | {area_change} |")
+            print(f"| {os.path.basename(path)} | {len(fluid)} | 0 | | | {area_change} | {disk_change} |")
             continue
         mean = sum(sums[i] for i in bulk) / len(bulk)
         largest = max(abs(sums[i] / rest - 1) for i in bulk)
         worst = max(worst, abs(mean / rest - 1))
         print(
             f"| {os.path.basename(path)} | {len(fluid)} | {len(bulk)} | {100 * (mean / rest - 1):+.2f} % | "
-            f"{100 * largest:.1f} % | {area_change} |"
+            f"{100 * largest:.1f} % | {area_change} | {disk_change} |"
         )
     print(f"largest departure of the bulk's mean kernel sum from ρ₀: {100 * worst:.2f} %")
 
