@@ -196,6 +196,84 @@ double FreeSurfaceSolver::bulk_density_ratio() const {
   return count > 0 ? sum / static_cast<double>(count) : 1.0;
 }
 
+std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
+  const auto dim = static_cast<std::size_t>(dimension());
+  const double radius = bulk_ball_radius * params_.spacing, step = bulk_ball_step * params_.spacing;
+  // Cells of side `radius`: a ball meets the 3^d cells about its centre's.
+  double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
+  bool any = false;
+  for (std::size_t i = 0; i < kinds_.size(); ++i) {
+    if (!is_fluid(i)) continue;
+    for (std::size_t d = 0; d < dim; ++d) {
+      const double x = positions_[dim * i + d];
+      low[d] = any ? std::min(low[d], x) : x;
+      high[d] = any ? std::max(high[d], x) : x;
+    }
+    any = true;
+  }
+  if (!any) return std::nullopt;
+  std::size_t cells[3] = {1, 1, 1};
+  for (std::size_t d = 0; d < dim; ++d)
+    cells[d] = static_cast<std::size_t>((high[d] - low[d]) / radius) + 3;  // one cell of margin each side
+  const auto cell_of = [&](const double* x, std::size_t d) {
+    return static_cast<std::ptrdiff_t>(std::floor((x[d] - low[d]) / radius)) + 1;
+  };
+  const auto index = [&](const std::ptrdiff_t* c) {
+    std::size_t k = 0;
+    for (std::size_t d = dim; d-- > 0;) k = k * cells[d] + static_cast<std::size_t>(c[d]);
+    return k;
+  };
+  // Every node inside the margin cells (wall nodes beyond them cannot reach a counted ball).
+  std::vector<std::vector<std::size_t>> members(cells[0] * cells[1] * cells[2]);
+  for (std::size_t i = 0; i < kinds_.size(); ++i) {
+    std::ptrdiff_t c[3] = {0, 0, 0};
+    bool inside = true;
+    for (std::size_t d = 0; d < dim; ++d) {
+      c[d] = cell_of(&positions_[dim * i], d);
+      inside = inside && c[d] >= 0 && c[d] < static_cast<std::ptrdiff_t>(cells[d]);
+    }
+    if (inside) members[index(c)].push_back(i);
+  }
+  std::size_t steps[3] = {1, 1, 1};
+  for (std::size_t d = 0; d < dim; ++d) steps[d] = static_cast<std::size_t>((high[d] - low[d]) / step) + 1;
+  const double r2 = radius * radius;
+  double total = 0;
+  std::size_t balls = 0;
+  for (std::size_t a = 0; a < steps[0]; ++a)
+    for (std::size_t b = 0; b < steps[1]; ++b)
+      for (std::size_t e = 0; e < steps[2]; ++e) {
+        const std::size_t along[3] = {a, b, e};
+        double centre[3] = {0, 0, 0};
+        std::ptrdiff_t c[3] = {0, 0, 0};
+        for (std::size_t d = 0; d < dim; ++d) {
+          centre[d] = low[d] + step * static_cast<double>(along[d]);
+          c[d] = cell_of(centre, d);
+        }
+        std::size_t count = 0;
+        bool open = false;
+        std::ptrdiff_t near[3] = {0, 0, 0};
+        const std::ptrdiff_t span[3] = {1, 1, dim == 3 ? 1 : 0};
+        for (near[0] = c[0] - 1; near[0] <= c[0] + 1 && !open; ++near[0])
+          for (near[1] = c[1] - 1; near[1] <= c[1] + 1 && !open; ++near[1])
+            for (near[2] = c[2] - span[2]; near[2] <= c[2] + span[2] && !open; ++near[2])
+              for (const std::size_t j : members[index(near)]) {
+                if (detail::squared_distance(centre, &positions_[dim * j], dim) >= r2) continue;
+                if (kinds_[j] != NodeKind::interior) {
+                  open = true;
+                  break;
+                }
+                ++count;
+              }
+        if (open || count == 0) continue;
+        total += static_cast<double>(count);
+        ++balls;
+      }
+  // A few balls sample a small patch, where a lattice's count depends on where the centres fall.
+  if (balls < bulk_ball_minimum) return std::nullopt;
+  const double ball = dim == 3 ? 4.0 / 3.0 * std::numbers::pi * r2 * radius : std::numbers::pi * r2;
+  return total / static_cast<double>(balls) * std::pow(params_.spacing, dimension()) / ball;
+}
+
 double FreeSurfaceSolver::fluid_volume() const {
   const double cell = std::pow(params_.spacing, dimension());
   double volume = 0;

@@ -145,7 +145,10 @@ struct RunRecord {
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
   double pressure_amg_plain_from = -1;  // [s]; < 0: not switched (solver.pressure_amg: auto)
-  detail::AcceptedSolves accepted;      // solves accepted above their tolerance
+  // The bulk's nodes per Δ^d at its first measurement (< 0: none yet) and the largest relative
+  // departure from it since (FreeSurfaceSolver::bulk_number_density).
+  double number_density0 = -1, max_number_compression = 0;
+  detail::AcceptedSolves accepted;  // solves accepted above their tolerance
 };
 
 // RunRecord's numbers and series in the checkpoint, by name.
@@ -165,7 +168,9 @@ constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
 // Numbers that checkpoints of earlier rheosim revisions do not hold: absent, the member keeps its
 // default.
 constexpr std::pair<const char*, double RunRecord::*> later_record_numbers[] = {
-    {"pressure_amg_plain_from", &RunRecord::pressure_amg_plain_from}};
+    {"pressure_amg_plain_from", &RunRecord::pressure_amg_plain_from},
+    {"number_density0", &RunRecord::number_density0},
+    {"max_number_compression", &RunRecord::max_number_compression}};
 constexpr std::pair<const char*, std::vector<double> RunRecord::*> record_series[] = {
     {"front_time", &RunRecord::front_time},
     {"front", &RunRecord::front},
@@ -242,6 +247,7 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
   RunSummary summary = detail::summary_head(c, l, solver, outcome, threads);
   summary.volume_drift = run.max_drift;
   summary.bulk_compression = run.max_compression;
+  if (run.number_density0 > 0) summary.bulk_number_compression = run.max_number_compression;
   summary.kinetic_energy_peak = run.peak_energy;
   // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only
   // where a release drives the flow; a resting column releases nothing but noise (empty).
@@ -259,6 +265,11 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
         fmt::format("the bulk's mean kernel density departed from its rest value by up to {:.3g} % (more than {:.3g} "
                     "%): the fluid was compressed or expanded",
                     1e2 * run.max_compression, 1e2 * volume_drift_tolerance));
+  if (run.number_density0 > 0 && run.max_number_compression > volume_drift_tolerance)
+    summary.warnings.push_back(fmt::format(
+        "the bulk's nodes per unit volume (counted in balls of {:g} spacings) departed from their first "
+        "count by up to {:.3g} % (more than {:.3g} %): the fluid was compressed or expanded",
+        FreeSurfaceSolver::bulk_ball_radius, 1e2 * run.max_number_compression, 1e2 * volume_drift_tolerance));
   if (energy_gain > energy_gain_tolerance)
     summary.warnings.push_back(fmt::format(
         "the kinetic energy exceeded the potential energy released by {:.3g} % of the latter: the scheme created "
@@ -440,6 +451,11 @@ class FreeSurfaceRun final : public detail::SceneRun {
     const double drift = solver_.fluid_volume() / run_.volume0 - 1;
     run_.max_drift = std::max(run_.max_drift, std::abs(drift));
     run_.max_compression = std::max(run_.max_compression, std::abs(solver_.bulk_density_ratio() - 1));
+    if (const std::optional<double> density = solver_.bulk_number_density()) {
+      if (run_.number_density0 < 0) run_.number_density0 = *density;
+      run_.max_number_compression =
+          std::max(run_.max_number_compression, std::abs(*density / run_.number_density0 - 1));
+    }
     const double energy = solver_.kinetic_energy();
     const double released = run_.potential0 - solver_.potential_energy();
     run_.max_released = std::max(run_.max_released, released);

@@ -75,6 +75,7 @@ void add_dam_break_references(const RunSummary& s, Json& j) {
 void add_free_surface_keys(const RunSummary& s, Json& j) {
   j["volume_drift"] = s.volume_drift;
   j["bulk_compression"] = value_or_null(s.bulk_compression);
+  j["bulk_number_compression"] = value_or_null(s.bulk_number_compression);
   j["kinetic_energy_peak"] = s.kinetic_energy_peak;
   j["energy_gain"] = value_or_null(s.energy_gain);
   j["repeated_solves"] = s.repeated_solves;
@@ -176,6 +177,7 @@ void read_dam_break_references(const SummaryReader& r, RunSummary& s) {
 void read_free_surface_keys(const SummaryReader& r, RunSummary& s) {
   s.volume_drift = r.number("volume_drift");
   s.bulk_compression = r.optional_number("bulk_compression");
+  s.bulk_number_compression = r.optional_number("bulk_number_compression");
   s.kinetic_energy_peak = r.number("kinetic_energy_peak");
   s.energy_gain = r.number_or_null("energy_gain");
   s.repeated_solves = r.count("repeated_solves");

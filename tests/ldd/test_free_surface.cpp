@@ -297,6 +297,46 @@ TEST(FreeSurface, BulkDensityRatioSeesACompressedBody) {
   EXPECT_GT(solver.bulk_density_ratio(), 1.02);
 }
 
+// The bulk's nodes per Δ², counted in balls of 4 Δ: 1 on the lattice column, 1/0.95 when the
+// column is squeezed 5 % towards its floor, and unchanged when the nodes are shuffled ±0.25 Δ
+// about their places, where the kernel sums read the disorder as a compression.
+TEST(FreeSurface, BulkNumberDensityCountsNodesWhateverTheirArrangement) {
+  const double dx = 0.01;
+  SolverParams p = column_params(dx, 1e-4, 1.0);
+  p.surface_umbrella = true;  // the shuffled interior's gaps are not free surface
+  FreeSurfaceScene scene = column_scene(column(0.3, 0.3), dx);
+  FreeSurfaceSolver solver(p, scene.boundaries, scene.cloud);
+  const std::optional<double> lattice = solver.bulk_number_density();
+  ASSERT_TRUE(lattice.has_value());
+  EXPECT_NEAR(*lattice, 1.0, 0.005);
+  const SolverState start = solver.state();
+  const auto moved = [&](const auto& move) {
+    SolverState state = start;
+    for (std::size_t i = 0; i < solver.node_count(); ++i)
+      if (solver.is_fluid(i)) move(&state.positions[2 * i]);
+    solver.restore(state);
+    solver.classify();
+    return std::pair{solver.bulk_number_density(), solver.bulk_density_ratio()};
+  };
+  const auto [squeezed, squeezed_sum] = moved([](double* x) { x[1] *= 0.95; });
+  ASSERT_TRUE(squeezed.has_value());
+  EXPECT_NEAR(*squeezed / *lattice, 1 / 0.95, 0.005);
+  EXPECT_NEAR(squeezed_sum, 1.026, 0.005);  // the kernel sum reads it at about half
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> shuffle(-0.25 * dx, 0.25 * dx);
+  const auto [shuffled, shuffled_sum] = moved([&](double* x) {
+    if (x[0] > 2 * dx && x[0] < 0.3 - 2 * dx && x[1] > 2 * dx && x[1] < 0.3 - 2 * dx) {
+      x[0] += shuffle(random);
+      x[1] += shuffle(random);
+    }
+  });
+  ASSERT_TRUE(shuffled.has_value());
+  std::printf("[ measured ] lattice %.4f, squeezed %.4f (kernel sum %.4f), shuffled %.4f (kernel sum %.4f)\n", *lattice,
+              *squeezed, squeezed_sum, *shuffled, shuffled_sum);
+  EXPECT_NEAR(*shuffled / *lattice, 1.0, 0.005);
+  EXPECT_GT(shuffled_sum, 1.02);
+}
+
 // solver.pressure_amg: auto (SolverParams::pressure_amg_switch_iterations): a pressure solve on a
 // hierarchy set up in the same step that needs more iterations than the limit turns the PPE's AMG
 // to plain aggregation for the rest of the run, once; the choice is part of the state, so a

@@ -55,6 +55,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -101,6 +102,15 @@ class FreeSurfaceSolver final : public Solver {
   // Mean ρ_i/ρ₀ over the bulk: interior nodes with no surface or splash node within h, whose
   // kernel sums the void does not truncate (1 when there are none). Above 1: compressed.
   [[nodiscard]] double bulk_density_ratio() const;
+  // Nodes per Δ^d in the bulk, counted in balls of radius bulk_ball_radius·Δ that hold interior
+  // nodes only (no surface, splash or wall node), centred on a grid of step bulk_ball_step·Δ over
+  // the fluid's bounding box (not commensurate with the lattice, so a lattice reads 1 to within
+  // the grid's sampling). Unlike a kernel sum, a count over a ball does not depend on how the
+  // nodes are arranged: a disordered cloud of the same density reads the same. Empty when fewer
+  // than bulk_ball_minimum balls fit in the bulk.
+  [[nodiscard]] std::optional<double> bulk_number_density() const;
+  static constexpr double bulk_ball_radius = 4.0, bulk_ball_step = 1.37;
+  static constexpr std::size_t bulk_ball_minimum = 30;
   // Potential energy −Σ ρ g·x Δ^d over fluid nodes [J, or J/m in 2D], with the same node volume
   // as kinetic_energy(): their sum may only fall (gravity's work goes to kinetic energy and
   // viscous dissipation).

@@ -75,6 +75,7 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 // ---------------------------------------------------------------- free-surface scenes
 // run_case() runs dam_break, slump and column scenes with the FreeSurfaceSolver and writes
 //   summary.json   nodes, steps, ms_per_step, status, volume_drift, bulk_compression,
+//                  bulk_number_compression,
 //                  front: [{t, x}] (dam break),
 //                  spread: [{t, diameter, height}] (slump), table1 (dam break), phase timings
 //   front.csv / spread.csv / column.csv   the probe history with kinetic energy and volume drift
@@ -97,7 +98,9 @@ RunOutcome run_case(const Case& c, const std::filesystem::path& out_dir, const c
 inline constexpr double energy_gain_tolerance = 0.01;
 // A free-surface run whose fluid volume drifts by more than this fraction warns (summary.json
 // `volume_drift` is the largest drift), and so does one whose bulk's mean kernel sum departs from
-// ρ₀ by more than it (`bulk_compression`; FreeSurfaceSolver::bulk_density_ratio).
+// ρ₀ by more than it (`bulk_compression`; FreeSurfaceSolver::bulk_density_ratio), or whose bulk's
+// nodes per unit volume depart from their first count by more than it
+// (`bulk_number_compression`; FreeSurfaceSolver::bulk_number_density).
 inline constexpr double volume_drift_tolerance = 0.01;
 
 // LDD Table 1 (seed §4.3): mass front [m] at six times, experiment (Komatina & Jovanović 1997)

@@ -136,6 +136,10 @@ struct RunSummary {
   // Largest |ρ̄/ρ₀ − 1| of the bulk's kernel sums (nodes with no free surface within h); empty in
   // a summary written before it was recorded.
   MaybeNumber bulk_compression;
+  // Largest |n/n_first − 1| of the bulk's nodes per unit volume counted in balls of 4 Δ, which the
+  // nodes' arrangement does not bias as it biases a kernel sum (FreeSurfaceSolver::
+  // bulk_number_density); empty when no ball fitted in the bulk, or in an older summary.
+  MaybeNumber bulk_number_compression;
   MaybeNumber energy_gain;  // empty for a resting column
   std::size_t repeated_solves = 0, repeated_with_lu = 0;
   // solver.pressure_amg: auto: the time from which the pressure AMG used plain aggregation (empty:
