@@ -490,8 +490,12 @@ class FreeSurfaceRun final : public detail::SceneRun {
   // resumed run restores. Returns when the passing probes began.
   [[nodiscard]] std::optional<double> arrested_since() const {
     if (!(l_.arrest_hold_time > 0)) return std::nullopt;
-    // largest_stress_ratio is the probe file's last column (probe_columns).
-    const std::size_t rows = history_.row_count(), ratio_column = history_.numeric_columns().size() - 1;
+    const std::vector<core::CsvTable::Column>& columns = history_.numeric_columns();
+    const auto ratio = std::find_if(columns.begin(), columns.end(),
+                                    [](const core::CsvTable::Column& c) { return c.name == "largest_stress_ratio"; });
+    if (ratio == columns.end()) return std::nullopt;  // no yield test is probed (probes_yield_test)
+    const std::size_t rows = history_.row_count();
+    const auto ratio_column = static_cast<std::size_t>(ratio - columns.begin());
     const auto time_at = [&](std::size_t r) { return history_.row(r)[0]; };
     const double limit = 1.0 + l_.arrest_stress_tolerance;
     std::size_t first_passing = rows;
