@@ -199,11 +199,13 @@ double FreeSurfaceSolver::bulk_density_ratio() const {
 std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
   const auto dim = static_cast<std::size_t>(dimension());
   const double radius = bulk_ball_radius * params_.spacing, step = bulk_ball_step * params_.spacing;
-  // Cells of side `radius`: a ball meets the 3^d cells about its centre's.
+  // Centres over the interior nodes' bounding box (a counted ball holds only interior nodes, so
+  // splash nodes far off do not widen the grid); cells of side `radius`, one more on each side,
+  // so that a ball meets the 3^d cells about its centre's.
   double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
   bool any = false;
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
-    if (!is_fluid(i)) continue;
+    if (kinds_[i] != NodeKind::interior) continue;
     for (std::size_t d = 0; d < dim; ++d) {
       const double x = positions_[dim * i + d];
       low[d] = any ? std::min(low[d], x) : x;
@@ -213,8 +215,7 @@ std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
   }
   if (!any) return std::nullopt;
   std::size_t cells[3] = {1, 1, 1};
-  for (std::size_t d = 0; d < dim; ++d)
-    cells[d] = static_cast<std::size_t>((high[d] - low[d]) / radius) + 3;  // one cell of margin each side
+  for (std::size_t d = 0; d < dim; ++d) cells[d] = static_cast<std::size_t>((high[d] - low[d]) / radius) + 3;
   const auto cell_of = [&](const double* x, std::size_t d) {
     return static_cast<std::ptrdiff_t>(std::floor((x[d] - low[d]) / radius)) + 1;
   };
@@ -223,7 +224,7 @@ std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
     for (std::size_t d = dim; d-- > 0;) k = k * cells[d] + static_cast<std::size_t>(c[d]);
     return k;
   };
-  // Every node inside the margin cells (wall nodes beyond them cannot reach a counted ball).
+  // Every node inside the margin cells (nodes beyond them cannot reach a ball).
   std::vector<std::vector<std::size_t>> members(cells[0] * cells[1] * cells[2]);
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
     std::ptrdiff_t c[3] = {0, 0, 0};
