@@ -104,7 +104,7 @@ class FreeSurfaceSolver final : public Solver {
   [[nodiscard]] double bulk_density_ratio() const;
   // Nodes per Δ^d in the bulk, counted in balls of radius bulk_ball_radius·Δ that hold interior
   // nodes only (no surface, splash or wall node), centred on a grid of step bulk_ball_step·Δ over
-  // the fluid's bounding box (not commensurate with the lattice, so a lattice reads 1 to within
+  // the interior nodes' bounding box (not commensurate with the lattice, so a lattice reads 1 to within
   // the grid's sampling). Unlike a kernel sum, a count over a ball does not depend on how the
   // nodes are arranged: a disordered cloud of the same density reads the same. Empty when fewer
   // than bulk_ball_minimum balls fit in the bulk.
