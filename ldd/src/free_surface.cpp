@@ -200,8 +200,7 @@ std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
   const auto dim = static_cast<std::size_t>(dimension());
   const double radius = bulk_ball_radius * params_.spacing, step = bulk_ball_step * params_.spacing;
   // Centres over the interior nodes' bounding box (a counted ball holds only interior nodes, so
-  // splash nodes far off do not widen the grid); cells of side `radius`, one more on each side,
-  // so that a ball meets the 3^d cells about its centre's.
+  // splash nodes far off do not widen the grid).
   double low[3] = {0, 0, 0}, high[3] = {0, 0, 0};
   bool any = false;
   for (std::size_t i = 0; i < kinds_.size(); ++i) {
@@ -214,30 +213,10 @@ std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
     any = true;
   }
   if (!any) return std::nullopt;
-  std::size_t cells[3] = {1, 1, 1};
-  for (std::size_t d = 0; d < dim; ++d) cells[d] = static_cast<std::size_t>((high[d] - low[d]) / radius) + 3;
-  const auto cell_of = [&](const double* x, std::size_t d) {
-    return static_cast<std::ptrdiff_t>(std::floor((x[d] - low[d]) / radius)) + 1;
-  };
-  const auto index = [&](const std::ptrdiff_t* c) {
-    std::size_t k = 0;
-    for (std::size_t d = dim; d-- > 0;) k = k * cells[d] + static_cast<std::size_t>(c[d]);
-    return k;
-  };
-  // Every node inside the margin cells (nodes beyond them cannot reach a ball).
-  std::vector<std::vector<std::size_t>> members(cells[0] * cells[1] * cells[2]);
-  for (std::size_t i = 0; i < kinds_.size(); ++i) {
-    std::ptrdiff_t c[3] = {0, 0, 0};
-    bool inside = true;
-    for (std::size_t d = 0; d < dim; ++d) {
-      c[d] = cell_of(&positions_[dim * i], d);
-      inside = inside && c[d] >= 0 && c[d] < static_cast<std::ptrdiff_t>(cells[d]);
-    }
-    if (inside) members[index(c)].push_back(i);
-  }
+  const numerics::NodeLocator locator(positions_, dimension(), radius);
   std::size_t steps[3] = {1, 1, 1};
   for (std::size_t d = 0; d < dim; ++d) steps[d] = static_cast<std::size_t>((high[d] - low[d]) / step) + 1;
-  const double r2 = radius * radius;
+  std::vector<std::size_t> inside;
   double total = 0;
   std::size_t balls = 0;
   for (std::size_t a = 0; a < steps[0]; ++a)
@@ -245,33 +224,18 @@ std::optional<double> FreeSurfaceSolver::bulk_number_density() const {
       for (std::size_t e = 0; e < steps[2]; ++e) {
         const std::size_t along[3] = {a, b, e};
         double centre[3] = {0, 0, 0};
-        std::ptrdiff_t c[3] = {0, 0, 0};
-        for (std::size_t d = 0; d < dim; ++d) {
-          centre[d] = low[d] + step * static_cast<double>(along[d]);
-          c[d] = cell_of(centre, d);
-        }
-        std::size_t count = 0;
-        bool open = false;
-        std::ptrdiff_t near[3] = {0, 0, 0};
-        const std::ptrdiff_t span[3] = {1, 1, dim == 3 ? 1 : 0};
-        for (near[0] = c[0] - 1; near[0] <= c[0] + 1 && !open; ++near[0])
-          for (near[1] = c[1] - 1; near[1] <= c[1] + 1 && !open; ++near[1])
-            for (near[2] = c[2] - span[2]; near[2] <= c[2] + span[2] && !open; ++near[2])
-              for (const std::size_t j : members[index(near)]) {
-                if (detail::squared_distance(centre, &positions_[dim * j], dim) >= r2) continue;
-                if (kinds_[j] != NodeKind::interior) {
-                  open = true;
-                  break;
-                }
-                ++count;
-              }
-        if (open || count == 0) continue;
-        total += static_cast<double>(count);
+        for (std::size_t d = 0; d < dim; ++d) centre[d] = low[d] + step * static_cast<double>(along[d]);
+        locator.nodes_near(std::span<const double>(centre, dim), inside);
+        if (inside.empty() ||
+            std::ranges::any_of(inside, [&](std::size_t j) { return kinds_[j] != NodeKind::interior; }))
+          continue;
+        total += static_cast<double>(inside.size());
         ++balls;
       }
   // A few balls sample a small patch, where a lattice's count depends on where the centres fall.
   if (balls < bulk_ball_minimum) return std::nullopt;
-  const double ball = dim == 3 ? 4.0 / 3.0 * std::numbers::pi * r2 * radius : std::numbers::pi * r2;
+  const double ball =
+      dim == 3 ? 4.0 / 3.0 * std::numbers::pi * std::pow(radius, 3) : std::numbers::pi * radius * radius;
   return total / static_cast<double>(balls) * std::pow(params_.spacing, dimension()) / ball;
 }
 

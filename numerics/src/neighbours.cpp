@@ -5,7 +5,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -45,19 +47,19 @@ std::size_t table_size_for(std::size_t node_count) {
   return size;  // power of two, so the bucket is hash & (size − 1)
 }
 
-void validate(std::span<const double> positions, int dimension, double support_radius) {
+// `caller` names the function in the messages.
+void validate(std::span<const double> positions, int dimension, double support_radius, std::string_view caller) {
   if (dimension != 2 && dimension != 3)
-    throw std::invalid_argument(
-        fmt::format("find_neighbours: dimension = {} is out of range, expected 2 or 3", dimension));
+    throw std::invalid_argument(fmt::format("{}: dimension = {} is out of range, expected 2 or 3", caller, dimension));
   if (!(std::isfinite(support_radius) && support_radius > 0.0))
-    throw std::invalid_argument(fmt::format(
-        "find_neighbours: support_radius = {} is out of range, expected a finite value > 0", support_radius));
+    throw std::invalid_argument(
+        fmt::format("{}: support_radius = {} is out of range, expected a finite value > 0", caller, support_radius));
   if (positions.size() % static_cast<std::size_t>(dimension) != 0)
-    throw std::invalid_argument(fmt::format(
-        "find_neighbours: positions has {} values, not a multiple of dimension = {}", positions.size(), dimension));
+    throw std::invalid_argument(fmt::format("{}: positions has {} values, not a multiple of dimension = {}", caller,
+                                            positions.size(), dimension));
   for (std::size_t k = 0; k < positions.size(); ++k)
     if (!std::isfinite(positions[k]))
-      throw std::invalid_argument(fmt::format("find_neighbours: position of node {} (component {}) is {}",
+      throw std::invalid_argument(fmt::format("{}: position of node {} (component {}) is {}", caller,
                                               k / static_cast<std::size_t>(dimension),
                                               k % static_cast<std::size_t>(dimension), positions[k]));
 }
@@ -68,6 +70,10 @@ struct SlotRange {
   std::size_t last = 0;
 };
 
+}  // namespace
+
+namespace detail {
+
 // Nodes sorted by the bucket of their cell (a counting sort, so O(N + buckets)), with a copy of
 // their coordinates in that order, so that scanning a bucket reads contiguous memory.
 //
@@ -77,7 +83,7 @@ struct SlotRange {
 // cells into ~2N buckets instead, so memory stays O(N) whatever the extent.
 class CellTable {
  public:
-  CellTable(std::span<const double> positions, std::size_t dimension, double support_radius)
+  CellTable(std::span<const double> positions, std::size_t dimension, double support_radius, std::string_view caller)
       : node_count_(positions.size() / dimension), cell_size_(support_radius * (1.0 + cell_margin)) {
     std::array<double, 3> upper{};
     for (std::size_t d = 0; d < dimension; ++d) {
@@ -89,7 +95,7 @@ class CellTable {
       }
       if (upper[d] - lower_[d] > max_extent_over_h * support_radius)
         throw std::invalid_argument(
-            fmt::format("find_neighbours: the cloud spans {} m in direction {}, more than {:g} × support_radius = {} m",
+            fmt::format("{}: the cloud spans {} m in direction {}, more than {:g} × support_radius = {} m", caller,
                         upper[d] - lower_[d], d, max_extent_over_h, support_radius));
     }
 
@@ -131,7 +137,26 @@ class CellTable {
   // particular order.
   template <class Visit>
   void for_each_neighbour(std::size_t slot, double radius_squared, Visit&& visit) const {
-    const double* x = &sorted_coordinates_[slot * 3];
+    for_each_near(&sorted_coordinates_[slot * 3], radius_squared, slot, std::forward<Visit>(visit));
+  }
+
+  // Calls visit(j, squared_distance) for every node j closer than sqrt(radius_squared) <= the
+  // cell size to the point x (three coordinates, z = 0 in 2D), in no particular order. A point
+  // more than a cell outside the bounding box has no node near it (and its cell index could
+  // overflow), so it is answered before any cell arithmetic.
+  template <class Visit>
+  void for_each_near(const double* x, double radius_squared, Visit&& visit) const {
+    for (std::size_t d = 0; d < 3; ++d) {
+      const double cell = std::floor((x[d] - lower_[d]) / cell_size_);
+      if (!(cell >= -1.0 && cell <= static_cast<double>(cells_per_direction_[d]))) return;
+    }
+    for_each_near(x, radius_squared, node_count_, std::forward<Visit>(visit));
+  }
+
+ private:
+  // As above, leaving out the node at `skip_slot` (node_count_ skips none).
+  template <class Visit>
+  void for_each_near(const double* x, double radius_squared, std::size_t skip_slot, Visit&& visit) const {
     std::array<SlotRange, 27> ranges{};
     const std::size_t range_count = is_dense_ ? dense_ranges(cell_of(x), ranges) : hashed_ranges(cell_of(x), ranges);
     for (std::size_t r = 0; r < range_count; ++r) {
@@ -139,12 +164,11 @@ class CellTable {
         const double* y = &sorted_coordinates_[other * 3];
         const double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2];
         const double squared = dx * dx + dy * dy + dz * dz;
-        if (squared < radius_squared && other != slot) visit(nodes_[other], squared);
+        if (squared < radius_squared && other != skip_slot) visit(nodes_[other], squared);
       }
     }
   }
 
- private:
   [[nodiscard]] CellIndex cell_of(const double* x) const {
     CellIndex cell{0, 0, 0};
     for (std::size_t d = 0; d < 3; ++d)
@@ -205,14 +229,14 @@ class CellTable {
   std::vector<double> sorted_coordinates_;  // x, y, z of the node at each slot, at 3·slot
 };
 
-}  // namespace
+}  // namespace detail
 
 NeighbourList find_neighbours(std::span<const double> positions, int dimension, double support_radius) {
-  validate(positions, dimension, support_radius);
+  validate(positions, dimension, support_radius, "find_neighbours");
   NeighbourList list;
   if (positions.empty()) return list;
 
-  const CellTable table(positions, static_cast<std::size_t>(dimension), support_radius);
+  const detail::CellTable table(positions, static_cast<std::size_t>(dimension), support_radius, "find_neighbours");
   const std::size_t node_count = table.node_count();
   const double radius_squared = support_radius * support_radius;
 
@@ -286,7 +310,7 @@ NeighbourList neighbours_within(const NeighbourList& candidates, std::span<const
 void neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension, double radius,
                        NeighbourList& list) {
   if (&list == &candidates) throw std::invalid_argument("neighbours_within: the output is the candidate list");
-  validate(positions, dimension, radius);
+  validate(positions, dimension, radius, "neighbours_within");
   const auto dim = static_cast<std::size_t>(dimension);
   const std::size_t n = candidates.node_count();
   if (positions.size() != n * dim)
@@ -329,6 +353,32 @@ void neighbours_within(const NeighbourList& candidates, std::span<const double> 
       ++next;
     }
   }
+}
+
+NodeLocator::NodeLocator(std::span<const double> positions, int dimension, double radius)
+    : dimension_(dimension), radius_(radius) {
+  validate(positions, dimension, radius, "NodeLocator");
+  if (!positions.empty())
+    table_ = std::make_unique<const detail::CellTable>(positions, static_cast<std::size_t>(dimension), radius,
+                                                       "NodeLocator");
+}
+
+NodeLocator::~NodeLocator() = default;
+NodeLocator::NodeLocator(NodeLocator&&) noexcept = default;
+NodeLocator& NodeLocator::operator=(NodeLocator&&) noexcept = default;
+
+void NodeLocator::nodes_near(std::span<const double> point, std::vector<std::size_t>& found) const {
+  found.clear();
+  if (point.size() != static_cast<std::size_t>(dimension_))
+    throw std::invalid_argument(
+        fmt::format("NodeLocator::nodes_near: the point has {} coordinates, expected {}", point.size(), dimension_));
+  if (!std::ranges::all_of(point, [](double x) { return std::isfinite(x); }))
+    throw std::invalid_argument("NodeLocator::nodes_near: the point has a coordinate that is not finite");
+  if (!table_) return;
+  std::array<double, 3> padded{0.0, 0.0, 0.0};
+  std::copy(point.begin(), point.end(), padded.begin());
+  table_->for_each_near(padded.data(), radius_ * radius_, [&](std::size_t j, double) { found.push_back(j); });
+  std::sort(found.begin(), found.end());
 }
 
 }  // namespace rheosim::numerics

@@ -230,5 +230,66 @@ TEST(Neighbours, InvalidInputIsRejected) {
   EXPECT_THAT(message([&] { (void)find_neighbours(huge, 2, 1.0); }), HasSubstr("support_radius"));
 }
 
+// Brute force for a query point: the nodes j with Σ (x_j − p)² < r², ascending.
+std::vector<std::size_t> brute_force_near(const std::vector<double>& positions, int dimension, double radius,
+                                          const std::vector<double>& point) {
+  const auto dim = static_cast<std::size_t>(dimension);
+  std::vector<std::size_t> near;
+  for (std::size_t j = 0; j < positions.size() / dim; ++j) {
+    double squared = 0.0;
+    for (std::size_t d = 0; d < dim; ++d) {
+      const double delta = positions[j * dim + d] - point[d];
+      squared += delta * delta;
+    }
+    if (squared < radius * radius) near.push_back(j);
+  }
+  return near;
+}
+
+// Points inside the cloud, at its edges and beyond them (up to 1.5 radii outside the bounding
+// box, where the cell index is −1 or one past the last cell), in the dense and the hashed layout.
+TEST(NodeLocator, MatchesBruteForceAtPointsInsideAndAroundTheCloud) {
+  for (const int dimension : {2, 3}) {
+    for (const bool sparse : {false, true}) {
+      std::vector<double> positions = random_cloud(1500, dimension, 1.0, 21 + (sparse ? 1u : 0u));
+      const double radius = sparse ? 0.004 : 0.09;  // sparse: far more cells than nodes, so hashed
+      const NodeLocator locator(positions, dimension, radius);
+      std::mt19937_64 rng(7);
+      std::uniform_real_distribution<double> coordinate(-0.3 - 1.5 * radius, 0.7 + 1.5 * radius);
+      std::vector<std::size_t> found;
+      std::size_t total = 0;
+      for (int query = 0; query < 400; ++query) {
+        std::vector<double> point(static_cast<std::size_t>(dimension));
+        for (double& x : point) x = coordinate(rng);
+        if (query % 4 == 0)
+          point = {positions.begin() + query * dimension, positions.begin() + (query + 1) * dimension};
+        locator.nodes_near(point, found);
+        EXPECT_EQ(found, brute_force_near(positions, dimension, radius, point)) << dimension << " " << query;
+        total += found.size();
+      }
+      EXPECT_GE(total, 100u) << "the 100 queries at nodes find at least the node itself";
+    }
+  }
+}
+
+TEST(NodeLocator, FarPointsEmptyCloudsAndBadPoints) {
+  const std::vector<double> xy{0.0, 0.0, 0.5, 0.0};
+  const NodeLocator locator(xy, 2, 0.6);
+  std::vector<std::size_t> found{99};
+  locator.nodes_near(std::vector<double>{0.25, 0.0}, found);
+  EXPECT_THAT(found, ElementsAre(0u, 1u));
+  locator.nodes_near(std::vector<double>{0.5, 0.6}, found);  // exactly at the radius from node 1
+  EXPECT_TRUE(found.empty());
+  locator.nodes_near(std::vector<double>{1e300, -1e300}, found);  // its cell index would overflow
+  EXPECT_TRUE(found.empty());
+  const NodeLocator empty(std::vector<double>{}, 3, 1.0);
+  empty.nodes_near(std::vector<double>{0.0, 0.0, 0.0}, found);
+  EXPECT_TRUE(found.empty());
+  EXPECT_THROW(locator.nodes_near(std::vector<double>{0.0, 0.0, 0.0}, found), std::invalid_argument);
+  EXPECT_THROW(locator.nodes_near(std::vector<double>{0.0, std::numeric_limits<double>::infinity()}, found),
+               std::invalid_argument);
+  EXPECT_THROW(NodeLocator(xy, 2, -1.0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace rheosim::numerics

@@ -18,10 +18,15 @@
 //
 // Positions are interleaved, stride = dimension: {x0, y0, x1, y1, ...} or {x0, y0, z0, ...}.
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
 namespace rheosim::numerics {
+
+namespace detail {
+class CellTable;
+}
 
 // Neighbours of every node in compressed sparse row form: the neighbours of node i are
 // indices[offsets[i] .. offsets[i+1]), ascending, with their distances [m] alongside.
@@ -55,5 +60,30 @@ struct NeighbourList {
 // The same into `out`, reusing its storage (out must not be `candidates`).
 void neighbours_within(const NeighbourList& candidates, std::span<const double> positions, int dimension, double radius,
                        NeighbourList& out);
+
+// Nodes near any point, not only near a node: the same cell list, kept for repeated queries
+// (FreeSurfaceSolver counts nodes in balls centred on a grid). A node j is near the point p iff
+// Σ_d (x_j,d − p_d)² < radius², the criterion find_neighbours uses. The positions are copied, so
+// the locator answers for the cloud as it was when built.
+class NodeLocator {
+ public:
+  // Same requirements and errors as find_neighbours (radius in the role of support_radius).
+  NodeLocator(std::span<const double> positions, int dimension, double radius);
+  ~NodeLocator();
+  NodeLocator(NodeLocator&&) noexcept;
+  NodeLocator& operator=(NodeLocator&&) noexcept;
+  NodeLocator(const NodeLocator&) = delete;
+  NodeLocator& operator=(const NodeLocator&) = delete;
+
+  // The nodes near `point` (dimension finite coordinates, anywhere: inside the cloud's bounding
+  // box or far outside it), ascending, into `found`, which is cleared first and keeps its storage.
+  // Throws std::invalid_argument for a point of the wrong size or with a coordinate not finite.
+  void nodes_near(std::span<const double> point, std::vector<std::size_t>& found) const;
+
+ private:
+  std::unique_ptr<const detail::CellTable> table_;  // null for an empty cloud
+  int dimension_;
+  double radius_;
+};
 
 }  // namespace rheosim::numerics
