@@ -19,10 +19,12 @@
 //                                       # AMG set-up times on their initial clouds, the floor per step
 //                                       # at their iteration counts, and measured / floor
 //                                       # (bench/ldd_floor.sh runs the three the docs tabulate)
-//   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR [--stability-probe N]
+//   build-ldd/bin/bench_ldd run CASE.yaml OUT_DIR [--stability-probe N] [--divergence-probe]
 //                                       # one LDD case through ldd::run_case (the same code path as
 //                                       # `rheosim run`, without the other modules); with N > 0 the
-//                                       # probe file gains the step map's growth (RunControl)
+//                                       # probe file gains the step map's growth, with
+//                                       # --divergence-probe the bulk's mean divergence before and
+//                                       # after the projection (RunControl)
 //   build-ldd/bin/bench_ldd accuracy [--re 100|1000] [--interpolation quadratic|shepard|gradient_corrected]
 //                          [--dt S] [--end S] [--threads N] CELLS...
 //                                       # Newtonian cavity at each resolution to steady state: max
@@ -438,14 +440,22 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  if ((argc == 4 || (argc == 6 && std::string(argv[4]) == "--stability-probe")) && std::string(argv[1]) == "run") {
+  if (argc >= 4 && std::string(argv[1]) == "run") {
     // A refused deck or folder (a ConfigError names file, line and key) is a message, not an abort.
     try {
+      ldd::RunControl control;
+      for (int a = 4; a < argc; ++a) {
+        const std::string arg = argv[a];
+        if (arg == "--stability-probe" && a + 1 < argc)
+          control.stability_probe_iterations = std::stoi(argv[++a]);
+        else if (arg == "--divergence-probe")
+          control.divergence_probe = true;
+        else
+          throw std::invalid_argument("unknown option " + arg + " (--stability-probe N, --divergence-probe)");
+      }
       const ldd::Case c = ldd::load_case(argv[2]);
       const auto log =
           core::Log::console(core::Verbosity::normal).with_file(std::filesystem::path(argv[3]) / "log.txt");
-      ldd::RunControl control;
-      if (argc == 6) control.stability_probe_iterations = std::stoi(argv[5]);
       const auto outcome = ldd::run_case(c, argv[3], log, control);
       return outcome.status == "diverged" ? 1 : 0;
     } catch (const std::exception& e) {
@@ -522,7 +532,7 @@ int main(int argc, char** argv) {
           stderr,
           "usage: bench_ldd [--quick] [--threads N] [--cells N] [--pressure jacobi|lu|amg] [--velocity jacobi|amg] "
           "[--amg-levels N] [--amg-plain] [--amg-unit-diagonal] [--steps N] [--dump DIR] | run CASE OUT "
-          "[--stability-probe N]\n");
+          "[--stability-probe N] [--divergence-probe]\n");
       return 2;
     }
   }

@@ -5,6 +5,7 @@
 #   bench/ldd_water_column.sh [BUILD_DIR] [OUT_DIR] [--spacing M] [--step S] [--gradient G]
 #                             [--pbd-velocity V] [--pbd-sweeps N] [--dry-walls include|exclude|extrapolate]
 #                             [--pbd-surface full|tangential] [--surface-detection local|umbrella]
+#                             [--divergence-probe]
 #
 # Runs cases/ldd_water_column.yaml (a = 0.1 m, Δ = 2 mm, δt = 2.5e-4 s: about 15 s on two
 # threads) with the given overrides through bench_ldd run (the code of `rheosim run`).
@@ -12,7 +13,7 @@ set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_water_column}
 shift $(( $# > 2 ? 2 : $# )) || true
-spacing=0.002 step=2.5e-4 gradient=surface_anchored pbd_velocity=none pbd_sweeps=3 dry_walls=include pbd_surface=tangential surface_detection=local
+spacing=0.002 step=2.5e-4 gradient=surface_anchored pbd_velocity=none pbd_sweeps=3 dry_walls=include pbd_surface=tangential surface_detection=local probe=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --spacing) spacing=$2; shift 2 ;;
@@ -23,6 +24,7 @@ while [ $# -gt 0 ]; do
     --dry-walls) dry_walls=$2; shift 2 ;;
     --pbd-surface) pbd_surface=$2; shift 2 ;;
     --surface-detection) surface_detection=$2; shift 2 ;;
+    --divergence-probe) probe=(--divergence-probe); shift ;;
     *) echo "unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -33,7 +35,7 @@ sed -e "s/spacing: 0.002/spacing: ${spacing}/" -e "s/step: 2.5e-4/step: ${step}/
     -e "s/gradient: surface_anchored, pbd_velocity: none, pbd_surface: tangential/gradient: ${gradient}, pbd_velocity: ${pbd_velocity}, pbd_sweeps: ${pbd_sweeps}, dry_walls: ${dry_walls}, pbd_surface: ${pbd_surface}, surface_detection: ${surface_detection}/" \
     "$here/cases/ldd_water_column.yaml" > "$out/$name.yaml"
 rm -rf "${out:?}/$name"
-"$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" > "$out/$name.log" 2>&1 || true
+"$build/bin/bench_ldd" run "$out/$name.yaml" "$out/$name" "${probe[@]}" > "$out/$name.log" 2>&1 || true
 python3 - "$out/$name" <<'PY'
 import csv, json, math, os, sys
 run = sys.argv[1]
@@ -61,4 +63,10 @@ print(f"status {s['status']} at t = {t[-1]:.4g} s; energy gain {100 * s['energy_
       f"energy released; max volume drift {100 * s['volume_drift']:.2f} %; {s['ms_per_step']:.1f} ms/step")
 if s.get("message"):
     print(s["message"])
+if "bulk_divergence" in col:
+    # --divergence-probe: the bulk's mean <div u*> before and <div u> after the projection.
+    print("| t [s] | bulk mean div u* [1/s] | bulk mean div u [1/s] |")
+    print("| --- | --- | --- |")
+    for k in range(1, len(t), max(1, len(t) // 12)):
+        print(f"| {t[k]:.3f} | {rows[k][col['bulk_divergence_predicted']]:+.3g} | {rows[k][col['bulk_divergence']]:+.3g} |")
 PY

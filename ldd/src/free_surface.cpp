@@ -176,23 +176,38 @@ void FreeSurfaceSolver::rebuild_neighbours() {
   ++candidate_searches_;
 }
 
-double FreeSurfaceSolver::bulk_density_ratio() const {
+bool FreeSurfaceSolver::in_bulk(std::size_t i) const {
+  if (kinds_[i] != NodeKind::interior) return false;
   const auto dim = static_cast<std::size_t>(dimension());
   const double h2 = support_radius_ * support_radius_;
+  for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1]; ++k) {
+    const std::size_t j = neighbours_.indices[k];
+    if ((kinds_[j] == NodeKind::surface || kinds_[j] == NodeKind::splash) &&
+        detail::squared_distance(&positions_[dim * i], &positions_[dim * j], dim) < h2)
+      return false;
+  }
+  return true;
+}
+
+double FreeSurfaceSolver::bulk_mean(std::span<const double> values) const {
   double sum = 0;
   std::size_t count = 0;
-  for (std::size_t i = 0; i < kinds_.size(); ++i) {
-    if (kinds_[i] != NodeKind::interior) continue;
-    bool bulk = true;
-    for (std::size_t k = neighbours_.offsets[i]; k < neighbours_.offsets[i + 1] && bulk; ++k) {
-      const std::size_t j = neighbours_.indices[k];
-      bulk = !((kinds_[j] == NodeKind::surface || kinds_[j] == NodeKind::splash) &&
-               detail::squared_distance(&positions_[dim * i], &positions_[dim * j], dim) < h2);
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (in_bulk(i)) {
+      sum += values[i];
+      ++count;
     }
-    if (!bulk) continue;
-    sum += kernel_density(i) / rest_density_;
-    ++count;
-  }
+  return count > 0 ? sum / static_cast<double>(count) : 0.0;
+}
+
+double FreeSurfaceSolver::bulk_density_ratio() const {
+  double sum = 0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < kinds_.size(); ++i)
+    if (in_bulk(i)) {
+      sum += kernel_density(i) / rest_density_;
+      ++count;
+    }
   return count > 0 ? sum / static_cast<double>(count) : 1.0;
 }
 

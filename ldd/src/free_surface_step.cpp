@@ -256,6 +256,7 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
   const Operators& ops = operators_;
   divergence_.resize(n);
   divergence(nb, ops, new_velocity_, divergence_);
+  if (probe_divergence_) bulk_divergence_predicted_ = bulk_mean(divergence_);
   pressure_matrix_.pattern = &nb;
   pressure_matrix_.diagonal.resize(n);
   pressure_matrix_.off_diagonal.resize(nb.pair_count());
@@ -438,6 +439,11 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
     }
   }
   c.max_speed = std::sqrt(max_speed_squared);
+  if (probe_divergence_) {
+    std::vector<double> projected(n);
+    divergence(nb, ops, new_velocity_, projected);
+    bulk_divergence_ = bulk_mean(projected);
+  }
   return c;
 }
 
@@ -490,6 +496,10 @@ void FreeSurfaceSolver::reorder(StepStats& stats) {
   t0 = Clock::now();
   apply_pbd(velocity_gradient_);
   stats.max_pbd_shift = largest_pbd_shift();
+  if (probe_divergence_) {  // measured on the cloud before advection (solve_pressure, correct_velocity)
+    stats.bulk_divergence_predicted = bulk_divergence_predicted_;
+    stats.bulk_divergence = bulk_divergence_;
+  }
   times_.reordering += seconds_since(t0);
 }
 

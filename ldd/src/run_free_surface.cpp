@@ -206,7 +206,8 @@ bool probes_yield_test(const ldd::CaseSettings& l) {
 // The probe file's columns: time, the scene's probe (front; diameter and height; left-wall
 // height), the stability probe's when asked for, then the energy, volume and solver records, and
 // a yield-stress law's largest stress over τ₀.
-std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bool probe_stability) {
+std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bool probe_stability,
+                                                  bool probe_divergence) {
   const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
   const bool slump = std::holds_alternative<ldd::SlumpScene>(l.scene);
   std::vector<core::CsvTable::Column> columns{{"time", "s"}};
@@ -220,6 +221,10 @@ std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bo
     for (core::CsvTable::Column col : std::vector<core::CsvTable::Column>{
              {"step_map_growth", ""}, {"step_map_node_x", "m"}, {"step_map_node_y", "m"}})
       columns.push_back(col);
+  if (probe_divergence) {
+    columns.push_back({"bulk_divergence_predicted", "1/s"});
+    columns.push_back({"bulk_divergence", "1/s"});
+  }
   for (core::CsvTable::Column col :
        std::vector<core::CsvTable::Column>{{"kinetic_energy", l.dimension == 2 ? "J/m" : "J"},
                                            {"potential_energy_released", l.dimension == 2 ? "J/m" : "J"},
@@ -347,7 +352,8 @@ class FreeSurfaceRun final : public detail::SceneRun {
         dam_break_(std::holds_alternative<ldd::DamBreakScene>(l_.scene)),
         slump_(std::holds_alternative<ldd::SlumpScene>(l_.scene)),
         stability_probe_iterations_(control.stability_probe_iterations),
-        history_(probe_columns(l_, probe_stability())),
+        divergence_probe_(control.divergence_probe),
+        history_(probe_columns(l_, probe_stability(), divergence_probe_)),
         probe_file_(probe_file_name(l_.scene_type)),
         checkpoint_(c, out_dir / "checkpoint.h5", wall_start),
         log_(log) {
@@ -377,6 +383,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
   [[nodiscard]] bool step(bool probed, RunOutcome& outcome) override {
     // The step map is probed only on the steps that are recorded (it costs ~3 solves an iteration).
     if (probe_stability()) solver_.set_stability_probe(probed ? stability_probe_iterations_ : 0);
+    if (divergence_probe_) solver_.set_divergence_probe(probed);
     if (!detail::timed_step(solver_, stats_, outcome, run_.step_seconds)) return false;
     run_.pressure_iterations += stats_.pressure_iterations;
     run_.velocity_iterations += stats_.velocity_iterations;
@@ -474,6 +481,10 @@ class FreeSurfaceRun final : public detail::SceneRun {
       row.push_back(st.step_map_growth > 0 ? solver_.positions()[at] : 0.0);
       row.push_back(st.step_map_growth > 0 ? solver_.positions()[at + 1] : 0.0);
     }
+    if (divergence_probe_) {
+      row.push_back(st.bulk_divergence_predicted);
+      row.push_back(st.bulk_divergence);
+    }
     for (double v : {energy, released, drift, static_cast<double>(st.surface_nodes),
                      static_cast<double>(st.splash_nodes), static_cast<double>(st.pressure_iterations),
                      static_cast<double>(st.velocity_iterations), st.courant, st.max_pbd_shift})
@@ -512,6 +523,7 @@ class FreeSurfaceRun final : public detail::SceneRun {
   std::filesystem::path out_dir_;
   bool dam_break_, slump_;
   int stability_probe_iterations_;
+  bool divergence_probe_;
   double mould_clear_time_ = 0;
   core::CsvTable history_;
   std::string probe_file_;

@@ -94,6 +94,10 @@ class FreeSurfaceSolver final : public Solver {
   // From the next step on, probe the linearised step map with this many power iterations per
   // step (SolverParams::stability_probe_iterations; 0: off).
   void set_stability_probe(int iterations) { params_.stability_probe_iterations = std::max(iterations, 0); }
+  // From the next step on (while on), measure how much of the predicted velocity's divergence the
+  // projection removes: the mean ⟨∇·u*⟩ and ⟨∇·u⟩ (eq. 13, the PPE's divergence) over the bulk
+  // (StepStats::bulk_divergence_*). Off by default: it costs a divergence and a bulk test a step.
+  void set_divergence_probe(bool on) { probe_divergence_ = on; }
   // Re-runs the free-surface detection on the current cloud (kinds() then holds the result).
   void classify();
   // Fluid volume [m^d]: Σ Δ^d ρ₀/ρ_i over interior nodes + Δ^d per surface/splash node (a node's
@@ -152,6 +156,11 @@ class FreeSurfaceSolver final : public Solver {
   void probe_step_map(const numerics::KrylovSettings& velocity_settings,
                       const numerics::KrylovSettings& pressure_settings, StepStats& stats);
   [[nodiscard]] double kernel_density(std::size_t node) const;
+  // An interior node with no surface or splash node within h: its kernel sum and its operators
+  // are not truncated by the void.
+  [[nodiscard]] bool in_bulk(std::size_t node) const;
+  // The mean of `values` (one per node) over the bulk; 0 when it is empty.
+  [[nodiscard]] double bulk_mean(std::span<const double> values) const;
   // Shepard average (eq. 12) of pressure_j + ρ g·(x_node − x_j) over the neighbours j that pass
   // `use`: a wall's (or a newly interior node's) pressure from the fluid with the hydrostatic
   // offset; at least 0 when `clip`; 0 without such neighbours (free_surface_internal.hpp).
@@ -184,6 +193,10 @@ class FreeSurfaceSolver final : public Solver {
   std::vector<double> pbd_lambda_, pbd_step_;  // PBD: λ per node, each sweep's step per node (apply_pbd)
   std::vector<double> pair_dw_;                // PBD: ∇W/(r ρ₀) per neighbour pair (apply_pbd)
   std::vector<std::uint8_t> dry_wall_;         // this step's dry wall nodes (regradient_for_boundary_values)
+  // set_divergence_probe: on, and this step's bulk means of ⟨∇·u*⟩ and ⟨∇·u⟩ [1/s] (solve_pressure,
+  // correct_velocity), handed to the step's stats in reorder().
+  bool probe_divergence_ = false;
+  double bulk_divergence_predicted_ = 0, bulk_divergence_ = 0;
 };
 
 }  // namespace rheosim::ldd

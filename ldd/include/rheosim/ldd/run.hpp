@@ -59,6 +59,10 @@ struct RunControl {
   // linearised step map on the current cloud (SolverParams::stability_probe_iterations) and
   // the probe file gains `step_map_growth` and its node's position (bench_ldd run --stability-probe).
   int stability_probe_iterations = 0;
+  // Free-surface runs: each probe step also measures the bulk's mean divergence of the predicted
+  // and the projected velocity (FreeSurfaceSolver::set_divergence_probe), and the probe file gains
+  // `bulk_divergence_predicted` and `bulk_divergence` (bench_ldd run --divergence-probe).
+  bool divergence_probe = false;
 };
 
 // Throws core::RunError for a scene in a dimension it is not built for (dam_break and column are

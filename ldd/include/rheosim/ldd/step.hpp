@@ -163,6 +163,9 @@ struct StepStats {
   // linearised step map (power iteration) and the node where its mode is largest; 0 otherwise.
   double step_map_growth = 0;
   std::size_t step_map_node = 0;
+  // FreeSurfaceSolver::set_divergence_probe: the mean ⟨∇·u*⟩ of the predicted velocity and ⟨∇·u⟩
+  // of the projected one over the bulk [1/s]; 0 otherwise.
+  double bulk_divergence_predicted = 0, bulk_divergence = 0;
 };
 
 // Phase 5 of the step, before anything is committed: what the checks read.
