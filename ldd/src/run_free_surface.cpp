@@ -145,9 +145,11 @@ struct RunRecord {
   double pressure_iterations = 0, velocity_iterations = 0;  // sums over steps
   double repeated_solves = 0, repeated_with_lu = 0;
   double pressure_amg_plain_from = -1;  // [s]; < 0: not switched (solver.pressure_amg: auto)
-  // The bulk's nodes per Δ^d at its first measurement (< 0: none yet) and the largest relative
-  // departure from it since (FreeSurfaceSolver::bulk_number_density).
-  double number_density0 = -1, max_number_compression = 0;
+  // The bulk's nodes per Δ^d at its first measurement (< 0: none yet), when that was [s], and the
+  // largest relative departure from it since (FreeSurfaceSolver::bulk_number_density). The first
+  // count comes after the start when too few balls fit in the bulk before, or when the run resumed
+  // from a checkpoint that holds no count (written before the count existed).
+  double number_density0 = -1, number_density0_time = -1, max_number_compression = 0;
   detail::AcceptedSolves accepted;  // solves accepted above their tolerance
 };
 
@@ -170,6 +172,7 @@ constexpr std::pair<const char*, double RunRecord::*> record_numbers[] = {
 constexpr std::pair<const char*, double RunRecord::*> later_record_numbers[] = {
     {"pressure_amg_plain_from", &RunRecord::pressure_amg_plain_from},
     {"number_density0", &RunRecord::number_density0},
+    {"number_density0_time", &RunRecord::number_density0_time},
     {"max_number_compression", &RunRecord::max_number_compression}};
 constexpr std::pair<const char*, std::vector<double> RunRecord::*> record_series[] = {
     {"front_time", &RunRecord::front_time},
@@ -252,7 +255,8 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
   RunSummary summary = detail::summary_head(c, l, solver, outcome, threads);
   summary.volume_drift = run.max_drift;
   summary.bulk_compression = run.max_compression;
-  if (run.number_density0 > 0) summary.bulk_number_compression = run.max_number_compression;
+  const bool bulk_counted = run.number_density0 > 0;  // FreeSurfaceSolver::bulk_number_density
+  if (bulk_counted) summary.bulk_number_compression = run.max_number_compression;
   summary.kinetic_energy_peak = run.peak_energy;
   // (KE − released PE)_max / (released PE)_max: ≤ 0 for a scheme that creates no energy. Only
   // where a release drives the flow; a resting column releases nothing but noise (empty).
@@ -270,7 +274,13 @@ RunSummary run_summary(const Case& c, const FreeSurfaceSolver& solver, const Run
         fmt::format("the bulk's mean kernel density departed from its rest value by up to {:.3g} % (more than {:.3g} "
                     "%): the fluid was compressed or expanded",
                     1e2 * run.max_compression, 1e2 * volume_drift_tolerance));
-  if (run.number_density0 > 0 && run.max_number_compression > volume_drift_tolerance)
+  if (bulk_counted && run.number_density0_time > 0)
+    summary.warnings.push_back(fmt::format(
+        "bulk_number_compression counts from t = {:.6g} s, where the bulk's nodes were first counted, not from "
+        "the start (too few balls of {:g} spacings fitted in the bulk before, or the run resumed from a "
+        "checkpoint without a count)",
+        run.number_density0_time, FreeSurfaceSolver::bulk_ball_radius));
+  if (bulk_counted && run.max_number_compression > volume_drift_tolerance)
     summary.warnings.push_back(fmt::format(
         "the bulk's nodes per unit volume (counted in balls of {:g} spacings) departed from their first "
         "count by up to {:.3g} % (more than {:.3g} %): the fluid was compressed or expanded",
@@ -459,7 +469,14 @@ class FreeSurfaceRun final : public detail::SceneRun {
     run_.max_drift = std::max(run_.max_drift, std::abs(drift));
     run_.max_compression = std::max(run_.max_compression, std::abs(solver_.bulk_density_ratio() - 1));
     if (const std::optional<double> density = solver_.bulk_number_density()) {
-      if (run_.number_density0 < 0) run_.number_density0 = *density;
+      if (run_.number_density0 < 0) {
+        run_.number_density0 = *density;
+        run_.number_density0_time = solver_.time();
+        if (solver_.time() > 0)
+          log_.info(
+              "t = {:.6g} s: the bulk's nodes counted for the first time; bulk_number_compression counts from here",
+              solver_.time());
+      }
       run_.max_number_compression =
           std::max(run_.max_number_compression, std::abs(*density / run_.number_density0 - 1));
     }

@@ -20,6 +20,7 @@
 
 #include <fmt/format.h>
 
+#include "checkpoint.hpp"  // detail::read_checkpoint, write_checkpoint (white box)
 #include "rheosim/core/error.hpp"
 #include "rheosim/core/log.hpp"
 #include "rheosim/core/output.hpp"
@@ -1062,6 +1063,46 @@ TEST(FreeSurfaceRun, InterruptedRunGoesOnBitForBitFromItsCheckpoint) {
       "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.005}\ntime: {step: 1.0e-3, end: 0.1}\n"
       "output: {probe_interval: 0.005, frame_interval: 0.03}\n";
   expect_resumed_run_matches_the_straight_one(text, "ldd_resume_dam_break", 46, 100, 4);  // frame 4: t = 0.1 s
+}
+
+// A checkpoint written before the bulk's node count existed holds no first count: the run resumed
+// from it counts from its first probe after the resume, and its summary says from when. The run
+// that was stopped, which counted from t = 0, says nothing of the kind.
+TEST(FreeSurfaceRun, ResumedRunWithoutAFirstCountSaysWhenItsCountBegan) {
+  const std::string text =
+      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+      "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.005}\ntime: {step: 1.0e-3, end: 0.1}\n"
+      "output: {probe_interval: 0.005, frame_interval: 0.03}\n";
+  const ldd::Case c = ldd::parse_case(text, "ldd_resume_count.yaml");
+  const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_resume_count";
+  std::filesystem::remove_all(dir);
+  RunControl stop;
+  stop.step_limit = 46;
+  ASSERT_EQ(run_case(c, dir, core::Log::null(), stop).status, "interrupted");
+  const auto counted_from = [](const nlohmann::json& summary) {
+    for (const auto& warning : summary["warnings"])
+      if (warning.get<std::string>().find("bulk_number_compression counts from") != std::string::npos)
+        return warning.get<std::string>();
+    return std::string();
+  };
+  const nlohmann::json first = core::read_json(dir / "summary.json");
+  ASSERT_TRUE(first["bulk_number_compression"].is_number());
+  EXPECT_EQ(counted_from(first), "");
+
+  // The checkpoint as an earlier rheosim wrote it: no count among its numbers.
+  const auto checkpoint = dir / "checkpoint.h5";
+  core::CsvTable history(core::read_csv(dir / "front.csv").numeric_columns());
+  detail::StoredCheckpoint stored = detail::read_checkpoint(checkpoint, c, history);
+  for (const char* name : {"number_density0", "number_density0_time", "max_number_compression"})
+    ASSERT_EQ(stored.record.numbers.erase(name), 1U) << name;
+  detail::write_checkpoint(checkpoint, c, std::move(stored.state), stored.record, history);
+
+  EXPECT_EQ(run_case(c, dir, core::Log::null()).status, "end_time");
+  const nlohmann::json resumed = core::read_json(dir / "summary.json");
+  EXPECT_TRUE(resumed["bulk_number_compression"].is_number());
+  EXPECT_THAT(counted_from(resumed), HasSubstr("counts from t = 0.05 s"));  // the first probe after step 46
+  std::filesystem::remove_all(dir);
 }
 
 // The same in 3D, where both hierarchies are kept for up to 50 steps: a coarse slump stopped at
