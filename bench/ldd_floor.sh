@@ -4,16 +4,16 @@
 # break (cases/ldd_dam_break_bingham.yaml, time.end 0.3), the first 20 steps of the 50 000-node
 # slump (cases/ldd_slump_abrams.yaml, time.end 0.02) and the first 50 steps of the Δ = 1 mm,
 # δt = 1e-4 dam break (the shipped case with spacing 0.001, step 1.0e-4, time.end 0.005), each
-# through bench_ldd run (the code of `rheosim run`) on two threads (the fastest of --repeat runs)
-# and once on one thread; then `bench_ldd floor` on the two-thread runs: the product, V-cycle and
-# set-up times on their initial clouds, the floor per step at the iterations they needed, and
-# measured / floor.
+# through bench_ldd run (the code of `rheosim run`) on two threads (the fastest of --repeat runs),
+# then `bench_ldd floor` on that run (the product, V-cycle and set-up times on its initial cloud,
+# the floor per step at the iterations it needed, and measured / floor), then once on one thread.
 #
 #   bench/ldd_floor.sh [BUILD_DIR] [OUT_DIR] [--repeat N] [--only dam2|slump|dam1]
 #
 # About 7 min on the 2-core machine; run it with the machine otherwise idle. It prints the host's
-# memory bandwidth (bench_ldd bandwidth) before and after: the floors of the memory-bound solves
-# scale with it, so two runs' tables compare only at the same bandwidth.
+# memory bandwidth (bench_ldd bandwidth) before each scene and at the end: the floors of the
+# memory-bound solves scale with it, so two runs' tables compare only at the same bandwidth, and
+# each floor is timed right after the runs it is compared with.
 set -euo pipefail
 build=${1:-build}
 out=${2:-results/ldd_floor}
@@ -39,9 +39,8 @@ bandwidth() {
   echo "memory bandwidth ($1):"
   "$build/bin/bench_ldd" bandwidth | tail -4
 }
-bandwidth before
-best_runs=()
 for deck in ${only:-dam2 slump dam1}; do
+  bandwidth "before $deck"
   best="" best_ms=""
   for r in $(seq 1 "$repeat"); do
     run="$out/${deck}_t2_$r"
@@ -52,9 +51,10 @@ for deck in ${only:-dam2 slump dam1}; do
       best=$run best_ms=$ms
     fi
   done
+  # The floor right after the runs it is compared with: the host's speed drifts over minutes.
+  OMP_NUM_THREADS=2 "$build/bin/bench_ldd" floor "$best"
   rm -rf "$out/${deck}_t1"
   OMP_NUM_THREADS=1 "$build/bin/bench_ldd" run "$out/$deck.yaml" "$out/${deck}_t1" > "$out/${deck}_t1.log" 2>&1
-  best_runs+=("$best")
   python3 - "$out/${deck}_t1" "$best" <<'PY'
 import json, sys
 for run in sys.argv[1:]:
@@ -65,5 +65,4 @@ for run in sys.argv[1:]:
           f"{it['pressure']:.2f} / {it['velocity']:.2f} | {phases} |")
 PY
 done
-OMP_NUM_THREADS=2 "$build/bin/bench_ldd" floor "${best_runs[@]}"
 bandwidth after
