@@ -1051,30 +1051,28 @@ void expect_resumed_run_matches_the_straight_one(const std::string& text, const 
   std::filesystem::remove_all(resumed);
 }
 
+// A 2D Bingham dam break of 100 steps at Δ = 5 mm, probed every 5 steps: the resume tests' deck.
+constexpr const char* bingham_dam_break_to_resume =
+    "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
+    "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
+    "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.005}\ntime: {step: 1.0e-3, end: 0.1}\n"
+    "output: {probe_interval: 0.005, frame_interval: 0.03}\n";
+
 // A run stopped part-way (the `--stop-after` path: status interrupted, checkpoint.h5 written) and
 // run again into the same folder continues from its checkpoint and ends with the numbers of the
 // run that was never stopped, bit for bit. The stop falls between frames (step 46; frames every
 // 30 steps), so the second process starts from the checkpoint written when the first stopped,
 // with the PPE's AMG hierarchy of an earlier step kept (2D keeps it for 4 steps).
 TEST(FreeSurfaceRun, InterruptedRunGoesOnBitForBitFromItsCheckpoint) {
-  const std::string text =
-      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
-      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
-      "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.005}\ntime: {step: 1.0e-3, end: 0.1}\n"
-      "output: {probe_interval: 0.005, frame_interval: 0.03}\n";
-  expect_resumed_run_matches_the_straight_one(text, "ldd_resume_dam_break", 46, 100, 4);  // frame 4: t = 0.1 s
+  expect_resumed_run_matches_the_straight_one(bingham_dam_break_to_resume, "ldd_resume_dam_break", 46, 100,
+                                              4);  // frame 4: t = 0.1 s
 }
 
 // A checkpoint written before the bulk's node count existed holds no first count: the run resumed
 // from it counts from its first probe after the resume, and its summary says from when. The run
 // that was stopped, which counted from t = 0, says nothing of the kind.
 TEST(FreeSurfaceRun, ResumedRunWithoutAFirstCountSaysWhenItsCountBegan) {
-  const std::string text =
-      "kind: ldd\ndimension: 2\nscene: {type: dam_break, reservoir: [0.2, 0.08], channel_length: 0.5}\n"
-      "fluid: {density: 1200, rheology: {model: bingham, plastic_viscosity: 25.0, yield_stress: 25.0, "
-      "regularization: 1000}}\ngravity: [0, -9.81]\nresolution: {spacing: 0.005}\ntime: {step: 1.0e-3, end: 0.1}\n"
-      "output: {probe_interval: 0.005, frame_interval: 0.03}\n";
-  const ldd::Case c = ldd::parse_case(text, "ldd_resume_count.yaml");
+  const ldd::Case c = ldd::parse_case(bingham_dam_break_to_resume, "ldd_resume_count.yaml");
   const auto dir = std::filesystem::temp_directory_path() / "rheosim_ldd_resume_count";
   std::filesystem::remove_all(dir);
   RunControl stop;
