@@ -207,8 +207,8 @@ bool probes_yield_test(const ldd::CaseSettings& l) {
 }
 
 // The probe file's columns: time, the scene's probe (front; diameter and height; left-wall
-// height), the stability probe's when asked for, then the energy, volume and solver records, and
-// a yield-stress law's largest stress over τ₀.
+// height), the stability and divergence probes' when asked for, then the energy, volume and
+// solver records, and a yield-stress law's largest stress over τ₀.
 std::vector<core::CsvTable::Column> probe_columns(const ldd::CaseSettings& l, bool probe_stability,
                                                   bool probe_divergence) {
   const bool dam_break = std::holds_alternative<ldd::DamBreakScene>(l.scene);
