@@ -189,26 +189,8 @@ bool FreeSurfaceSolver::in_bulk(std::size_t i) const {
   return true;
 }
 
-double FreeSurfaceSolver::bulk_mean(std::span<const double> values) const {
-  double sum = 0;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (in_bulk(i)) {
-      sum += values[i];
-      ++count;
-    }
-  return count > 0 ? sum / static_cast<double>(count) : 0.0;
-}
-
 double FreeSurfaceSolver::bulk_density_ratio() const {
-  double sum = 0;
-  std::size_t count = 0;
-  for (std::size_t i = 0; i < kinds_.size(); ++i)
-    if (in_bulk(i)) {
-      sum += kernel_density(i) / rest_density_;
-      ++count;
-    }
-  return count > 0 ? sum / static_cast<double>(count) : 1.0;
+  return bulk_mean([&](std::size_t i) { return kernel_density(i) / rest_density_; }, 1.0);
 }
 
 std::optional<double> FreeSurfaceSolver::bulk_number_density() const {

@@ -256,7 +256,6 @@ numerics::KrylovResult FreeSurfaceSolver::solve_pressure(StepStats& stats) {
   const Operators& ops = operators_;
   divergence_.resize(n);
   divergence(nb, ops, new_velocity_, divergence_);
-  if (probe_divergence_) bulk_divergence_predicted_ = bulk_mean(divergence_);
   pressure_matrix_.pattern = &nb;
   pressure_matrix_.diagonal.resize(n);
   pressure_matrix_.off_diagonal.resize(nb.pair_count());
@@ -439,10 +438,11 @@ Solver::Correction FreeSurfaceSolver::correct_velocity() {
     }
   }
   c.max_speed = std::sqrt(max_speed_squared);
-  if (probe_divergence_) {
+  if (probe_divergence_) {  // divergence_ still holds ⟨∇·u*⟩ (solve_pressure)
     std::vector<double> projected(n);
     divergence(nb, ops, new_velocity_, projected);
-    bulk_divergence_ = bulk_mean(projected);
+    bulk_divergence_predicted_ = bulk_mean([&](std::size_t i) { return divergence_[i]; }, 0.0);
+    bulk_divergence_ = bulk_mean([&](std::size_t i) { return projected[i]; }, 0.0);
   }
   return c;
 }

@@ -159,8 +159,18 @@ class FreeSurfaceSolver final : public Solver {
   // An interior node with no surface or splash node within h: its kernel sum and its operators
   // are not truncated by the void.
   [[nodiscard]] bool in_bulk(std::size_t node) const;
-  // The mean of `values` (one per node) over the bulk; 0 when it is empty.
-  [[nodiscard]] double bulk_mean(std::span<const double> values) const;
+  // The mean of value_of(node) over the bulk; `none` when the bulk is empty.
+  template <class Value>
+  [[nodiscard]] double bulk_mean(const Value& value_of, double none) const {
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < kinds_.size(); ++i)
+      if (in_bulk(i)) {
+        sum += value_of(i);
+        ++count;
+      }
+    return count > 0 ? sum / static_cast<double>(count) : none;
+  }
   // Shepard average (eq. 12) of pressure_j + ρ g·(x_node − x_j) over the neighbours j that pass
   // `use`: a wall's (or a newly interior node's) pressure from the fluid with the hydrostatic
   // offset; at least 0 when `clip`; 0 without such neighbours (free_surface_internal.hpp).
@@ -193,8 +203,8 @@ class FreeSurfaceSolver final : public Solver {
   std::vector<double> pbd_lambda_, pbd_step_;  // PBD: λ per node, each sweep's step per node (apply_pbd)
   std::vector<double> pair_dw_;                // PBD: ∇W/(r ρ₀) per neighbour pair (apply_pbd)
   std::vector<std::uint8_t> dry_wall_;         // this step's dry wall nodes (regradient_for_boundary_values)
-  // set_divergence_probe: on, and this step's bulk means of ⟨∇·u*⟩ and ⟨∇·u⟩ [1/s] (solve_pressure,
-  // correct_velocity), handed to the step's stats in reorder().
+  // set_divergence_probe: on, and this step's bulk means of ⟨∇·u*⟩ and ⟨∇·u⟩ [1/s]
+  // (correct_velocity), handed to the step's stats in reorder().
   bool probe_divergence_ = false;
   double bulk_divergence_predicted_ = 0, bulk_divergence_ = 0;
 };
