@@ -137,7 +137,7 @@ class CellTable {
   // particular order.
   template <class Visit>
   void for_each_neighbour(std::size_t slot, double radius_squared, Visit&& visit) const {
-    for_each_near(&sorted_coordinates_[slot * 3], radius_squared, slot, std::forward<Visit>(visit));
+    scan_near(&sorted_coordinates_[slot * 3], radius_squared, slot, std::forward<Visit>(visit));
   }
 
   // Calls visit(j, squared_distance) for every node j closer than sqrt(radius_squared) <= the
@@ -150,13 +150,13 @@ class CellTable {
       const double cell = std::floor((x[d] - lower_[d]) / cell_size_);
       if (!(cell >= -1.0 && cell <= static_cast<double>(cells_per_direction_[d]))) return;
     }
-    for_each_near(x, radius_squared, node_count_, std::forward<Visit>(visit));
+    scan_near(x, radius_squared, node_count_, std::forward<Visit>(visit));
   }
 
  private:
   // As above, leaving out the node at `skip_slot` (node_count_ skips none).
   template <class Visit>
-  void for_each_near(const double* x, double radius_squared, std::size_t skip_slot, Visit&& visit) const {
+  void scan_near(const double* x, double radius_squared, std::size_t skip_slot, Visit&& visit) const {
     std::array<SlotRange, 27> ranges{};
     const std::size_t range_count = is_dense_ ? dense_ranges(cell_of(x), ranges) : hashed_ranges(cell_of(x), ranges);
     for (std::size_t r = 0; r < range_count; ++r) {
